@@ -1,0 +1,30 @@
+"""How a rocking structure vibrates: linearisation, Foss state-space modes, MAC, reports.
+
+>>> import modal
+>>> res = modal.analyse("S1")
+>>> [round(f, 1) for f in res.rocking.freq_hz[:2]]
+[20.5, 45.6]
+"""
+
+from .analysis import ModalAnalysis, PhaseModes, analyse, default_shape_nodes
+from .errors import ModalError
+from .foss import StateSpaceModes, foss, frequency_and_damping, state_matrix
+from .linearise import LinearSystem, full_contact, linearise, rocking
+from .mac import mac
+
+__all__ = [
+    "LinearSystem",
+    "ModalAnalysis",
+    "ModalError",
+    "PhaseModes",
+    "StateSpaceModes",
+    "analyse",
+    "default_shape_nodes",
+    "foss",
+    "frequency_and_damping",
+    "full_contact",
+    "linearise",
+    "mac",
+    "rocking",
+    "state_matrix",
+]

@@ -1,0 +1,256 @@
+"""Modal reports: a JSON-ready summary and a Markdown page against published values.
+
+Plotting lives in `modal.plots`; this module only computes and formats.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from multimass import column
+
+from .analysis import ModalAnalysis, analyse, nodal_points
+from .measured import MeasuredShapes
+
+__all__ = ["summary", "markdown", "write_report", "printed_unit"]
+
+_E_SENSITIVITY = 210e9  # Pa; DESIGN.md: brings S1's full-contact pair within 0.2 %
+
+
+def printed_unit(value: float) -> float:
+    """One unit of the last printed digit of a published value (298 → 1, 0.84 → 0.01).
+
+    Read from the shortest decimal representation, so a trailing zero the
+    paper printed (e.g. "2.50") is not seen and the unit is looser (0.1).
+    """
+    s = repr(float(value))
+    if "e" in s or "E" in s:
+        mantissa, exp = s.lower().split("e")
+        decimals = len(mantissa.split(".")[1].rstrip("0")) if "." in mantissa else 0
+        return 10.0 ** (int(exp) - decimals)
+    frac = s.split(".")[1].rstrip("0") if "." in s else ""
+    return 10.0 ** (-len(frac))
+
+
+def _floats(a) -> list[float]:
+    return [float(x) for x in np.asarray(a, dtype=float).ravel()]
+
+
+def _reference(analysis: ModalAnalysis) -> dict:
+    spec = analysis.structure.specimen
+    ref = getattr(spec, "reference", None)
+    if ref is None:
+        return {}
+    out = {k: getattr(ref, k) for k in ("J_p", "H_cg", "alpha_cg", "p_l") if getattr(ref, k) is not None}
+    if ref.full_contact_freq_hz:
+        out["full_contact_freq_hz"] = list(ref.full_contact_freq_hz)
+    if ref.rocking_freq_hz:
+        out["rocking_freq_hz"] = list(ref.rocking_freq_hz)
+    if ref.source:
+        out["source"] = ref.source
+    return out
+
+
+def _derived_comparison(derived: dict, ref: dict) -> dict:
+    rows = {}
+    for key in ("J_p", "H_cg", "alpha_cg", "p_l"):
+        if key in ref:
+            unit = printed_unit(ref[key])
+            diff = derived[key] - ref[key]
+            decimals = max(0, -int(round(np.log10(unit))))
+            rows[key] = {"computed": derived[key], "published": ref[key], "difference": diff,
+                         "printed_unit": unit, "agrees": bool(abs(diff) <= unit * (1 + 1e-9)),
+                         "rounds_to_published": bool(round(derived[key], decimals) == ref[key])}
+    return rows
+
+
+def _freq_comparison(ours: np.ndarray, paper: list) -> list[dict]:
+    return [{"mode": k + 1, "computed_hz": float(ours[k]), "published_hz": float(p),
+             "difference_pct": float(100.0 * (ours[k] - p) / p)}
+            for k, p in enumerate(paper) if k < ours.size]
+
+
+def summary(analysis: ModalAnalysis, measured: MeasuredShapes | None = None) -> dict:
+    """JSON-ready summary of an analysis (SI units, frequencies in Hz as named).
+
+    Keys: ``specimen``, ``derived``, ``full_contact``, ``rocking``,
+    ``mac_full_vs_compound``, ``reference``, ``comparison``, ``shapes`` and,
+    with `measured`, ``measured``.
+    """
+    s = analysis.structure
+    derived = s.derived()
+    ref = _reference(analysis)
+    fc, rk = analysis.full_contact, analysis.rocking
+    compound = analysis.compound_shapes()
+    out = {
+        "specimen": s.name,
+        "derived": {k: float(v) for k, v in derived.items()},
+        "full_contact": {"freq_hz": _floats(fc.freq_hz), "damping": _floats(fc.damping),
+                         "undamped_freq_hz": _floats(fc.undamped_omega / (2 * np.pi))},
+        "rocking": {"freq_hz": _floats(rk.freq_hz), "damping": _floats(rk.damping),
+                    "undamped_freq_hz": _floats(rk.undamped_omega / (2 * np.pi)),
+                    "rocking_eigenvalues": _floats(analysis.rocking_eigenvalues),
+                    "rocking_eigenvalue_vs_p_l_pct": float(
+                        100.0 * (analysis.rocking_eigenvalues[0] - s.p_l) / s.p_l)},
+        "mac_full_vs_compound": _floats(np.diag(analysis.mac_full_vs_compound())),
+        "mac_full_vs_elastic": _floats(np.diag(analysis.mac_full_vs_elastic())),
+        "reference": ref,
+        "comparison": {
+            "derived": _derived_comparison(derived, ref),
+            "full_contact_freq": _freq_comparison(fc.freq_hz, ref.get("full_contact_freq_hz", [])),
+            "rocking_freq": _freq_comparison(rk.freq_hz, ref.get("rocking_freq_hz", [])),
+        },
+        "shapes": {
+            "nodes": list(analysis.shape_nodes),
+            "heights_m": _floats(analysis.heights),
+            "full_contact": [_floats(c) for c in analysis.full_contact_shapes().T],
+            "elastic": [_floats(c) for c in analysis.elastic_shapes().T],
+            "rocking_part": _floats(analysis.rocking_parts()),
+            "compound": [_floats(c) for c in compound.T],
+            "compound_nodal_points_m": [_floats(nodal_points(analysis.heights, c))
+                                        for c in compound.T],
+        },
+    }
+    if ref.get("full_contact_freq_hz") and s.specimen is not None:
+        stiff = analyse(column(s.specimen, E_s=_E_SENSITIVITY), analysis.shape_nodes)
+        out["comparison"]["E_s_210GPa"] = {
+            "full_contact_freq": _freq_comparison(stiff.full_contact.freq_hz,
+                                                  ref["full_contact_freq_hz"]),
+            "rocking_freq": _freq_comparison(stiff.rocking.freq_hz, ref.get("rocking_freq_hz", [])),
+        }
+    if measured is not None:
+        out["measured"] = measured_comparison(analysis, measured)
+    return out
+
+
+def measured_comparison(analysis: ModalAnalysis, measured: MeasuredShapes) -> dict:
+    """MAC of measured shapes against the model's compound and full-contact shapes."""
+    from .errors import ModalError
+
+    s = analysis.structure
+    bad = [i for i in measured.nodes if not 1 <= i <= s.n]
+    if bad:
+        raise ModalError(f"{measured.source}: column `node` holds {bad}, outside the model's "
+                         f"nodes 1..{s.n}")
+    sub = analyse(s, measured.nodes)
+    out = {"source": measured.source, "nodes": list(measured.nodes), "modes": list(measured.names),
+           "mac_vs_compound": [_floats(r) for r in sub.mac_measured(measured.shapes, "rocking")],
+           "mac_vs_full_contact": [_floats(r) for r in sub.mac_measured(measured.shapes, "full_contact")]}
+    if measured.freq_hz is not None:
+        out["freq_hz"] = _floats(measured.freq_hz)
+    return out
+
+
+def _table(header: list[str], rows: list[list]) -> str:
+    def fmt(x):
+        if isinstance(x, bool):
+            return "yes" if x else "**NO**"
+        if isinstance(x, float):
+            return f"{x:.4g}"
+        return str(x)
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines += ["| " + " | ".join(fmt(x) for x in r) + " |" for r in rows]
+    return "\n".join(lines)
+
+
+def _mac_table(mat, row_name: str, col_name: str) -> str:
+    m = np.asarray(mat)
+    header = [f"{row_name} \\ {col_name}"] + [f"{col_name}{j + 1}" for j in range(m.shape[1])]
+    return _table(header, [[f"{row_name}{i + 1}"] + [f"{v:.3f}" for v in r] for i, r in enumerate(m)])
+
+
+def markdown(analysis: ModalAnalysis, info: dict, figures: list[str] = ()) -> str:
+    """The Markdown report of one analysis, from its `summary` dict."""
+    s = analysis.structure
+    comp = info["comparison"]
+    names = {"J_p": "J_p (kg m²)", "H_cg": "H_cg (m)", "alpha_cg": "α_cg (rad)", "p_l": "p_l (rad/s)"}
+    parts = [f"# Modal report — {s.name}", "",
+             f"Paper 001 (Acikgoz & DeJong 2016), Sections 3 and 4.2. Specimen source: "
+             f"{getattr(s.specimen, 'source', '') or 'user file'}. N = {s.n} nodes; shapes at nodes "
+             f"{', '.join(map(str, analysis.shape_nodes))}.", "", "## Derived parameters", ""]
+    rows = [[names[k], v["computed"], v["published"], v["difference"], v["agrees"],
+             v["rounds_to_published"]] for k, v in comp["derived"].items()]
+    rows.insert(0, ["m_t (kg)", info["derived"]["m_t"], "–", "–", "–", "–"])
+    parts.append(_table(["quantity", "computed", "published", "difference",
+                         "within one unit of the last printed digit", "rounds to it"], rows))
+    mism = [names[k] for k, v in comp["derived"].items() if not v["agrees"]]
+    if mism:
+        parts += ["", f"**Mismatch:** the published {', '.join(mism)} disagree with the values "
+                  "computed from this specimen's own H and M. The computed values are used; the "
+                  "published ones are shown, not adopted."]
+
+    def freq_rows(phase, ref_rows):
+        ref = {r["mode"]: r for r in ref_rows}
+        d = info[phase]
+        return [[k + 1, f, z, ref[k + 1]["published_hz"] if k + 1 in ref else "–",
+                 f"{ref[k + 1]['difference_pct']:+.2f} %" if k + 1 in ref else "–"]
+                for k, (f, z) in enumerate(zip(d["freq_hz"], d["damping"]))]
+
+    hdr = ["mode", "frequency (Hz)", "damping ζ", "paper (Hz)", "difference"]
+    parts += ["", "## Full-contact vibration modes", "", _table(hdr, freq_rows("full_contact", comp["full_contact_freq"]))]
+    parts += ["", "## Uplifted (rocking-phase) vibration modes", "",
+              "Damped state-space (Foss) solution, paper 001 Eqs 24–25.", "",
+              _table(hdr, freq_rows("rocking", comp["rocking_freq"]))]
+    fn, fu = info["full_contact"]["freq_hz"], info["rocking"]["freq_hz"]
+    ratio = [f"mode {k + 1}: {fu[k] / fn[k]:.3f}" for k in range(min(3, len(fn)))]
+    parts += ["", "Uplifted / full-contact frequency ratio: " + ", ".join(ratio) + "."]
+    rk = info["rocking"]
+    parts += ["", "## Rocking mode", "",
+              f"Real eigenvalue pair: {rk['rocking_eigenvalues'][0]:+.5f} / "
+              f"{rk['rocking_eigenvalues'][1]:+.5f} rad/s; p_l (Eq 6) = {info['derived']['p_l']:.5f} rad/s "
+              f"(difference {rk['rocking_eigenvalue_vs_p_l_pct']:+.3f} %)."]
+    if "E_s_210GPa" in comp:
+        sens = comp["E_s_210GPa"]
+        txt = ", ".join(f"{r['computed_hz']:.2f} Hz vs {r['published_hz']} ({r['difference_pct']:+.2f} %)"
+                        for r in sens["full_contact_freq"] + sens["rocking_freq"])
+        parts += ["", "## Sensitivity: E_s = 210 GPa", "",
+                  "The literal Table 1 inputs (E_s = 200 GPa) are used above. With E_s = 210 GPa "
+                  f"(full contact, then uplifted): {txt}."]
+    sh = info["shapes"]
+    parts += ["", "## MAC", "", "Full-contact shapes v_n (rows) vs uplifted compound shapes "
+              "v_c = v_t + H v_r (columns):", "", _mac_table(analysis.mac_full_vs_compound(), "n", "c"),
+              "", "Full-contact shapes v_n (rows) vs uplifted elastic parts v_t (columns):", "",
+              _mac_table(analysis.mac_full_vs_elastic(), "n", "t"), "",
+              "## Compound shapes", "",
+              "Normalisation: the elastic part over the shape nodes has unit Euclidean norm, its "
+              "largest component positive; v_r keeps the same scale.", ""]
+    hdr = ["node", "height (m)"] + [f"v_c{k + 1}" for k in range(min(3, len(sh["compound"])))]
+    rows = [[n, h] + [sh["compound"][k][i] for k in range(min(3, len(sh["compound"])))]
+            for i, (n, h) in enumerate(zip(sh["nodes"], sh["heights_m"]))]
+    parts.append(_table(hdr, rows))
+    nps = sh["compound_nodal_points_m"]
+    parts += ["", "Sign changes of compound shapes (m): " + "; ".join(
+        f"mode {k + 1}: " + (", ".join(f"{x:.3f}" for x in nps[k]) or "none")
+        for k in range(min(3, len(nps)))) + "."]
+    if "measured" in info:
+        meas = info["measured"]
+        parts += ["", "## Measured shapes", "", f"From `{meas['source']}` at nodes "
+                  f"{meas['nodes']}. MAC, measured (rows) vs compound uplifted shapes (columns):",
+                  "", _mac_table(meas["mac_vs_compound"], "m", "c")]
+    if figures:
+        parts += ["", "## Figures", ""] + [f"![{Path(f).stem}]({Path(f).name})" for f in figures]
+    return "\n".join(parts) + "\n"
+
+
+def write_report(analysis: ModalAnalysis, out_dir: str | Path,
+                 measured: MeasuredShapes | None = None, figures: bool = True) -> dict:
+    """Write ``<name>_modal.md``, ``<name>_modal.json`` and figures into `out_dir`.
+
+    Returns the summary dict (the JSON content).
+    """
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    info = summary(analysis, measured)
+    files = []
+    if figures:
+        from .plots import plot_eigenvalues, plot_shapes
+
+        files = [plot_eigenvalues(analysis, out / f"{analysis.structure.name}_eigenvalues.png"),
+                 plot_shapes(analysis, out / f"{analysis.structure.name}_shapes.png")]
+    stem = out / f"{analysis.structure.name}_modal"
+    stem.with_suffix(".md").write_text(markdown(analysis, info, [str(f) for f in files]), encoding="utf-8")
+    stem.with_suffix(".json").write_text(json.dumps(info, indent=2), encoding="utf-8")
+    return info

@@ -1,0 +1,169 @@
+"""The rocking structure: matrices and geometry built from a specimen.
+
+Conventions (paper 001, Fig 1), stated once here and tested:
+
+* ``u`` — small elastic lateral displacements of nodes 1..N, positive towards
+  the right pivot, measured in the column's own frame.
+* ``θ`` — rigid base rotation; θ > 0 rocks about the **right** pivot (the
+  column leans towards +u), θ < 0 about the left pivot.
+* The pivots lie at ±B from the centre line; node 0 (the base, mass m0,
+  rotary inertia J0) is rigid and does not deform.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+import scipy.linalg as sla
+
+from specimens import ColumnSpecimen
+from specimens import load as load_specimen
+
+from .beam import column_stiffness, condense
+from .damping import rayleigh_damping
+from .errors import InputError
+
+__all__ = ["Structure", "column"]
+
+
+@dataclass(frozen=True, eq=False)
+class Structure:
+    """A multi-mass rocking structure (paper 001, Section 2.1).
+
+    Build it with `column` (from a specimen) rather than directly.
+
+    Attributes
+    ----------
+    name : str
+    H : ndarray, shape (N,)
+        Heights of elastic nodes 1..N (m).
+    m : ndarray, shape (N,)
+        Their lumped masses, diag(M) (kg).
+    m0, J0 : float
+        Base mass (kg) and rotary inertia (kg m²), node 0.
+    h0 : float
+        Height of node 0's mass above the pivots (0 in paper 001).
+    B : float
+        Half the distance between the pivots (m).
+    g : float
+        Gravitational acceleration (m/s²).
+    K : ndarray, shape (N, N)
+        Condensed full-contact stiffness (paper 001, Eq 2).
+    C : ndarray, shape (N, N)
+        Rayleigh damping matrix.
+    rayleigh : tuple of float
+        (a0, a1) with C = a0 M + a1 K.
+    K_s : ndarray, shape (2N, 2N)
+        Uncondensed stiffness over [u; Ω] (paper 001, Eq 1).
+    specimen : object or None
+        The specimen it was built from (restitution data, reference values).
+    """
+
+    name: str
+    H: np.ndarray
+    m: np.ndarray
+    m0: float
+    J0: float
+    B: float
+    g: float
+    K: np.ndarray
+    C: np.ndarray
+    rayleigh: tuple[float, float] = (0.0, 0.0)
+    K_s: np.ndarray | None = None
+    h0: float = 0.0
+    specimen: object | None = field(default=None, repr=False)
+
+    @property
+    def n(self) -> int:
+        """N, the number of elastic nodes."""
+        return self.H.size
+
+    @cached_property
+    def M(self) -> np.ndarray:
+        """Diagonal mass matrix of nodes 1..N."""
+        return np.diag(self.m)
+
+    @cached_property
+    def m_t(self) -> float:
+        """Total mass m_t = m0 + Σ m_i (kg)."""
+        return float(self.m0 + self.m.sum())
+
+    @cached_property
+    def static_moment(self) -> float:
+        """First moment of mass about the base, 1ᵀ M H + m0 h0 (kg m)."""
+        return float(self.m @ self.H + self.m0 * self.h0)
+
+    @cached_property
+    def R0(self) -> np.ndarray:
+        """Radial distances from a pivot to nodes 1..N at rest (m)."""
+        return np.hypot(self.H, self.B)
+
+    @cached_property
+    def J_p(self) -> float:
+        """Mass moment of inertia about a pivot (paper 001, after Eq 5).
+
+        J_p = R0ᵀ M R0 + m0 (B² + h0²) + J0.
+        """
+        return float(self.m @ self.R0**2 + self.m0 * (self.B**2 + self.h0**2) + self.J0)
+
+    @cached_property
+    def H_cg(self) -> float:
+        """Height of the centre of gravity (m)."""
+        return self.static_moment / self.m_t
+
+    @cached_property
+    def alpha_cg(self) -> float:
+        """Slenderness with respect to the centre of gravity, atan(B / H_cg) (rad)."""
+        return float(np.arctan2(self.B, self.H_cg))
+
+    @cached_property
+    def p_l(self) -> float:
+        """Modified frequency parameter p_l = sqrt(1ᵀ M H g / J_p) (paper 001, Eq 6)."""
+        return float(np.sqrt(self.static_moment * self.g / self.J_p))  # paper 001, Eq 6
+
+    @cached_property
+    def full_contact_omega(self) -> np.ndarray:
+        """Undamped full-contact circular frequencies (rad/s), ascending."""
+        if self.n == 0:
+            return np.empty(0)
+        return np.sqrt(sla.eigh(self.K, self.M, eigvals_only=True))
+
+    def derived(self) -> dict[str, float]:
+        """The derived parameters of Table 1 (paper 001) as a dict, SI units."""
+        return {"m_t": self.m_t, "J_p": self.J_p, "H_cg": self.H_cg,
+                "alpha_cg": self.alpha_cg, "p_l": self.p_l}
+
+
+def column(specimen: ColumnSpecimen | str, *, E_s: float | None = None) -> Structure:
+    """Build the multi-mass structure of a column specimen.
+
+    Parameters
+    ----------
+    specimen : ColumnSpecimen or str
+        A loaded specimen, a bundled name (``"S1"``) or a TOML path.
+    E_s : float, optional
+        Override of the specimen's Young's modulus (Pa), e.g. for sensitivity
+        studies (DESIGN.md: 210 GPa brings S1's full-contact pair within 0.2 %).
+
+    Returns
+    -------
+    Structure
+        With condensed K (paper 001, Eq 2) and Rayleigh C fitted to ζ_n1, ζ_n2
+        at the first two full-contact modes.
+    """
+    spec = load_specimen(specimen) if not isinstance(specimen, ColumnSpecimen) else specimen
+    if not isinstance(spec, ColumnSpecimen):
+        raise InputError(f"`specimen` = {getattr(spec, 'name', spec)!r} is a {spec.kind!r} "
+                         "specimen; `column` needs a column specimen (kind = \"column\")")
+    E = spec.E_s if E_s is None else float(E_s)
+    if not E > 0.0:
+        raise InputError(f"`E_s` = {E_s!r}: Young's modulus must be > 0 (Pa)")
+    H = np.asarray(spec.heights, dtype=float)
+    m = np.asarray(spec.masses, dtype=float)
+    Ks = column_stiffness(H, E * spec.I_s, spec.K_fp, spec.K_rot)
+    K = condense(Ks)
+    C, coeffs = rayleigh_damping(np.diag(m), K, spec.zeta_1, spec.zeta_2)
+    return Structure(name=spec.name, H=H, m=m, m0=spec.m0, J0=spec.J0, B=spec.B, g=spec.g,
+                     K=K, C=C, rayleigh=coeffs, K_s=Ks, specimen=spec)

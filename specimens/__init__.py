@@ -1,0 +1,23 @@
+"""What is simulated: validated, immutable specimen descriptions in SI units.
+
+Specimens are TOML files; the bundled ones live in ``specimens/data``.
+
+>>> import specimens
+>>> s1 = specimens.load("S1")
+>>> s1.heights[-1]
+1.93
+"""
+
+from .column import ColumnReference, ColumnSpecimen
+from .errors import SpecimenError
+from .loader import available, from_mapping, load, register_kind
+
+__all__ = [
+    "ColumnReference",
+    "ColumnSpecimen",
+    "SpecimenError",
+    "available",
+    "from_mapping",
+    "load",
+    "register_kind",
+]
