@@ -7,6 +7,13 @@
 """
 
 from .errors import InputError, SolverError
-from .structure import Structure, column
+from .structure import Structure, column, from_specimen, rigid_block
 
-__all__ = ["InputError", "SolverError", "Structure", "column"]
+__all__ = [
+    "InputError",
+    "SolverError",
+    "Structure",
+    "column",
+    "from_specimen",
+    "rigid_block",
+]

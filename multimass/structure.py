@@ -18,14 +18,14 @@ from functools import cached_property
 import numpy as np
 import scipy.linalg as sla
 
-from specimens import ColumnSpecimen
+from specimens import BlockSpecimen, ColumnSpecimen
 from specimens import load as load_specimen
 
 from .beam import column_stiffness, condense
 from .damping import rayleigh_damping
 from .errors import InputError
 
-__all__ = ["Structure", "column"]
+__all__ = ["Structure", "column", "rigid_block", "from_specimen"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -124,6 +124,25 @@ class Structure:
         return float(np.sqrt(self.static_moment * self.g / self.J_p))  # paper 001, Eq 6
 
     @cached_property
+    def R_cg(self) -> float:
+        """Distance from a pivot to the centre of gravity at rest (m)."""
+        return float(np.hypot(self.B, self.H_cg))
+
+    @cached_property
+    def p(self) -> float:
+        """Frequency parameter sqrt(m_t g R_cg / J_p) (rad/s).
+
+        For a uniform rigid block this is Housner's p = sqrt(3 g / (4 R))
+        (paper 004, after Eq 6); compare `p_l`, its linearised counterpart.
+        """
+        return float(np.sqrt(self.m_t * self.g * self.R_cg / self.J_p))
+
+    @property
+    def is_rigid(self) -> bool:
+        """True for a rigid body (no elastic nodes)."""
+        return self.n == 0
+
+    @cached_property
     def full_contact_omega(self) -> np.ndarray:
         """Undamped full-contact circular frequencies (rad/s), ascending."""
         if self.n == 0:
@@ -167,3 +186,36 @@ def column(specimen: ColumnSpecimen | str, *, E_s: float | None = None) -> Struc
     C, coeffs = rayleigh_damping(np.diag(m), K, spec.zeta_1, spec.zeta_2)
     return Structure(name=spec.name, H=H, m=m, m0=spec.m0, J0=spec.J0, B=spec.B, g=spec.g,
                      K=K, C=C, rayleigh=coeffs, K_s=Ks, specimen=spec)
+
+
+def rigid_block(specimen: BlockSpecimen | str) -> Structure:
+    """Build a rigid block as a structure with no elastic nodes.
+
+    The block's mass sits in node 0 at its centre of gravity: m0 = m,
+    h0 = h/2, J0 = m (b² + h²)/12 (about the centre of gravity), B = b/2.
+    Then J_p = (4/3) m R² and the rocking equation reduces to Housner's
+    (paper 004, Eqs 1–2).
+    """
+    spec = load_specimen(specimen) if not isinstance(specimen, BlockSpecimen) else specimen
+    if not isinstance(spec, BlockSpecimen):
+        raise InputError(f"`specimen` = {spec.name!r} is a {spec.kind!r} specimen; "
+                         "`rigid_block` needs a block specimen (kind = \"block\")")
+    empty = np.zeros((0, 0))
+    return Structure(name=spec.name, H=np.zeros(0), m=np.zeros(0), m0=spec.mass,
+                     J0=spec.mass * (spec.b**2 + spec.h**2) / 12.0, B=0.5 * spec.b,
+                     g=spec.g, K=empty, C=empty, h0=0.5 * spec.h, specimen=spec)
+
+
+def from_specimen(specimen) -> Structure:
+    """Build the structure of any specimen: a column or a rigid block.
+
+    Parameters
+    ----------
+    specimen : specimen object, bundled name or TOML path
+    """
+    spec = load_specimen(specimen) if isinstance(specimen, (str, bytes)) or hasattr(specimen, "__fspath__") else specimen
+    if isinstance(spec, ColumnSpecimen):
+        return column(spec)
+    if isinstance(spec, BlockSpecimen):
+        return rigid_block(spec)
+    raise InputError(f"`specimen` = {spec!r}: not a column or block specimen")

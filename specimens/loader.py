@@ -7,6 +7,7 @@ from collections.abc import Callable, Mapping
 from importlib import resources
 from pathlib import Path
 
+from .block import block_from_mapping
 from .column import column_from_mapping
 from .errors import SpecimenError
 
@@ -15,7 +16,10 @@ __all__ = ["load", "available", "from_mapping", "register_kind"]
 _DATA = "data"
 
 #: kind name -> builder(mapping, source) -> specimen
-_KINDS: dict[str, Callable[[Mapping, str], object]] = {"column": column_from_mapping}
+_KINDS: dict[str, Callable[[Mapping, str], object]] = {
+    "column": column_from_mapping,
+    "block": block_from_mapping,
+}
 
 
 def register_kind(kind: str, builder: Callable[[Mapping, str], object]) -> None:

@@ -78,3 +78,16 @@ def test_e_s_override():
     assert stiff.full_contact_omega[0] > base.full_contact_omega[0]
     with pytest.raises(InputError, match="E_s"):
         multimass.column("S1", E_s=-1.0)
+
+
+def test_rigid_block_is_housner():
+    # paper 004, after Eq 2: I_A = (4/3) m R², p = sqrt(3 g / (4 R))
+    blk = multimass.rigid_block("B6M")
+    spec = specimens.load("B6M")
+    assert blk.n == 0 and blk.is_rigid
+    assert blk.J_p == pytest.approx(4.0 / 3.0 * spec.mass * spec.R**2, rel=1e-14)
+    assert blk.p == pytest.approx(np.sqrt(3 * 9.81 / (4 * spec.R)), rel=1e-14)
+    assert blk.alpha_cg == pytest.approx(np.arctan(spec.b / spec.h), rel=1e-14)
+    assert multimass.from_specimen("B6M").J_p == blk.J_p
+    with pytest.raises(InputError, match="block"):
+        multimass.rigid_block("S1")
