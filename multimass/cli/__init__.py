@@ -1,7 +1,8 @@
 """The ``multimass`` command line: a thin layer over the public functions.
 
-Each sub-command lives in its own module of this package and exposes
-``register(subparsers)``, which adds its parser and sets ``func``.
+Each sub-command lives in its own module ``*_cmd.py`` of this package and
+exposes ``register(subparsers)``, which adds its parser and sets ``func``;
+modules are found by name, so adding a command touches no other file.
 Errors a user can fix (subclasses of ValueError) print one clear line and
 exit with status 2; every result can be printed as JSON.
 """
@@ -10,12 +11,15 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import pkgutil
 import sys
 
-__all__ = ["main", "build_parser", "COMMANDS"]
+__all__ = ["main", "build_parser", "command_modules"]
 
-#: Sub-command modules, in the order they are listed by ``--help``.
-COMMANDS = ["specimens_cmd", "modal_cmd"]
+
+def command_modules() -> list[str]:
+    """Names of the sub-command modules (``*_cmd``), sorted."""
+    return sorted(m.name for m in pkgutil.iter_modules(__path__) if m.name.endswith("_cmd"))
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -24,7 +28,7 @@ def build_parser() -> argparse.ArgumentParser:
         prog="multimass",
         description="Rocking structures: modal analysis, time histories, overturning maps.")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    for name in COMMANDS:
+    for name in command_modules():
         importlib.import_module(f"{__name__}.{name}").register(sub)
     return parser
 
