@@ -8,6 +8,10 @@
 
 from .errors import InputError, SolverError
 from .structure import Structure, column, from_specimen, rigid_block
+from .excitations import (CosinePulse, CosineWave, Excitation, FreeRelease, Ricker,
+                          SineWave)
+from .records import Record, read_at2, read_record, read_two_column
+from .units import G, parse_acceleration, to_mps2
 
 __all__ = [
     "InputError",
@@ -16,4 +20,17 @@ __all__ = [
     "column",
     "from_specimen",
     "rigid_block",
+    "Excitation",
+    "FreeRelease",
+    "SineWave",
+    "CosineWave",
+    "CosinePulse",
+    "Ricker",
+    "Record",
+    "read_record",
+    "read_two_column",
+    "read_at2",
+    "G",
+    "to_mps2",
+    "parse_acceleration",
 ]

@@ -1,0 +1,406 @@
+"""Ground excitations: callables ü_g(t) in m/s² with a duration and breakpoints.
+
+Every excitation is a frozen, picklable dataclass (no lambdas stored), so sweeps can
+send it to worker processes. The common contract (`Excitation`):
+
+* ``acceleration(t)`` (also ``exc(t)``): ü_g at a float time (returns a float) or at an
+  array of times (returns an array), in m/s²; zero before t = 0 and after `duration`;
+* ``duration``: ü_g ≡ 0 after it (0.0 for a free release);
+* ``breakpoints``: times in [0, duration] where ü_g or one of its low derivatives jumps
+  (the start and the end of a pulse), so an integrator can stop and restart there;
+* ``describe()``: a JSON-ready dict (``kind`` and the parameters in SI units).
+
+Amplitudes are magnitudes (≥ 0). A pulse of the opposite sign is not accepted: for the
+symmetric structures of this toolkit the response to −ü_g is the mirror image
+(θ → −θ, u → −u) of the response to +ü_g, so overturning maps need only a ≥ 0.
+
+Recorded accelerograms are in `multimass.records` (`Record`).
+"""
+
+from __future__ import annotations
+
+import math
+from abc import ABC, abstractmethod
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import InputError
+
+__all__ = ["Excitation", "FreeRelease", "SineWave", "CosineWave", "CosinePulse", "Ricker"]
+
+TWO_PI = 2.0 * math.pi
+
+
+# ---------------------------------------------------------------------------- validation
+def _finite(name: str, value, what: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise InputError(f"`{name}` = {value!r}: expected a number ({what})")
+    x = float(value)
+    if not math.isfinite(x):
+        raise InputError(f"`{name}` = {value!r}: expected a finite number ({what})")
+    return x
+
+
+def _amplitude(name: str, value) -> float:
+    """A finite amplitude ≥ 0 (m/s²)."""
+    x = _finite(name, value, "an amplitude in m/s²")
+    if x < 0.0:
+        raise InputError(
+            f"`{name}` = {value!r}: an amplitude must be >= 0 (m/s²). To reverse the pulse, "
+            f"pass {-x:g} and mirror the response (θ → −θ, u → −u): for a symmetric "
+            f"structure the response to −ü_g is the mirror image of the response to +ü_g")
+    return x
+
+
+def _positive(name: str, value, what: str) -> float:
+    x = _finite(name, value, what)
+    if x <= 0.0:
+        raise InputError(f"`{name}` = {value!r}: must be > 0 ({what})")
+    return x
+
+
+# ---------------------------------------------------------------------------- base
+class Excitation(ABC):
+    """A horizontal ground acceleration ü_g(t) in m/s² (abstract base).
+
+    Subclasses implement ``_scalar(t)`` (float → float) and ``_array(t)``
+    (ndarray → ndarray), the `duration` property and `describe`.
+
+    In a hot loop bind ``f = exc.acceleration`` once: calling the instance
+    (``exc(t)``) goes through ``__call__`` and costs ~0.2 µs more per call.
+    """
+
+    kind = "excitation"
+
+    @property
+    @abstractmethod
+    def duration(self) -> float:
+        """Time (s) after which ü_g ≡ 0."""
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        """Times (s) in [0, duration] where ü_g or its derivative jumps: start and end."""
+        return (0.0, self.duration)
+
+    @abstractmethod
+    def _scalar(self, t: float) -> float: ...
+
+    @abstractmethod
+    def _array(self, t: np.ndarray) -> np.ndarray: ...
+
+    def acceleration(self, t):
+        """Ground acceleration ü_g(t) in m/s².
+
+        Parameters
+        ----------
+        t : float or array_like
+            Time(s) in s.
+
+        Returns
+        -------
+        float or ndarray
+            A float for a scalar `t`, else an array of the shape of `t`.
+        """
+        if isinstance(t, (float, int)):  # fast path; np.float64 is a float
+            return self._scalar(float(t))
+        arr = np.asarray(t, dtype=float)
+        out = self._array(arr)
+        return float(out) if arr.ndim == 0 else out
+
+    __call__ = acceleration
+
+    @abstractmethod
+    def describe(self) -> dict:
+        """A JSON-ready description: ``kind`` and the parameters in SI units."""
+
+
+class _Pulse(Excitation):
+    """A pulse f(t) on the window 0 ≤ t ≤ duration, zero outside it."""
+
+    @abstractmethod
+    def _shape(self, t):
+        """The pulse inside its window, on an array of times (numpy)."""
+
+    @abstractmethod
+    def _shape_scalar(self, t: float) -> float:
+        """The same with `math` for a float (faster than numpy on scalars)."""
+
+    def _scalar(self, t: float) -> float:
+        if 0.0 <= t <= self.duration:
+            return self._shape_scalar(t)
+        return 0.0
+
+    def _array(self, t: np.ndarray) -> np.ndarray:
+        inside = (t >= 0.0) & (t <= self.duration)
+        return np.where(inside, self._shape(t), 0.0)
+
+
+# ---------------------------------------------------------------------------- free release
+@dataclass(frozen=True)
+class FreeRelease(Excitation):
+    """No ground motion: the structure is released from an initial state.
+
+    Parameters
+    ----------
+    theta0 : float, optional
+        Initial base rotation θ0 (rad); θ0 > 0 leans onto the right pivot (paper 001,
+        Fig 1). Only finiteness is checked here; the simulator checks |θ0| < α_cg.
+    u0 : None, float or sequence of float, optional
+        Initial elastic displacements of nodes 1..N (m). ``None``: u = 0. A sequence:
+        one value per node. A scalar: the static deflected shape under a lateral point
+        load at the top node, u ∝ K⁻¹ e_N, scaled so that the top displacement is u0
+        (see `initial_displacement`).
+    """
+
+    theta0: float = 0.0
+    u0: float | tuple[float, ...] | None = None
+    kind = "free_release"
+
+    def __post_init__(self):
+        object.__setattr__(self, "theta0", _finite("theta0", self.theta0, "an angle in rad"))
+        u0 = self.u0
+        if u0 is None:
+            return
+        if np.ndim(u0) == 0:
+            object.__setattr__(self, "u0", _finite("u0", u0, "a top displacement in m"))
+            return
+        arr = np.asarray(u0)
+        if arr.ndim != 1:
+            raise InputError(f"`u0` has shape {arr.shape}: expected a scalar (top displacement, "
+                             f"m) or a 1-D sequence with one displacement per node 1..N")
+        values = tuple(_finite(f"u0[{i}]", v, "a displacement in m") for i, v in enumerate(u0))
+        object.__setattr__(self, "u0", values)
+
+    @property
+    def duration(self) -> float:
+        return 0.0
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        return ()
+
+    def _scalar(self, t: float) -> float:
+        return 0.0
+
+    def _array(self, t: np.ndarray) -> np.ndarray:
+        return np.zeros_like(t)
+
+    def initial_displacement(self, structure) -> np.ndarray:
+        """The initial elastic displacements u(0) of nodes 1..N (m), shape (N,).
+
+        Parameters
+        ----------
+        structure : Structure
+            Supplies ``n`` (N) and the condensed full-contact stiffness ``K`` (N × N).
+
+        Raises
+        ------
+        InputError
+            If a vector `u0` does not have N entries, or a non-zero `u0` is given for a
+            structure without elastic nodes (N = 0, a rigid block).
+        """
+        n = int(structure.n)
+        name = getattr(structure, "name", "the structure")
+        if self.u0 is None:
+            return np.zeros(n)
+        if isinstance(self.u0, tuple):
+            if len(self.u0) != n:
+                raise InputError(
+                    f"`u0` has {len(self.u0)} values but {name} has N = {n} elastic nodes; "
+                    f"give one displacement per node 1..N (m), or a scalar top displacement")
+            return np.array(self.u0, dtype=float)
+        if self.u0 == 0.0:
+            return np.zeros(n)
+        if n == 0:
+            raise InputError(
+                f"`u0` = {self.u0!r}: {name} has no elastic nodes (N = 0, a rigid block), so it "
+                f"cannot start deformed; pass u0=None and release it with theta0 instead")
+        e_top = np.zeros(n)
+        e_top[-1] = 1.0
+        shape = np.linalg.solve(np.asarray(structure.K, dtype=float), e_top)  # u = K⁻¹ e_N
+        if not np.all(np.isfinite(shape)) or shape[-1] <= 0.0:
+            raise InputError(f"`structure.K` of {name}: its static deflection under a top load "
+                             f"is not positive; check the stiffness matrix")
+        return shape * (self.u0 / shape[-1])
+
+    def describe(self) -> dict:
+        u0 = list(self.u0) if isinstance(self.u0, tuple) else self.u0
+        return {"kind": self.kind, "theta0": self.theta0, "u0": u0, "duration": 0.0}
+
+
+# ---------------------------------------------------------------------------- harmonic waves
+@dataclass(frozen=True)
+class SineWave(_Pulse):
+    """A single sine wave ü_g = a0 sin(ω t) for 0 ≤ t ≤ 2π/ω, zero otherwise.
+
+    Paper 004, Section 2.1 and Fig 2. ü_g is continuous at both ends; its derivative
+    jumps there (breakpoints 0 and 2π/ω).
+
+    Parameters
+    ----------
+    a0 : float
+        Amplitude (m/s², ≥ 0).
+    omega : float
+        Angular frequency ω = 2π/t_b (rad/s, > 0).
+    """
+
+    a0: float
+    omega: float
+    kind = "sine_wave"
+
+    def __post_init__(self):
+        object.__setattr__(self, "a0", _amplitude("a0", self.a0))
+        object.__setattr__(self, "omega", _positive("omega", self.omega, "rad/s"))
+
+    @property
+    def duration(self) -> float:
+        return TWO_PI / self.omega
+
+    def _shape(self, t):
+        return self.a0 * np.sin(self.omega * t)  # paper 004, Fig 2
+
+    def _shape_scalar(self, t: float) -> float:
+        return self.a0 * math.sin(self.omega * t)  # paper 004, Fig 2
+
+    def describe(self) -> dict:
+        return {"kind": self.kind, "a0": self.a0, "omega": self.omega,
+                "duration": self.duration}
+
+
+@dataclass(frozen=True)
+class CosineWave(_Pulse):
+    """A single cosine wave ü_g = a0 cos(ω t) for 0 ≤ t ≤ 2π/ω, zero otherwise.
+
+    Paper 004, Section 2.1 and Fig 2. ü_g jumps from 0 to a0 at t = 0 and from a0
+    to 0 at t = 2π/ω (breakpoints); at those two instants it takes the value a0.
+
+    Parameters
+    ----------
+    a0 : float
+        Amplitude (m/s², ≥ 0).
+    omega : float
+        Angular frequency (rad/s, > 0).
+    """
+
+    a0: float
+    omega: float
+    kind = "cosine_wave"
+
+    def __post_init__(self):
+        object.__setattr__(self, "a0", _amplitude("a0", self.a0))
+        object.__setattr__(self, "omega", _positive("omega", self.omega, "rad/s"))
+
+    @property
+    def duration(self) -> float:
+        return TWO_PI / self.omega
+
+    def _shape(self, t):
+        return self.a0 * np.cos(self.omega * t)  # paper 004, Fig 2
+
+    def _shape_scalar(self, t: float) -> float:
+        return self.a0 * math.cos(self.omega * t)  # paper 004, Fig 2
+
+    def describe(self) -> dict:
+        return {"kind": self.kind, "a0": self.a0, "omega": self.omega,
+                "duration": self.duration}
+
+
+@dataclass(frozen=True)
+class CosinePulse(_Pulse):
+    """Paper 001's "phased and vertically translated cosine pulse" (Section 4.4).
+
+    ü_g = (A/2) (1 − cos ω t) for 0 ≤ t ≤ 2π/ω, zero otherwise.
+
+    Decided reading: the paper names the pulse and its frequency ω and amplitude A
+    (e.g. ω = 15 rad/s, A = 0.4 g) but prints no formula. We read it as a cosine
+    phased by π (−cos ω t) and translated up by one amplitude, then halved, so that
+    it starts and ends at zero and peaks at A at t = π/ω: a one-sided pulse of a
+    single period. ü_g and its first derivative are continuous at both ends (the
+    second derivative jumps); the ends are still listed as breakpoints.
+
+    Parameters
+    ----------
+    omega : float
+        Angular frequency (rad/s, > 0); the pulse lasts 2π/ω.
+    amplitude : float
+        Peak acceleration A (m/s², ≥ 0).
+    """
+
+    omega: float
+    amplitude: float
+    kind = "cosine_pulse"
+
+    def __post_init__(self):
+        object.__setattr__(self, "omega", _positive("omega", self.omega, "rad/s"))
+        object.__setattr__(self, "amplitude", _amplitude("amplitude", self.amplitude))
+
+    @property
+    def duration(self) -> float:
+        return TWO_PI / self.omega
+
+    def _shape(self, t):
+        return 0.5 * self.amplitude * (1.0 - np.cos(self.omega * t))  # paper 001, Sec 4.4
+
+    def _shape_scalar(self, t: float) -> float:
+        return 0.5 * self.amplitude * (1.0 - math.cos(self.omega * t))  # paper 001, Sec 4.4
+
+    def describe(self) -> dict:
+        return {"kind": self.kind, "omega": self.omega, "amplitude": self.amplitude,
+                "duration": self.duration}
+
+
+# ---------------------------------------------------------------------------- Ricker
+# Default ω_p t0: the root of |1 − x²/2| exp(−x²/4) = 1e-6 is x = 8.32633 (closed form of the
+# wavelet's tail, decreasing for x > √6); rounded up to 3 decimals it leaves |ü_g(0)| ≈ 0.997e-6 a_p.
+RICKER_X0 = 8.327
+
+
+@dataclass(frozen=True)
+class Ricker(_Pulse):
+    """A symmetric Ricker wavelet, centred at t0 and truncated to [0, 2 t0].
+
+    ü_g = a_p (1 − ω_p² (t − t0)²/2) exp(−ω_p² (t − t0)²/4), the form used in the
+    rocking literature (Vassiliou & Makris; paper 000, Section 4, Fig 6, with
+    a_g and ω_g).
+
+    Parameters
+    ----------
+    a_p : float
+        Peak acceleration at t = t0 (m/s², ≥ 0).
+    omega_p : float
+        Characteristic angular frequency (rad/s, > 0).
+    t0 : float, optional
+        Centre of the wavelet (s, > 0). Default: t0 = 8.327/ω_p, so that
+        |ü_g(0)| = |ü_g(2 t0)| < 1e-6 a_p (≈ 0.997e-6 a_p): the jumps at the
+        truncation points 0 and 2 t0 are negligible. duration = 2 t0.
+    """
+
+    a_p: float
+    omega_p: float
+    t0: float | None = None
+    kind = "ricker"
+
+    def __post_init__(self):
+        object.__setattr__(self, "a_p", _amplitude("a_p", self.a_p))
+        object.__setattr__(self, "omega_p", _positive("omega_p", self.omega_p, "rad/s"))
+        if self.t0 is None:
+            object.__setattr__(self, "t0", RICKER_X0 / self.omega_p)
+        else:
+            object.__setattr__(self, "t0", _positive("t0", self.t0, "the centre time in s"))
+
+    @property
+    def duration(self) -> float:
+        return 2.0 * self.t0
+
+    def _shape(self, t):
+        x2 = (self.omega_p * (t - self.t0)) ** 2
+        return self.a_p * (1.0 - 0.5 * x2) * np.exp(-0.25 * x2)  # Ricker wavelet
+
+    def _shape_scalar(self, t: float) -> float:
+        x2 = (self.omega_p * (t - self.t0)) ** 2
+        return self.a_p * (1.0 - 0.5 * x2) * math.exp(-0.25 * x2)  # Ricker wavelet
+
+    def describe(self) -> dict:
+        return {"kind": self.kind, "a_p": self.a_p, "omega_p": self.omega_p, "t0": self.t0,
+                "duration": self.duration}
