@@ -1,0 +1,1 @@
+"""Speed x accuracy benchmarks (not run by the test suite)."""
