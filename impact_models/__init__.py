@@ -1,6 +1,46 @@
 """What happens at impact: restitution formulas, classical and Dirac-delta impact
 models, and impacts as a linear complementarity problem with Poisson's law."""
 
+from .models import Classical, DiracDelta, ImpactModel, Transition
+from .lemke import LCPError, LCPSolution, lemke
+from .poisson import PoissonImpact, poisson_impact
 from .restitution import housner_eta, modified_eta, r_h
+from .sources import (
+    AngularMomentumRestitution,
+    CornerRestitution,
+    EmpiricalRestitution,
+    FixedRestitution,
+    HousnerRestitution,
+    ImpactContext,
+    ModifiedRestitution,
+    RandomRestitution,
+    Restitution,
+)
+from .table2 import TABLE_2, impact_model, restitution_source
 
-__all__ = ["housner_eta", "modified_eta", "r_h"]
+__all__ = [
+    "LCPError",
+    "LCPSolution",
+    "PoissonImpact",
+    "lemke",
+    "poisson_impact",
+    "AngularMomentumRestitution",
+    "Classical",
+    "CornerRestitution",
+    "DiracDelta",
+    "EmpiricalRestitution",
+    "FixedRestitution",
+    "HousnerRestitution",
+    "ImpactContext",
+    "ImpactModel",
+    "ModifiedRestitution",
+    "RandomRestitution",
+    "Restitution",
+    "TABLE_2",
+    "Transition",
+    "housner_eta",
+    "impact_model",
+    "modified_eta",
+    "r_h",
+    "restitution_source",
+]

@@ -12,6 +12,8 @@ from .excitations import (CosinePulse, CosineWave, Excitation, FreeRelease, Rick
                           SineWave)
 from .records import Record, read_at2, read_record, read_two_column
 from .units import G, parse_acceleration, to_mps2
+from .response import Event, Response
+from .simulate import DEFAULTS, simulate
 
 __all__ = [
     "InputError",
@@ -33,4 +35,8 @@ __all__ = [
     "G",
     "to_mps2",
     "parse_acceleration",
+    "Event",
+    "Response",
+    "DEFAULTS",
+    "simulate",
 ]

@@ -19,6 +19,7 @@ __all__ = [
     "full_contact_accelerations",
     "rocking_system",
     "rocking_accelerations",
+    "solve_rocking",
     "total_accelerations",
 ]
 
@@ -78,12 +79,22 @@ def rocking_system(structure: Structure, side: int, u, theta: float, udot, theta
     return A, b
 
 
+def solve_rocking(m: np.ndarray, H: np.ndarray, a_tt: float, b: np.ndarray) -> tuple[np.ndarray, float]:
+    """Solve [[M, M H], [Hᵀ M, a_tt]] [ü; θ̈] = b by the Schur complement (M diagonal).
+
+    θ̈ = (b_θ − Hᵀ b_u) / (a_tt − Hᵀ M H), ü = b_u / m − H θ̈: exact, O(N),
+    and the pivot a_tt − HᵀMH = Σ m (u − sB)² + m0 (B² + h0²) + J0 > 0.
+    """
+    bu = b[:-1]
+    thetaddot = (b[-1] - H @ bu) / (a_tt - H @ (m * H))
+    return bu / m - H * thetaddot if m.size else bu.copy(), float(thetaddot)
+
+
 def rocking_accelerations(structure: Structure, side: int, u, theta: float, udot,
                           thetadot: float, ag: float, F_i: float = 0.0) -> tuple[np.ndarray, float]:
     """ü and θ̈ of the rocking phase, solving (not inverting) Eqs 4–5."""
     A, b = rocking_system(structure, side, u, theta, udot, thetadot, ag, F_i)
-    x = np.linalg.solve(A, b)
-    return x[:-1], float(x[-1])
+    return solve_rocking(structure.m, structure.H, A[-1, -1], b)
 
 
 def total_accelerations(structure: Structure, side: int, u, theta, uddot, thetaddot,

@@ -310,21 +310,23 @@ class CosineWave(_Pulse):
 class CosinePulse(_Pulse):
     """Paper 001's "phased and vertically translated cosine pulse" (Section 4.4).
 
-    ü_g = (A/2) (1 − cos ω t) for 0 ≤ t ≤ 2π/ω, zero otherwise.
-
-    Decided reading: the paper names the pulse and its frequency ω and amplitude A
-    (e.g. ω = 15 rad/s, A = 0.4 g) but prints no formula. We read it as a cosine
-    phased by π (−cos ω t) and translated up by one amplitude, then halved, so that
-    it starts and ends at zero and peaks at A at t = π/ω: a one-sided pulse of a
-    single period. ü_g and its first derivative are continuous at both ends (the
-    second derivative jumps); the ends are still listed as breakpoints.
+    Decided reading: the phrase describes the shake-table *displacement*,
+    d(t) = (A/ω²)(1 − cos ω t) for 0 ≤ t ≤ 2π/ω — a cosine phased by π and
+    translated up so that the table starts and ends at rest, at the same place
+    (the only kind of pulse a table can play; paper 004 Section 4.2 makes the
+    same point). The ground acceleration is then ü_g = A cos ω t over one
+    period: paper 004's single cosine wave, with amplitude A. (A one-sided
+    acceleration pulse peaking at A would leave the table moving, and with
+    paper 001's A = 0.4 g, barely above S1's g tan α_cg = 0.36 g, it would hardly
+    rock the specimen, unlike the paper's Figs 9–10.) ü_g jumps at both ends
+    (breakpoints).
 
     Parameters
     ----------
     omega : float
         Angular frequency (rad/s, > 0); the pulse lasts 2π/ω.
     amplitude : float
-        Peak acceleration A (m/s², ≥ 0).
+        Acceleration amplitude A (m/s², ≥ 0).
     """
 
     omega: float
@@ -340,10 +342,15 @@ class CosinePulse(_Pulse):
         return TWO_PI / self.omega
 
     def _shape(self, t):
-        return 0.5 * self.amplitude * (1.0 - np.cos(self.omega * t))  # paper 001, Sec 4.4
+        return self.amplitude * np.cos(self.omega * t)  # paper 001, Sec 4.4 (decided reading)
 
     def _shape_scalar(self, t: float) -> float:
-        return 0.5 * self.amplitude * (1.0 - math.cos(self.omega * t))  # paper 001, Sec 4.4
+        return self.amplitude * math.cos(self.omega * t)  # paper 001, Sec 4.4 (decided reading)
+
+    def displacement(self, t):
+        """Table displacement d(t) = (A/ω²)(1 − cos ω t) during the pulse (m)."""
+        t = np.clip(np.asarray(t, dtype=float), 0.0, self.duration)
+        return self.amplitude / self.omega**2 * (1.0 - np.cos(self.omega * t))
 
     def describe(self) -> dict:
         return {"kind": self.kind, "omega": self.omega, "amplitude": self.amplitude,

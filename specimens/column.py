@@ -68,6 +68,8 @@ class ColumnSpecimen:
         Gravitational acceleration (m/s²).
     reference : ColumnReference
         Published values.
+    sensors : tuple of (str, int)
+        Named instruments and the 1-based node each sits at (e.g. ("A2", 3)).
     """
 
     name: str
@@ -90,8 +92,17 @@ class ColumnSpecimen:
     description: str = ""
     source: str = ""
     reference: ColumnReference = field(default_factory=ColumnReference)
+    sensors: tuple[tuple[str, int], ...] = ()
 
     kind = "column"
+
+    def sensor_node(self, name: str) -> int:
+        """1-based node of the named sensor (e.g. "A2")."""
+        for key, node in self.sensors:
+            if key.lower() == name.lower():
+                return node
+        raise SpecimenError(f"specimen {self.name!r} has no sensor {name!r}; known sensors: "
+                            + (", ".join(k for k, _ in self.sensors) or "none (add a [sensors] table)"))
 
     @property
     def n_nodes(self) -> int:
@@ -100,7 +111,7 @@ class ColumnSpecimen:
 
 
 _TOP_REQUIRED = {"kind", "name", "geometry", "mass", "stiffness", "damping", "restitution"}
-_TOP_OPTIONAL = {"description", "source", "gravity_m_per_s2", "reference"}
+_TOP_OPTIONAL = {"description", "source", "gravity_m_per_s2", "reference", "sensors"}
 
 
 def column_from_mapping(data: Mapping, source: str) -> ColumnSpecimen:
@@ -193,7 +204,20 @@ def column_from_mapping(data: Mapping, source: str) -> ColumnSpecimen:
         g=number(source, "gravity_m_per_s2", data.get("gravity_m_per_s2", G_DEFAULT),
                  low=0.0, low_open=True, what="gravitational acceleration in m/s^2"),
         reference=_reference(data.get("reference", {}), source),
+        sensors=_sensors(data.get("sensors", {}), source, len(heights)),
     )
+
+
+def _sensors(data, source: str, n: int) -> tuple[tuple[str, int], ...]:
+    if not isinstance(data, Mapping):
+        raise SpecimenError(f"{source}: `sensors` = {data!r}: expected a table; write it as [sensors]")
+    out = []
+    for name, node in data.items():
+        if isinstance(node, bool) or not isinstance(node, int) or not 1 <= node <= n:
+            raise SpecimenError(f"{source}: `sensors.{name}` = {node!r}: give the 1-based node "
+                                f"number (1..{n}) the sensor sits at")
+        out.append((str(name), int(node)))
+    return tuple(out)
 
 
 def _reference(data, source: str) -> ColumnReference:

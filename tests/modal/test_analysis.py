@@ -3,6 +3,8 @@
 import numpy as np
 import pytest
 
+from tests.conftest import column_toml
+
 import multimass
 import modal
 from modal import ModalError
@@ -98,13 +100,7 @@ def test_complex_and_real_shapes_are_close(s1):
 
 
 def test_one_node_structure_has_one_vibration_mode(tmp_path):
-    import specimens
-
-    text = specimens.loader._bundled()["S1"].read_text()
-    text = (text.replace("[0.06, 0.49, 0.93, 1.43, 1.93]", "[1.0]")
-                .replace("[77.3, 6.2, 88.2, 8.2, 46.2]", "[200.0]"))
-    p = tmp_path / "sdof.toml"
-    p.write_text(text)
+    p = column_toml(tmp_path, [1.0], [200.0], name="sdof")
     res = modal.analyse(multimass.column(p))
     assert res.full_contact.omega.size == 1 and res.rocking.omega.size == 1
     assert res.shape_nodes == (1,)

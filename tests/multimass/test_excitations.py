@@ -26,7 +26,7 @@ def _window(t, f):
 @pytest.mark.parametrize("exc, closed_form", [
     (SineWave(A, W), lambda t: A * math.sin(W * t)),                   # paper 004, Fig 2
     (CosineWave(A, W), lambda t: A * math.cos(W * t)),                 # paper 004, Fig 2
-    (CosinePulse(W, A), lambda t: 0.5 * A * (1 - math.cos(W * t))),    # paper 001, Sec 4.4 (decided)
+    (CosinePulse(W, A), lambda t: A * math.cos(W * t)),    # paper 001, Sec 4.4 (decided: table displacement (A/ω²)(1 − cos ωt))
 ])
 def test_harmonic_pulses_match_closed_forms(exc, closed_form):
     assert exc.duration == pytest.approx(T, rel=1e-15)
@@ -46,9 +46,12 @@ def test_special_values_of_the_waves():
     assert CosineWave(A, W)(0.0) == A
     assert CosineWave(A, W)(T) == pytest.approx(A, rel=1e-14)   # jumps to 0 just after T
     assert CosineWave(A, W)(T * (1 + 1e-12)) == 0.0
-    assert CosinePulse(W, A)(T / 2) == pytest.approx(A, rel=1e-14)
-    assert CosinePulse(W, A)(0.0) == 0.0
-    assert CosinePulse(W, A)(T) == pytest.approx(0.0, abs=1e-12)
+    assert CosinePulse(W, A)(T / 2) == pytest.approx(-A, rel=1e-14)
+    assert CosinePulse(W, A)(0.0) == A
+    # the table displacement it comes from starts and ends at rest at zero
+    d = CosinePulse(W, A).displacement
+    assert d(0.0) == 0.0 and d(T) == pytest.approx(0.0, abs=1e-15)
+    assert d(T / 2) == pytest.approx(2 * A / W**2, rel=1e-14)
 
 
 def test_ricker_closed_form_and_default_t0():

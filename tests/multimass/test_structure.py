@@ -3,6 +3,8 @@
 import numpy as np
 import pytest
 
+from tests.conftest import column_toml
+
 import multimass
 from multimass import InputError
 from multimass.damping import rayleigh_damping
@@ -60,11 +62,7 @@ def test_rayleigh_single_dof_gives_exact_zeta():
 
 
 def test_one_node_column_is_the_sdof_oscillator(tmp_path):
-    text = specimens.loader._bundled()["S1"].read_text()
-    text = (text.replace("[0.06, 0.49, 0.93, 1.43, 1.93]", "[1.2]")
-                .replace("[77.3, 6.2, 88.2, 8.2, 46.2]", "[150.0]"))
-    p = tmp_path / "sdof.toml"
-    p.write_text(text)
+    p = column_toml(tmp_path, [1.2], [150.0], name="sdof")
     s = multimass.column(p)
     assert s.n == 1
     assert s.K[0, 0] == pytest.approx(5.0e8)           # the horizontal spring alone

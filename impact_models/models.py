@@ -1,0 +1,160 @@
+"""Impact models: the classical instantaneous impact and the Gaussian Dirac-delta force.
+
+An impact model has two duties (DESIGN.md): (1) a force acting while rocking
+near θ = 0 (none for the classical model; the Gaussian F_i of paper 001,
+Eqs 14–17, for the Dirac-delta model), and (2) the transition map at θ = 0:
+given the state at the end of a half-cycle, the next phase and the
+post-transition velocities (paper 001, Eqs 9–12).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .sources import Restitution
+
+__all__ = ["Transition", "ImpactModel", "Classical", "DiracDelta"]
+
+_SQRT_PI = math.sqrt(math.pi)
+
+
+@dataclass(frozen=True)
+class Transition:
+    """Outcome of the transition map at θ = 0.
+
+    Attributes
+    ----------
+    phase : int
+        Next phase: +1 / −1 rocking about the right / left pivot, 0 full contact.
+    udot : ndarray
+        Elastic velocities after the transition.
+    thetadot : float
+        Rocking velocity after the transition.
+    kind : str
+        "impact" (a new half-cycle) or "full_contact".
+    restitution : float or None
+        The coefficient applied (classical impacts only).
+    """
+
+    phase: int
+    udot: np.ndarray
+    thetadot: float
+    kind: str
+    restitution: float | None = None
+
+
+def next_phase_is_rocking(side_new: int, L_new: float, thetadot: float,
+                          theta_dot_min: float) -> bool:
+    """Paper 001, Eq 9: ±L_p^r ≥ 0 and ±θ̇⁻ > θ̇_min (± = the new pivot)."""
+    return side_new * L_new >= 0.0 and side_new * thetadot > theta_dot_min   # paper 001, Eq 9
+
+
+@dataclass(frozen=True)
+class ImpactModel:
+    """Base class: Eq 9 chooses the next phase, Eq 10 drops to full contact,
+    and subclasses give the rebound of a new half-cycle (`rebound`)."""
+
+    restitution: Restitution
+    name: str = "impact"
+    has_force = False
+
+    def rebound(self, thetadot: float, udot: np.ndarray, r: float) -> tuple[float, np.ndarray]:
+        """Velocities (θ̇⁺, u̇⁺) of a new half-cycle."""
+        raise NotImplementedError
+
+    def at_zero(self, H: np.ndarray, side_old: int, L_new: float, udot: np.ndarray,
+                thetadot: float, r: float, theta_dot_min: float) -> Transition:
+        """The transition map at the end of a half-cycle (θ = 0).
+
+        Parameters
+        ----------
+        H : ndarray
+            Node heights.
+        side_old : int
+            The pivot of the half-cycle that ends.
+        L_new : float
+            Angular momentum about the impending pivot (paper 001, Eq 9).
+        udot, thetadot : pre-transition velocities.
+        r : float
+            Restitution for this corner.
+        theta_dot_min : float
+            θ̇_min of Eq 9 (rad/s).
+        """
+        side_new = -side_old
+        if next_phase_is_rocking(side_new, L_new, thetadot, theta_dot_min):
+            td, ud = self.rebound(thetadot, udot, r)
+            return Transition(side_new, ud, td, "impact", r if self.uses_restitution_at_zero else None)
+        # paper 001, Eq 10: vertical momentum lost, horizontal momentum of each node kept
+        return Transition(0, udot + H * thetadot, 0.0, "full_contact")
+
+    uses_restitution_at_zero = False
+
+
+@dataclass(frozen=True)
+class Classical(ImpactModel):
+    """Classical impact model, CIM (paper 001, Eq 11): θ̇⁺ = r θ̇⁻, u̇⁺ = u̇⁻."""
+
+    name: str = "CIM"
+    uses_restitution_at_zero = True
+
+    def rebound(self, thetadot, udot, r):
+        return r * thetadot, udot.copy()      # paper 001, Eq 11
+
+
+@dataclass(frozen=True)
+class DiracDelta(ImpactModel):
+    """Gaussian Dirac-delta impact force (paper 001, Eqs 14–17).
+
+    Attributes
+    ----------
+    restitution : Restitution
+        r of the impending corner, fixed when the force activates.
+    C_p : float
+        Proportionality between |θ̇_i| and the peak force (kg m/rad/s; Table 2).
+    n_min : float
+        Lower bound of the width parameter n (paper 001: 1e-4).
+    z : float
+        Activation angle in standard deviations (2.576: 99.5 %, Eq 16).
+    release : float
+        Deactivation at `release` × θ_i when moving away (1.1, Eq 17).
+    """
+
+    C_p: float = 1750.0
+    n_min: float = 1e-4
+    z: float = 2.576
+    release: float = 1.1
+    name: str = "DD"
+    has_force = True
+
+    def __post_init__(self):
+        for key in ("C_p", "n_min", "z"):
+            v = getattr(self, key)
+            if not (math.isfinite(v) and v > 0.0):
+                raise ValueError(f"`{key}` = {v!r}: must be a positive number")
+        if not (math.isfinite(self.release) and self.release >= 1.0):
+            raise ValueError(f"`release` = {self.release!r}: must be ≥ 1 (paper 001 uses 1.1)")
+
+    def rebound(self, thetadot, udot, r):
+        return thetadot, udot.copy()          # paper 001, Eq 12
+
+    def width(self, E_ini: float, r: float, B: float, m_t: float, g: float,
+              thetadot_i: float) -> float:
+        """Width parameter n of paper 001, Eq 15, bounded below by `n_min`."""
+        n = E_ini * (1.0 - r * r) / (B * _SQRT_PI * (0.5 * m_t * g + self.C_p * abs(thetadot_i)))
+        return max(n, self.n_min)
+
+    def threshold(self, n: float) -> float:
+        """|θ_i| = 2.576 n/√2, the activation angle (paper 001, Eq 16)."""
+        return self.z * n / math.sqrt(2.0)
+
+    @staticmethod
+    def force(theta: float, side: int, E_ini: float, r: float, n: float, B: float) -> float:
+        """F_i of paper 001, Eq 14, opposing the approach to θ = 0.
+
+        `side` is the current pivot; the force has the sign of the impending
+        one (−side), which makes its moment 2B F_i in Eq 5 brake the motion.
+        """
+        return -side * E_ini * (1.0 - r * r) / (B * n * _SQRT_PI) * math.exp(-(theta / n) ** 2)

@@ -1,0 +1,178 @@
+"""Where a coefficient of restitution comes from, impact by impact.
+
+Every source is a small frozen dataclass with one method,
+``value(ctx) -> float``, where `ctx` is an `ImpactContext`: the structure,
+the corner about to be hit (the new pivot), the current elastic
+displacements, the index of this impact and the run's random generator.
+Sources hold no run state, so one source can drive many simulations; the
+engine passes a fresh, seeded generator to each run.
+
+Corners: an impact on the **right** corner starts rocking about the right
+pivot (θ > 0) and uses paper 001's r̄_er; the left corner uses r̄_el.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .restitution import housner_eta, modified_eta, r_h
+
+__all__ = [
+    "ImpactContext",
+    "Restitution",
+    "FixedRestitution",
+    "CornerRestitution",
+    "EmpiricalRestitution",
+    "RandomRestitution",
+    "AngularMomentumRestitution",
+    "HousnerRestitution",
+    "ModifiedRestitution",
+]
+
+
+@dataclass(frozen=True)
+class ImpactContext:
+    """What a restitution source may look at.
+
+    Attributes
+    ----------
+    structure : multimass.Structure
+    side_new : int
+        +1 if the right corner is hit (rocking about the right pivot follows), −1 left.
+    u : ndarray
+        Elastic displacements at impact.
+    index : int
+        0-based count of restitution values drawn so far in this run.
+    rng : numpy.random.Generator
+    """
+
+    structure: object
+    side_new: int
+    u: np.ndarray
+    index: int
+    rng: np.random.Generator
+
+
+def _check_r(r: float, what: str) -> float:
+    r = float(r)
+    if not (math.isfinite(r) and 0.0 < r <= 1.0):
+        raise ValueError(f"`{what}` = {r!r}: a coefficient of restitution must lie in (0, 1]")
+    return r
+
+
+class Restitution:
+    """Base class of restitution sources: subclasses implement `value`."""
+
+    def value(self, ctx: ImpactContext) -> float:  # pragma: no cover - interface
+        raise NotImplementedError
+
+    def describe(self) -> dict:
+        """Parameters for logs and JSON."""
+        return {"kind": type(self).__name__, **{k: v for k, v in vars(self).items()}}
+
+
+@dataclass(frozen=True)
+class FixedRestitution(Restitution):
+    """The same r at every impact."""
+
+    r: float
+
+    def __post_init__(self):
+        _check_r(self.r, "r")
+
+    def value(self, ctx: ImpactContext) -> float:
+        return self.r
+
+
+@dataclass(frozen=True)
+class CornerRestitution(Restitution):
+    """Per-corner means (paper 001, Table 1: r̄_er right, r̄_el left)."""
+
+    right: float
+    left: float
+
+    def __post_init__(self):
+        _check_r(self.right, "right")
+        _check_r(self.left, "left")
+
+    def value(self, ctx: ImpactContext) -> float:
+        return self.right if ctx.side_new > 0 else self.left
+
+
+@dataclass(frozen=True)
+class EmpiricalRestitution(Restitution):
+    """Impact-specific coefficients r_e in impact order, then a fallback.
+
+    Paper 001 (Section 4.3) used impact-specific values for the large
+    half-cycles and the per-corner means once they ran out.
+    """
+
+    values: tuple[float, ...]
+    fallback: Restitution
+
+    def __post_init__(self):
+        for i, r in enumerate(self.values):
+            _check_r(r, f"values[{i}]")
+
+    def value(self, ctx: ImpactContext) -> float:
+        if ctx.index < len(self.values):
+            return self.values[ctx.index]
+        return self.fallback.value(ctx)
+
+
+@dataclass(frozen=True)
+class RandomRestitution(Restitution):
+    """Random r per impact from N(mean of the corner, σ), clipped to (0, 1].
+
+    Paper 001, Section 4.4 (DD5). Reproducible: the engine seeds the
+    generator per run.
+    """
+
+    right: float
+    left: float
+    sigma: float
+    floor: float = 1e-3
+
+    def __post_init__(self):
+        _check_r(self.right, "right")
+        _check_r(self.left, "left")
+        if not (math.isfinite(self.sigma) and self.sigma >= 0.0):
+            raise ValueError(f"`sigma` = {self.sigma!r}: a standard deviation must be ≥ 0")
+
+    def value(self, ctx: ImpactContext) -> float:
+        mean = self.right if ctx.side_new > 0 else self.left
+        return float(np.clip(ctx.rng.normal(mean, self.sigma), self.floor, 1.0))
+
+
+@dataclass(frozen=True)
+class AngularMomentumRestitution(Restitution):
+    """r_h of paper 001, Eq 13, with the current elastic displacements."""
+
+    def value(self, ctx: ImpactContext) -> float:
+        s = ctx.structure
+        return float(r_h(s.J_p, s.m_t, s.B, s.m, ctx.u, ctx.side_new))
+
+
+@dataclass(frozen=True)
+class HousnerRestitution(Restitution):
+    """Housner's η_H = 1 − 1.5 sin²α_cg (paper 004, Eq 9)."""
+
+    def value(self, ctx: ImpactContext) -> float:
+        return housner_eta(ctx.structure.alpha_cg)
+
+
+@dataclass(frozen=True)
+class ModifiedRestitution(Restitution):
+    """The modified η_M(k) of paper 004, Eq 10."""
+
+    k: float
+
+    def __post_init__(self):
+        if not (math.isfinite(self.k) and 0.0 <= self.k <= 1.0):
+            raise ValueError(f"`k` = {self.k!r}: the impulse position parameter must lie in [0, 1]")
+
+    def value(self, ctx: ImpactContext) -> float:
+        return modified_eta(ctx.structure.alpha_cg, self.k)

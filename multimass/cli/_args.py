@@ -1,0 +1,94 @@
+"""Argument groups shared by the simulation commands (excitation, impact, solver)."""
+
+from __future__ import annotations
+
+import math
+
+from ..errors import InputError
+from ..excitations import CosinePulse, CosineWave, FreeRelease, Ricker, SineWave
+from ..records import read_record
+from ..simulate import DEFAULTS
+from ..units import parse_acceleration
+
+__all__ = ["add_excitation_args", "excitation_from_args", "add_impact_args", "impact_kwargs",
+           "add_solver_args", "solver_kwargs", "PULSES", "pulse"]
+
+PULSES = ("sine", "cosine", "ricker")
+
+
+def add_excitation_args(p, *, release=True) -> None:
+    g = p.add_argument_group("excitation (one of: release, pulse, record)")
+    if release:
+        g.add_argument("--release", type=float, default=None, metavar="THETA0",
+                       help="free release from θ0 (rad); θ0 > 0 leans on the right pivot")
+        g.add_argument("--release-u", type=float, default=None, metavar="U0",
+                       help="free release with the top node displaced by U0 (m), static shape")
+    g.add_argument("--pulse", choices=PULSES, default=None,
+                   help="sine, cosine: single waves (paper 004 Fig 2; paper 001's cosine pulse is "
+                        "the same acceleration, see multimass.CosinePulse); ricker: Ricker wavelet")
+    g.add_argument("--omega", type=float, default=None, help="pulse circular frequency (rad/s)")
+    g.add_argument("--amp", default=None, help="pulse amplitude, e.g. 0.4g, 3.5m/s2 (default unit g)")
+    g.add_argument("--record", default=None, metavar="FILE",
+                   help="recorded motion: PEER .AT2 or two-column text file (t, a)")
+    g.add_argument("--units", default=None, help="units of a two-column record: g, m/s2, cm/s2, mm/s2")
+    g.add_argument("--scale", type=float, default=1.0, help="scale factor of the record")
+
+
+def pulse(kind: str, omega: float, amp: float, structure_kind: str):
+    """A pulse excitation by CLI name (see `add_excitation_args`)."""
+    if kind == "sine":
+        return SineWave(amp, omega)
+    if kind == "cosine":      # paper 001 calls it a cosine pulse, paper 004 a cosine wave
+        return CosinePulse(omega, amp) if structure_kind == "column" else CosineWave(amp, omega)
+    if kind == "ricker":
+        return Ricker(amp, omega)
+    raise InputError(f"`--pulse` = {kind!r}: use one of {', '.join(PULSES)}")
+
+
+def excitation_from_args(args, structure):
+    """The excitation the arguments describe; exactly one kind must be given."""
+    kinds = [k for k, v in (("--release", getattr(args, "release", None) is not None
+                             or getattr(args, "release_u", None) is not None),
+                            ("--pulse", args.pulse is not None), ("--record", args.record is not None)) if v]
+    if len(kinds) != 1:
+        raise InputError("give exactly one excitation: --release THETA0, --pulse KIND --omega W "
+                         f"--amp A, or --record FILE (got {', '.join(kinds) or 'none'})")
+    if kinds[0] == "--release":
+        return FreeRelease(theta0=args.release or 0.0, u0=args.release_u)
+    if kinds[0] == "--pulse":
+        if args.omega is None or args.amp is None:
+            raise InputError("`--pulse` needs --omega (rad/s) and --amp (e.g. 0.4g)")
+        amp = parse_acceleration(args.amp, "g", argument="--amp")
+        kind = getattr(getattr(structure, "specimen", None), "kind", "column")
+        return pulse(args.pulse, args.omega, amp, kind)
+    return read_record(args.record, units=args.units, scale=args.scale)
+
+
+def add_impact_args(p) -> None:
+    g = p.add_argument_group("impact model")
+    g.add_argument("--impact", default="DD2",
+                   help="CIM, DD1..DD5 (paper 001 Table 2) or DD (default DD2; blocks: CIM is usual)")
+    g.add_argument("--restitution", default=None,
+                   help="housner | modified | mean | random | r_h | VALUE (overrides Table 2)")
+    g.add_argument("--k", type=float, default=None, help="k of the modified restitution (paper 004 Eq 10)")
+    g.add_argument("--cp", type=float, default=None, help="C_p of the Dirac-delta model (kg m/rad/s)")
+    g.add_argument("--seed", type=int, default=None, help="seed of random restitution (DD5)")
+
+
+def impact_kwargs(args) -> dict:
+    return dict(impact=args.impact, restitution=args.restitution, k=args.k, C_p=args.cp,
+                seed=args.seed)
+
+
+def add_solver_args(p) -> None:
+    g = p.add_argument_group("solver (scipy.integrate.solve_ivp)")
+    g.add_argument("--method", default=DEFAULTS["method"], help="RK45, DOP853, Radau, BDF, LSODA")
+    g.add_argument("--rtol", type=float, default=DEFAULTS["rtol"])
+    g.add_argument("--atol", type=float, default=DEFAULTS["atol"])
+    g.add_argument("--max-step", type=float, default=DEFAULTS["max_step"], help="s")
+    g.add_argument("--output-dt", type=float, default=DEFAULTS["output_dt"], help="sampling of the series (s)")
+
+
+def solver_kwargs(args) -> dict:
+    return dict(method=args.method, rtol=args.rtol, atol=args.atol, max_step=args.max_step,
+                output_dt=args.output_dt)

@@ -1,0 +1,103 @@
+"""Figures of time histories (headless: matplotlib's object API, no pyplot state).
+
+Paper 001 Figs 6–7 style: rocking angle with the Dirac-delta impact force,
+the energy ledger, and accelerations at instrumented nodes.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from .response import Response
+
+__all__ = ["plot_rocking", "plot_energy", "plot_accelerations", "plot_overlay"]
+
+
+def _save(fig: Figure, path) -> Path:
+    path = Path(path)
+    fig.savefig(path, dpi=110)
+    return path
+
+
+def _impact_marks(ax, resp: Response):
+    for e in resp.events:
+        if e.kind in ("impact", "full_contact", "uplift", "overturn"):
+            ax.axvline(e.time, color={"impact": "0.75", "full_contact": "tab:orange",
+                                      "uplift": "tab:green", "overturn": "k"}[e.kind],
+                       lw=0.5, zorder=0)
+
+
+def plot_rocking(resp: Response, path, title: str = "") -> Path:
+    """θ(t) with the impact force F_i (twin axis) and θ̇(t)."""
+    df = resp.series
+    fig = Figure(figsize=(10, 5.5), layout="constrained")
+    ax, ax2 = fig.subplots(2, 1, sharex=True)
+    ax.plot(df.t, df.theta, color="tab:blue", lw=1.0, label="θ")
+    _impact_marks(ax, resp)
+    ax.set_ylabel("θ (rad)")
+    ax.grid(alpha=0.3)
+    if np.any(df.F_i != 0):
+        axf = ax.twinx()
+        axf.plot(df.t, df.F_i / 1e3, color="0.55", lw=0.8, label="F_i")
+        axf.set_ylabel("impact force F_i (kN)", color="0.4")
+    ax2.plot(df.t, df.thetadot, color="tab:red", lw=0.8)
+    ax2.set_ylabel("θ̇ (rad/s)")
+    ax2.set_xlabel("t (s)")
+    ax2.grid(alpha=0.3)
+    ax.set_title(title or f"{resp.structure_name}: {resp.options.get('impact', '')}, "
+                 f"{resp.n_impacts} impacts, {resp.n_full_contact} full-contact transitions, "
+                 f"status {resp.status}")
+    return _save(fig, path)
+
+
+def plot_energy(resp: Response, path) -> Path:
+    """Energy ledger over time (paper 001, Fig 6 third row) and its balance error."""
+    df = resp.series
+    fig = Figure(figsize=(10, 5.5), layout="constrained")
+    ax, ax2 = fig.subplots(2, 1, sharex=True, height_ratios=[3, 1])
+    for col, style in (("kinetic", "-"), ("gravitational", "-"), ("elastic", "-"),
+                       ("damping", "--"), ("impact", "--"), ("ground_work", ":")):
+        ax.plot(df.t, df[col], style, lw=1.0, label=col.replace("_", " "))
+    ax.plot(df.t, df.kinetic + df.gravitational + df.elastic, "k", lw=1.2, label="mechanical total")
+    ax.set_ylabel("energy (J)")
+    ax.legend(ncol=4, fontsize=8)
+    ax.grid(alpha=0.3)
+    ax2.plot(df.t, df.balance_error / resp.energy_reference, color="tab:purple", lw=0.8)
+    ax2.set_ylabel("balance error\n(relative)")
+    ax2.set_xlabel("t (s)")
+    ax2.grid(alpha=0.3)
+    ax.set_title(f"{resp.structure_name}: energy ledger (max relative balance error "
+                 f"{resp.energy_balance_error:.2e})")
+    return _save(fig, path)
+
+
+def plot_accelerations(resp: Response, nodes: dict[str, int], path, g: float = 9.81) -> Path:
+    """Total accelerations (paper 001, Eq 7) at named nodes, in g (paper 001, Fig 7)."""
+    df = resp.series
+    fig = Figure(figsize=(10, 2.4 * max(1, len(nodes)) + 0.6), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(len(nodes), 1, sharex=True))
+    for ax, (label, node) in zip(axes, nodes.items()):
+        ax.plot(df.t, df[f"a{node}"] / g, lw=0.7)
+        ax.set_ylabel(f"a_{label} (g)\nnode {node}")
+        ax.grid(alpha=0.3)
+    axes[-1].set_xlabel("t (s)")
+    axes[0].set_title(f"{resp.structure_name}: total lateral accelerations")
+    return _save(fig, path)
+
+
+def plot_overlay(t_meas, meas, t_sim, sim, label: str, unit: str, path, metrics: dict) -> Path:
+    """A measured trace against the simulated one, with the error metrics in the title."""
+    fig = Figure(figsize=(10, 3.6), layout="constrained")
+    ax = fig.subplots()
+    ax.plot(t_meas, meas, color="k", lw=0.9, label="measured")
+    ax.plot(t_sim, sim, color="tab:red", lw=0.9, alpha=0.85, label="simulated")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel(f"{label} ({unit})")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    ax.set_title(f"{label}: RMS error {metrics['rms_error']:.3g} {unit}, peak error "
+                 f"{metrics['peak_error']:.3g} {unit}, peak-time shift {metrics['peak_time_shift_s']:+.3f} s")
+    return _save(fig, path)
