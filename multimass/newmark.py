@@ -31,6 +31,8 @@ from .structure import Structure
 
 __all__ = ["newmark_block", "NewmarkResult", "RockingEvent", "rocking_energy"]
 
+_MAX_PHASES = 10_000_000
+
 
 @dataclass(frozen=True, eq=False)
 class NewmarkResult:
@@ -266,8 +268,12 @@ def newmark_block(structure: Structure, ag, t_end: float, *, dt: float = 1e-3,
         nxt = None if run.energy_stop(0.0, th, thd) else (0.0, 1, th, thd, thdd, side)
         if nxt is None:
             run.peaks.append(abs(th))
-    for _ in range(10_000_000):                          # guard against endless chattering
+    for _ in range(_MAX_PHASES):                         # guard against endless chattering
         if nxt is None:
             break
         nxt = run.rest(nxt[0], nxt[1]) if nxt[5] == 0 else run.fly(*nxt)
+    else:
+        run.status = "failed"
+        run.message = (f"more than {_MAX_PHASES} phase changes before t_end (chattering); "
+                       "raise `thetadot_min`")
     return NewmarkResult(**run.fields())
