@@ -1,0 +1,188 @@
+"""Executors by name: serial, a local process pool, or Dask; and the registry.
+
+Executors are chosen by name from `EXECUTORS` (``"serial"``, ``"process"``,
+``"dask"``) through `get_executor`, which also accepts an `Executor` subclass
+or an instance, as scipy's ``solve_ivp`` does for its methods. The contract
+is in `multimass.sweeps.base`.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import sys
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+
+from ..errors import InputError
+from .base import Executor, available_workers, validate_workers
+from .dask_executor import DaskExecutor
+
+__all__ = [
+    "SerialExecutor",
+    "ProcessExecutor",
+    "DaskExecutor",
+    "EXECUTORS",
+    "get_executor",
+]
+
+
+class SerialExecutor(Executor):
+    """Run every task in this process, one after the other, in order.
+
+    The reference executor: no pickling, tracebacks point into the job.
+    """
+
+    name = "serial"
+    needs_pickle = False
+
+    def __init__(self, workers: int | None = None):
+        if validate_workers(workers) not in (None, 1):
+            raise InputError(f"`workers` = {workers!r}: the serial executor runs one job at "
+                             "a time; drop `workers` or use executor='process'")
+
+    @property
+    def workers(self) -> int:
+        return 1
+
+    def map_unordered(self, fn, args):
+        for i, a in enumerate(args):
+            yield i, fn(a)
+
+
+def _default_start_method() -> str:
+    """'forkserver' where it exists (Linux, macOS), else 'spawn' (Windows).
+
+    Not 'fork': forking a process that runs other threads (an OpenMP pool
+    after a numba ``parallel=True`` kernel, a Dask client, a GUI) can
+    deadlock or kill the child (``python -m benchmarks.sweep_overhead
+    --fork-hazard`` shows it); Python 3.14 made the same change.
+    """
+    methods = multiprocessing.get_all_start_methods()
+    return "forkserver" if "forkserver" in methods else "spawn"
+
+
+class ProcessExecutor(Executor):
+    """A pool of worker processes on this machine (concurrent.futures).
+
+    Parameters
+    ----------
+    workers : int, optional
+        Number of processes; default all cores (`available_workers`).
+    start_method : {'forkserver', 'spawn', 'fork'}, optional
+        How workers start. Default 'forkserver' (POSIX) or 'spawn' (Windows).
+        'fork' starts in ~10 ms and shares already-compiled numba functions,
+        but is unsafe once the calling process runs other threads (measured:
+        after a numba ``parallel=True`` kernel with the OpenMP layer the
+        forked workers abort); use it only in single-threaded scripts.
+
+    Notes
+    -----
+    The pool starts at the first sweep and is reused until `close`, so run
+    several sweeps inside ``with ProcessExecutor() as ex:`` to pay the start
+    (~0.5 s with 'forkserver': each worker imports the job's module) once.
+    Workers started by 'forkserver' or 'spawn' compile numba functions again
+    on first call; ``@njit(cache=True)`` makes that a cache load.
+    With these start methods the job function must be importable by the
+    workers: functions typed into an interactive session or a notebook are
+    rejected with a clear error (use 'dask', 'fork' or 'serial' there).
+    """
+
+    name = "process"
+
+    def __init__(self, workers: int | None = None, start_method: str | None = None):
+        self._workers = validate_workers(workers) or available_workers()
+        methods = multiprocessing.get_all_start_methods()
+        if start_method is not None and start_method not in methods:
+            raise InputError(f"`start_method` = {start_method!r}: not available here; "
+                             f"choose one of {', '.join(map(repr, methods))} or None")
+        self.start_method = start_method or _default_start_method()
+        self._pool: ProcessPoolExecutor | None = None
+
+    @property
+    def workers(self) -> int:
+        return self._workers
+
+    def check_picklable(self, func):
+        super().check_picklable(func)
+        main = sys.modules.get("__main__")
+        target = getattr(func, "func", func)          # a functools.partial's function
+        if (self.start_method != "fork" and getattr(target, "__module__", None) == "__main__"
+                and not getattr(main, "__file__", None)):
+            raise InputError(
+                f"`func` = {func!r} is defined in an interactive session, which "
+                f"'{self.start_method}' workers cannot import; put it in a .py module and "
+                "import it, or use executor='dask' (pickles by value) or "
+                "ProcessExecutor(start_method='fork')")
+
+    def _get_pool(self) -> ProcessPoolExecutor:
+        if self._pool is None:
+            ctx = multiprocessing.get_context(self.start_method)
+            self._pool = ProcessPoolExecutor(self._workers, mp_context=ctx)
+        return self._pool
+
+    def map_unordered(self, fn, args):
+        pool = self._get_pool()
+        position = {pool.submit(fn, a): i for i, a in enumerate(args)}
+        pending = set(position)
+        try:
+            while pending:
+                done, pending = wait(pending, return_when=FIRST_COMPLETED)
+                for fut in done:
+                    yield position[fut], fut.result()
+        finally:
+            for fut in pending:
+                fut.cancel()
+
+    def close(self):
+        if self._pool is not None:
+            self._pool.shutdown(wait=True, cancel_futures=True)
+            self._pool = None
+
+    def __repr__(self):
+        return f"ProcessExecutor(workers={self._workers}, start_method={self.start_method!r})"
+
+
+EXECUTORS: dict[str, type[Executor]] = {
+    "serial": SerialExecutor,
+    "process": ProcessExecutor,
+    "dask": DaskExecutor,
+}
+
+
+def get_executor(executor: str | type[Executor] | Executor = "process",
+                 workers: int | None = None, **options) -> Executor:
+    """An executor from a registry name, an `Executor` subclass or an instance.
+
+    Parameters
+    ----------
+    executor : str, Executor subclass or Executor
+        ``"serial"``, ``"process"`` (default) or ``"dask"``; a class is
+        instantiated as ``cls(workers, **options)``; an instance is returned
+        as is (then `workers` and `options` must not be given).
+    workers : int, optional
+        Number of workers; default all cores.
+    **options
+        Extra keyword arguments of the executor class (e.g. ``address=``
+        for Dask, ``start_method=`` for the process pool).
+
+    Returns
+    -------
+    Executor
+        The caller owns a new executor and should `close` it (or use ``with``).
+    """
+    if isinstance(executor, Executor):
+        if workers is not None or options:
+            raise InputError(f"`workers`/options given with the executor instance "
+                             f"{executor!r}: pass them to its constructor instead")
+        return executor
+    if isinstance(executor, str):
+        cls = EXECUTORS.get(executor.lower())
+        if cls is None:
+            raise InputError(f"`executor` = {executor!r}: unknown executor; choose one of "
+                             f"{', '.join(map(repr, EXECUTORS))}, or pass an Executor")
+    elif isinstance(executor, type) and issubclass(executor, Executor):
+        cls = executor
+    else:
+        raise InputError(f"`executor` = {executor!r}: expected a name "
+                         f"({', '.join(map(repr, EXECUTORS))}), an Executor subclass "
+                         "or an Executor instance")
+    return cls(workers, **options)
