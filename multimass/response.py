@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -119,21 +120,18 @@ class Response:
         cols = list(Event.__dataclass_fields__)
         return pd.DataFrame([[getattr(e, c) for c in cols] for e in self.events], columns=cols)
 
-    def consecutive_transitions(self, ratio: float = 0.05) -> int:
-        """Transitions inside one impact (paper 001, Section 4.3).
+    def consecutive_transitions(self, window: float = 0.02, t_max: float = math.inf) -> int:
+        """Phase transitions inside one impact (paper 001, Section 4.3).
 
-        Counts half-cycles (and full-contact episodes) whose peak is below
-        `ratio` times the peak of the preceding large half-cycle and that
-        follow an impact directly: the "several consecutive phase transitions
-        within a single impact" of the classical model.
+        Counts transitions (a new half-cycle, full contact or uplift) that
+        follow the previous transition within `window` seconds — far shorter
+        than a rocking half-cycle, so driven by the vibration the impact
+        excited: the "several consecutive phase transitions within a single
+        impact" of the classical model. Only transitions up to `t_max` count.
         """
-        count, big = 0, 0.0
-        for p in self.peaks:
-            if big > 0.0 and p < ratio * big:
-                count += 1
-            else:
-                big = p
-        return count
+        times = [e.time for e in self.events
+                 if e.kind in ("impact", "full_contact", "uplift") and e.time <= t_max]
+        return int(sum(b - a < window for a, b in zip(times, times[1:])))
 
     def summary(self) -> dict:
         """JSON-ready summary (SI units, radians)."""
