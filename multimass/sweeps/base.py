@@ -45,17 +45,18 @@ def validate_workers(workers: Any) -> int | None:
 class Executor(abc.ABC):
     """Contract of a sweep executor.
 
-    Subclasses implement `workers` and `map_unordered`; `close` releases what
-    the executor started. Instances are context managers, and may be reused
-    for several sweeps (a process pool or a Dask client then starts once).
+    Subclasses implement `workers` and `map_unordered`; `prepare` is called
+    once per sweep with the job function, `close` releases what the executor
+    started. Instances are context managers, and may be reused for several
+    sweeps (a process pool or a Dask client then starts once).
 
     Attributes
     ----------
     name : str
         Registry name, shown in messages.
     needs_pickle : bool
-        True if functions and arguments travel to other processes, so
-        `run_jobs` checks that the job function can be pickled.
+        True if functions and arguments travel to other processes; the
+        default `prepare` then checks that the job function pickles.
     """
 
     name: ClassVar[str] = "custom"
@@ -77,8 +78,13 @@ class Executor(abc.ABC):
         tasks are cancelled.
         """
 
-    def check_picklable(self, func: Callable) -> None:
-        """Raise InputError if `func` cannot be sent to this executor's workers."""
+    def prepare(self, func: Callable) -> None:
+        """Check, before a sweep starts, that `func` can reach the workers.
+
+        Raises InputError if it cannot. Subclasses may also warm workers here.
+        """
+        if not self.needs_pickle:
+            return
         try:
             pickle.dumps(func)
         except Exception as exc:  # pickle raises several types

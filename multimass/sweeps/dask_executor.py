@@ -99,7 +99,7 @@ class DaskExecutor(Executor):
     def workers(self) -> int:
         return max(1, sum(self.client.nthreads().values()))
 
-    def check_picklable(self, func):
+    def prepare(self, func):
         from distributed.protocol.pickle import dumps   # cloudpickle-backed, as Dask sends it
         try:
             dumps(func)

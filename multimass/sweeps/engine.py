@@ -1,6 +1,6 @@
 """The sweep driver: run a list of independent jobs in batches on an executor.
 
-`run_jobs` splits the jobs into contiguous batches, sends each batch to the
+`run_jobs` splits the jobs into strided batches, sends each batch to the
 executor as one task, shows a progress bar as batches finish and returns the
 results in job order. A job that raises stops the sweep with a `JobError`
 naming the job's index, its original exception chained.
@@ -81,16 +81,21 @@ class _Failure:
 
 
 class _Batch:
-    """Jobs ``start, start+1, ...`` sent as one task (an opaque object, so that
-    Dask does not search the jobs for tasks or futures)."""
+    """Jobs ``start, start + step, start + 2·step, ...`` sent as one task.
 
-    __slots__ = ("start", "jobs")
+    Strided, not contiguous: neighbouring jobs of a grid often cost alike
+    (a region of an overturning map that overturns early), so striding gives
+    every batch a similar mix and the workers finish together. An opaque
+    object, so that Dask does not search the jobs for tasks or futures.
+    """
 
-    def __init__(self, start: int, jobs: list):
-        self.start, self.jobs = start, jobs
+    __slots__ = ("start", "step", "jobs")
+
+    def __init__(self, start: int, step: int, jobs: list):
+        self.start, self.step, self.jobs = start, step, jobs
 
     def __reduce__(self):
-        return _Batch, (self.start, self.jobs)
+        return _Batch, (self.start, self.step, self.jobs)
 
 
 def _run_batch(func: Callable, batch: _Batch) -> list | _Failure:
@@ -100,7 +105,7 @@ def _run_batch(func: Callable, batch: _Batch) -> list | _Failure:
         try:
             out.append(func(job))
         except Exception as exc:
-            return _Failure(batch.start + k, exc, traceback.format_exc())
+            return _Failure(batch.start + k * batch.step, exc, traceback.format_exc())
     return out
 
 
@@ -168,8 +173,9 @@ def run_jobs(func: Callable[[Any], Any], jobs: Iterable[Any], *,
         Workers of an executor created here; default all cores (Dask: the
         cluster's worker threads).
     batch_size : int, optional
-        Jobs per task; default `default_batch_size` (about four batches per
-        worker).
+        Most jobs per task; default `default_batch_size` (about four batches
+        per worker). Batches are strided: with B batches, batch k holds jobs
+        k, k + B, k + 2B, ...
     progress : bool, optional
         Show a tqdm bar on stderr, advanced per finished batch. Default:
         only if there are more than 50 jobs and stderr is a terminal.
@@ -207,10 +213,10 @@ def run_jobs(func: Callable[[Any], Any], jobs: Iterable[Any], *,
     try:
         if not jobs:
             return []
-        if ex.needs_pickle:
-            ex.check_picklable(func)
+        ex.prepare(func)
         size = batch_size or default_batch_size(len(jobs), ex.workers)
-        batches = [_Batch(s, jobs[s:s + size]) for s in range(0, len(jobs), size)]
+        n_batches = math.ceil(len(jobs) / size)
+        batches = [_Batch(k, n_batches, jobs[k::n_batches]) for k in range(n_batches)]
         return _drive(func, batches, len(jobs), ex, show, desc)
     finally:
         if owned:
@@ -221,20 +227,22 @@ def _drive(func, batches, n_jobs, ex: Executor, show: bool, desc: str | None) ->
     """Run the batches on `ex`, fill the results in order, advance the bar."""
     results: list = [None] * n_jobs
     bar = _Bar(total=n_jobs, desc=desc, unit="job", file=sys.stderr, disable=not show)
-    stream = ex.map_unordered(partial(_run_batch, func), batches)
+    stream = None
     done = 0
     try:
+        stream = iter(ex.map_unordered(partial(_run_batch, func), batches))
         for pos, out in stream:
             if isinstance(out, _Failure):
                 _raise_job_error(out, n_jobs, ex)
-            start, size = batches[pos].start, len(batches[pos].jobs)
+            batch = batches[pos]
+            size = len(batch.jobs)
             if not isinstance(out, list) or len(out) != size:
                 raise ExecutorError(f"the `{ex.name}` executor returned {type(out).__name__} "
                                     f"for batch {pos}; expected a list of {size} results")
-            results[start:start + size] = out
+            results[batch.start::batch.step] = out
             done += size
             bar.update(size)
-    except (JobError, ExecutorError, KeyboardInterrupt):
+    except (JobError, ExecutorError):
         raise
     except Exception as exc:
         raise ExecutorError(
@@ -242,7 +250,7 @@ def _drive(func, batches, n_jobs, ex: Executor, show: bool, desc: str | None) ->
             f"{type(exc).__name__}: {exc}. `func`, the jobs and their results must be "
             "picklable, and a job must not kill its worker (memory, segfault)") from exc
     finally:
-        stream.close()
+        getattr(stream, "close", lambda: None)()  # a generator cancels pending tasks
         bar.close()
     if done != n_jobs:
         raise ExecutorError(f"the `{ex.name}` executor finished {done} of {n_jobs} jobs; "

@@ -60,6 +60,22 @@ def _default_start_method() -> str:
     return "forkserver" if "forkserver" in methods else "spawn"
 
 
+def _preload_in_forkserver(module: str | None) -> None:
+    """Have the forkserver import multimass and `module` once, before it forks workers.
+
+    Each worker then starts with them imported: a fresh 2-worker pool's first
+    sweep falls from ~2 s to ~0.05 s (benchmarks/sweep_overhead.py). Effective
+    only before the server starts (the first forkserver pool of this process);
+    modules others asked for are kept (read from a private attribute, defensively).
+    """
+    from multiprocessing import forkserver
+    current = list(getattr(getattr(forkserver, "_forkserver", None), "_preload_modules", None)
+                   or ["__main__"])
+    wanted = current + [m for m in ("multimass", module) if m and m not in current]
+    if wanted != current:
+        forkserver.set_forkserver_preload(wanted)
+
+
 class ProcessExecutor(Executor):
     """A pool of worker processes on this machine (concurrent.futures).
 
@@ -78,7 +94,9 @@ class ProcessExecutor(Executor):
     -----
     The pool starts at the first sweep and is reused until `close`, so run
     several sweeps inside ``with ProcessExecutor() as ex:`` to pay the start
-    (~0.5 s with 'forkserver': each worker imports the job's module) once.
+    once. With 'forkserver' the server process (one per Python session)
+    imports multimass and the first job function's module, so later pools
+    start in tens of milliseconds.
     Workers started by 'forkserver' or 'spawn' compile numba functions again
     on first call; ``@njit(cache=True)`` makes that a cache load.
     With these start methods the job function must be importable by the
@@ -101,17 +119,20 @@ class ProcessExecutor(Executor):
     def workers(self) -> int:
         return self._workers
 
-    def check_picklable(self, func):
-        super().check_picklable(func)
-        main = sys.modules.get("__main__")
+    def prepare(self, func):
+        """Check that workers can import `func`; with 'forkserver', preload its module."""
+        super().prepare(func)
         target = getattr(func, "func", func)          # a functools.partial's function
-        if (self.start_method != "fork" and getattr(target, "__module__", None) == "__main__"
-                and not getattr(main, "__file__", None)):
+        module = getattr(target, "__module__", None)
+        if (self.start_method != "fork" and module == "__main__"
+                and not getattr(sys.modules.get("__main__"), "__file__", None)):
             raise InputError(
                 f"`func` = {func!r} is defined in an interactive session, which "
                 f"'{self.start_method}' workers cannot import; put it in a .py module and "
                 "import it, or use executor='dask' (pickles by value) or "
                 "ProcessExecutor(start_method='fork')")
+        if self.start_method == "forkserver":
+            _preload_in_forkserver(module)
 
     def _get_pool(self) -> ProcessPoolExecutor:
         if self._pool is None:

@@ -261,6 +261,19 @@ def test_users_own_executor_class_and_instance():
     assert ex.tasks == 6          # ceil(17 / (4·2)) = 3 jobs per batch → 6 batches
 
 
+class RecordingExecutor(ReversedExecutor):
+    def map_unordered(self, fn, args):
+        self.batches = [list(a.jobs) for a in args]
+        yield from super().map_unordered(fn, args)
+
+
+def test_batches_are_strided_and_no_larger_than_batch_size():
+    ex = RecordingExecutor()
+    assert run_jobs(square, range(10), executor=ex, batch_size=3) == [i * i for i in range(10)]
+    # closed form: B = ceil(10 / 3) = 4 batches; batch k holds jobs k, k+4, k+8
+    assert ex.batches == [[0, 4, 8], [1, 5, 9], [2, 6], [3, 7]]
+
+
 def test_default_batch_size_rule():
     # closed form: ceil(n / (4·workers)), at least 1
     assert default_batch_size(400, 2) == 50
@@ -377,7 +390,7 @@ def test_functions_from_an_interactive_session_are_rejected_for_forkserver(monke
     main.typed_in = typed_in
     monkeypatch.setitem(sys.modules, "__main__", main)
     with pytest.raises(InputError, match="interactive session"):
-        ProcessExecutor(workers=1, start_method="spawn").check_picklable(typed_in)
+        ProcessExecutor(workers=1, start_method="spawn").prepare(typed_in)
 
 
 def test_unavailable_start_method():
