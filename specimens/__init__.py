@@ -8,12 +8,14 @@ Specimens are TOML files; the bundled ones live in ``specimens/data``.
 1.93
 """
 
+from .beam import BeamSpecimen
 from .block import BlockReference, BlockSpecimen
 from .column import ColumnReference, ColumnSpecimen
 from .errors import SpecimenError
 from .loader import available, from_mapping, load, register_kind
 
 __all__ = [
+    "BeamSpecimen",
     "BlockReference",
     "BlockSpecimen",
     "ColumnReference",

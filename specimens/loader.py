@@ -7,6 +7,7 @@ from collections.abc import Callable, Mapping
 from importlib import resources
 from pathlib import Path
 
+from .beam import beam_from_mapping
 from .block import block_from_mapping
 from .column import column_from_mapping
 from .errors import SpecimenError
@@ -19,6 +20,7 @@ _DATA = "data"
 _KINDS: dict[str, Callable[[Mapping, str], object]] = {
     "column": column_from_mapping,
     "block": block_from_mapping,
+    "beam": beam_from_mapping,
 }
 
 
