@@ -1,0 +1,277 @@
+"""The compiled Moreau–Jean time loop (paper 002, Eqs 21–44).
+
+One call runs every step: the free velocity (Eqs 21, 24), the configuration
+q̄ at the end of the step under free flight, vertex–beam contact detection
+(Eqs 59–63), local frames and Q (Eqs 45–58), the contact impulses
+(Eqs 35–44, Gauss–Seidel) and the update (Eqs 22, 25, 34). Diagnostics are
+accumulated on the fly: energy increase per step, Gauss–Seidel iterations,
+sliding, half-cycle peaks, impacts and the last step at which the block moved.
+Nothing is allocated inside the loop.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .contact import beam_q, block_q, delassus_block, gauss_seidel
+from .geometry import closest_point, contact_frame
+
+__all__ = ["run_kernel", "STATUS", "STAT_NAMES", "SERIES"]
+
+#: status codes returned by the kernel
+STATUS = {0: "completed", 1: "overturned", 2: "fell_off_beam", 3: "failed"}
+#: columns of the recorded series
+SERIES = ("t", "phi", "phi_dot", "X", "Y", "v_mid", "energy", "n_contacts")
+#: entries of the statistics vector
+STAT_NAMES = ("max_gs_iterations", "n_gs_cap_hits", "n_multi_contact_steps", "n_slip_steps",
+              "max_slip_speed", "max_energy_increase", "max_penetration", "last_moving_step",
+              "n_contact_steps", "energy_scale")
+I_GS, I_CAP, I_MULTI, I_SLIP, I_SLIPV, I_DE, I_PEN, I_MOVE, I_CONTACT, I_ESCALE = range(10)
+
+
+@njit(cache=True)
+def _energy(qk, vk, qe, ve, mass, inertia, Fk, Me, Ke, pe):
+    """Kinetic + elastic + gravitational energy (J)."""
+    E = 0.5 * mass * (vk[0] ** 2 + vk[1] ** 2) + 0.5 * inertia * vk[2] ** 2
+    E -= Fk[0] * qk[0] + Fk[1] * qk[1] + Fk[2] * qk[2]
+    n = qe.size
+    for i in range(n):
+        mv, kq = 0.0, 0.0
+        for j in range(n):
+            mv += Me[i, j] * ve[j]
+            kq += Ke[i, j] * qe[j]
+        E += 0.5 * ve[i] * mv + 0.5 * qe[i] * kq - pe[i] * qe[i]
+    return E
+
+
+@njit(cache=True)
+def _record(series, row, t, qk, vk, qe, i_mid, energy, nc):
+    series[row, 0], series[row, 1], series[row, 2] = t, qk[2], vk[2]
+    series[row, 3], series[row, 4] = qk[0], qk[1]
+    series[row, 5] = qe[i_mid] if i_mid >= 0 else 0.0
+    series[row, 6], series[row, 7] = energy, nc
+
+
+@njit(cache=True)
+def _free_step(qk, vk, qe, ve, vkf, vef, qkb, qeb, Fk, inv_m, inv_i, G1, G2, g0, dt, theta):
+    """v̄ (paper 002, Eqs 21, 24, 34) and q̄ = q + Δt(θ v̄ + (1 − θ) v) (Eqs 22, 25)."""
+    for k in range(3):
+        vkf[k] = vk[k] + dt * Fk[k] * (inv_m if k < 2 else inv_i)
+        qkb[k] = qk[k] + dt * (theta * vkf[k] + (1.0 - theta) * vk[k])
+    n = qe.size
+    for i in range(n):
+        acc = g0[i]
+        for j in range(n):
+            acc += G1[i, j] * qe[j] + G2[i, j] * ve[j]
+        vef[i] = ve[i] + acc
+        qeb[i] = qe[i] + dt * (theta * vef[i] + (1.0 - theta) * ve[i])
+
+
+@njit(cache=True)
+def _beam_top(qeb, edof, Le):
+    """An upper bound of v(x) on the span: max nodal v + Le · max |ϑ| / 4 + margin."""
+    vmax, tmax = 0.0, 0.0
+    for e in range(edof.shape[0]):
+        for a in (1, 4):
+            if edof[e, a] >= 0:
+                vmax = max(vmax, qeb[edof[e, a]])
+        for a in (2, 5):
+            if edof[e, a] >= 0:
+                tmax = max(tmax, abs(qeb[edof[e, a]]))
+    return vmax + 0.25 * Le * tmax + 1e-9
+
+
+@njit(cache=True)
+def _detect(qkb, qeb, vk, ve, vkf, vef, verts, edof, x_nodes, Le, L, e_rest,
+            Qk, Qe, el, ids, Ubar, Un_minus, N):
+    """Active contacts at q̄ (gap ≤ 0, paper 002, Eq 35) with Q (Eqs 50, 55) and Ū = Q v̄ (Eq 42).
+
+    Returns the number of contacts and the largest overlap.
+    """
+    c, s = math.cos(qkb[2]), math.sin(qkb[2])
+    top = _beam_top(qeb, edof, Le)
+    nc, pen = 0, 0.0
+    for j in range(4):
+        rx = c * verts[j, 0] - s * verts[j, 1]
+        ry = s * verts[j, 0] + c * verts[j, 1]
+        dx, dy = qkb[0] + rx, qkb[1] + ry
+        if dx < 0.0 or dx > L or dy > top:
+            continue
+        e, sb = closest_point(qeb, edof, x_nodes, Le, dx, dy)
+        cpsi, spsi, gap = contact_frame(N, qeb, edof, x_nodes, Le, e, sb, dx, dy)
+        if gap > 0.0:
+            continue
+        pen = max(pen, -gap)
+        block_q(Qk[nc], cpsi, spsi, rx, ry)
+        beam_q(Qe[nc], cpsi, spsi, N)
+        el[nc], ids[nc] = e, j
+        un_m, un_f, ut_f = 0.0, 0.0, 0.0                   # U⁻ = Q v_i, Ū = Q v̄
+        for k in range(3):
+            un_m += Qk[nc, 0, k] * vk[k]
+            un_f += Qk[nc, 0, k] * vkf[k]
+            ut_f += Qk[nc, 1, k] * vkf[k]
+        for a in range(6):
+            ia = edof[e, a]
+            if ia >= 0:
+                un_m -= Qe[nc, 0, a] * ve[ia]
+                un_f -= Qe[nc, 0, a] * vef[ia]
+                ut_f -= Qe[nc, 1, a] * vef[ia]
+        Un_minus[nc] = un_m
+        Ubar[nc, 0] = un_f + e_rest * min(un_m, 0.0)       # Newton: U_n + e U_n⁻ ≥ 0
+        Ubar[nc, 1] = ut_f
+        nc += 1
+    return nc, pen
+
+
+@njit(cache=True)
+def _apply_impulses(nc, P, Qk, Qe, el, edof, vkf, vef, inv_m, inv_i, Ainv):
+    """v_{i+1} = v̄ + B Qᵀ P (paper 002, Eq 34), in place on (vkf, vef)."""
+    n = vef.size
+    for h in range(nc):
+        for k in range(3):
+            vkf[k] += (inv_m if k < 2 else inv_i) * (Qk[h, 0, k] * P[h, 0] + Qk[h, 1, k] * P[h, 1])
+        for a in range(6):
+            ia = edof[el[h], a]
+            if ia < 0:
+                continue
+            fa = -(Qe[h, 0, a] * P[h, 0] + Qe[h, 1, a] * P[h, 1])
+            for i in range(n):
+                vef[i] += Ainv[i, ia] * fa
+
+
+@njit(cache=True)
+def _slip_speed(nc, P, sliding, Qk, Qe, el, edof, vkf, vef):
+    """Largest |U_t| after the step among loaded sliding contacts (−1 if none slides)."""
+    worst = -1.0
+    for h in range(nc):
+        if not (sliding[h] and P[h, 0] > 0.0):
+            continue
+        ut = 0.0
+        for k in range(3):
+            ut += Qk[h, 1, k] * vkf[k]
+        for a in range(6):
+            ia = edof[el[h], a]
+            if ia >= 0:
+                ut -= Qe[h, 1, a] * vef[ia]
+        worst = max(worst, abs(ut))
+    return worst
+
+
+@njit(cache=True)
+def run_kernel(qk0, vk0, qe0, ve0, mass, inertia, Fk, verts, Ainv, G1, G2, g0, Me, Ke, pe,
+               edof, x_nodes, Le, L, dt, theta, mu, e_rest, gs_tol, gs_max_iter,
+               n_steps, stride, rest_angle, rest_rate, cross_eps, i_mid, max_events):
+    """Run `n_steps` Moreau–Jean steps from the given state (see module docstring).
+
+    Returns
+    -------
+    status, last_step : int
+    series : ndarray (rows, len(SERIES))
+    peaks : ndarray (n_peaks, 2) — (time, |φ|) of each half-cycle, the release first
+    impacts : ndarray (n_impacts,) — times of contact activations with U_n⁻ < −10 g Δt
+    stats : ndarray (len(STAT_NAMES),)
+    qk, vk, qe, ve : final state
+    """
+    qk, vk, qe, ve = qk0.copy(), vk0.copy(), qe0.copy(), ve0.copy()
+    n = qe.size
+    inv_m, inv_i = 1.0 / mass, 1.0 / inertia
+    series = np.zeros((n_steps // stride + 1, len(SERIES)))
+    peaks, impacts, stats = np.zeros((max_events, 2)), np.zeros(max_events), np.zeros(10)
+    n_peaks, n_imp = 0, 0
+    p_scale = abs(Fk[1]) * dt                       # weight impulse over one step
+    v_impact = 10.0 * abs(Fk[1]) * inv_m * dt       # smallest approach speed logged as an impact
+    Qk, Qe = np.zeros((4, 2, 3)), np.zeros((4, 2, 6))
+    el, ids = np.zeros(4, dtype=np.int64), np.zeros(4, dtype=np.int64)
+    Ubar, Un_minus, N = np.zeros((4, 2)), np.zeros(4), np.zeros(6)
+    W, P, P_prev = np.zeros((4, 4, 2, 2)), np.zeros((4, 2)), np.zeros((4, 2))
+    sliding = np.zeros(4, dtype=np.bool_)
+    was_active, now_active = np.zeros(4, dtype=np.bool_), np.zeros(4, dtype=np.bool_)
+    vkf, vef, qkb, qeb = np.zeros(3), np.zeros(n), np.zeros(3), np.zeros(n)
+    energy = _energy(qk, vk, qe, ve, mass, inertia, Fk, Me, Ke, pe)
+    stats[I_ESCALE] = abs(energy) + mass * abs(Fk[1]) * L
+    last_row, nc = 0, 0
+    _record(series, 0, 0.0, qk, vk, qe, i_mid, energy, 0)
+    sign, peak, t_peak = 0, abs(qk[2]), 0.0
+    if abs(qk[2]) > cross_eps:
+        sign = 1 if qk[2] > 0 else -1
+    status, step = 0, 0
+    for step in range(1, n_steps + 1):
+        t = step * dt
+        _free_step(qk, vk, qe, ve, vkf, vef, qkb, qeb, Fk, inv_m, inv_i, G1, G2, g0, dt, theta)
+        nc, pen = _detect(qkb, qeb, vk, ve, vkf, vef, verts, edof, x_nodes, Le, L, e_rest,
+                          Qk, Qe, el, ids, Ubar, Un_minus, N)
+        stats[I_PEN] = max(stats[I_PEN], pen)
+        now_active[:] = False
+        if nc > 0:
+            stats[I_CONTACT] += 1
+            if nc > 1:
+                stats[I_MULTI] += 1
+            for h in range(nc):
+                if not was_active[ids[h]] and Un_minus[h] < -v_impact and n_imp < max_events:
+                    impacts[n_imp] = t
+                    n_imp += 1
+                if was_active[ids[h]]:                      # warm start
+                    P[h, 0], P[h, 1] = P_prev[ids[h], 0], P_prev[ids[h], 1]
+                else:
+                    P[h, 0], P[h, 1] = 0.0, 0.0
+                for j in range(nc):
+                    delassus_block(W[h, j], Qk[h], Qe[h], el[h], Qk[j], Qe[j], el[j],
+                                   inv_m, inv_i, Ainv, edof)
+            iters, ok = gauss_seidel(W, Ubar, P, sliding, nc, mu, gs_tol, gs_max_iter, p_scale)
+            stats[I_GS] = max(stats[I_GS], iters)
+            if not ok:
+                stats[I_CAP] += 1
+            _apply_impulses(nc, P, Qk, Qe, el, edof, vkf, vef, inv_m, inv_i, Ainv)
+            slip = _slip_speed(nc, P, sliding, Qk, Qe, el, edof, vkf, vef)
+            if slip >= 0.0:
+                stats[I_SLIP] += 1
+                stats[I_SLIPV] = max(stats[I_SLIPV], slip)
+            for h in range(nc):
+                P_prev[ids[h], 0], P_prev[ids[h], 1] = P[h, 0], P[h, 1]
+                now_active[ids[h]] = P[h, 0] > 0.0
+        was_active[:] = now_active
+        for k in range(3):                                  # paper 002, Eqs 22, 25 (Eq 28)
+            qk[k] += dt * (theta * vkf[k] + (1.0 - theta) * vk[k])
+            vk[k] = vkf[k]
+        q_max = 0.0
+        for i in range(n):
+            qe[i] += dt * (theta * vef[i] + (1.0 - theta) * ve[i])
+            ve[i] = vef[i]
+            q_max = max(q_max, abs(qe[i]))
+        e_new = _energy(qk, vk, qe, ve, mass, inertia, Fk, Me, Ke, pe)
+        stats[I_DE] = max(stats[I_DE], e_new - energy)
+        energy = e_new
+        # diverged: non-finite, or beam displacements beyond the span (linear theory long gone)
+        if not (math.isfinite(energy) and math.isfinite(qk[0] + qk[1] + qk[2]) and q_max < L):
+            status = 3
+            break
+        phi = qk[2]
+        if abs(phi) > rest_angle or abs(vk[2]) > rest_rate:
+            stats[I_MOVE] = step
+        # half-cycles: a sign change of φ (with hysteresis cross_eps) closes one
+        new_sign = 1 if phi > cross_eps else (-1 if phi < -cross_eps else sign)
+        if new_sign != sign and sign != 0:
+            if n_peaks < max_events:
+                peaks[n_peaks, 0], peaks[n_peaks, 1] = t_peak, peak
+                n_peaks += 1
+            peak, t_peak = 0.0, t
+        sign = new_sign
+        if abs(phi) > peak:
+            peak, t_peak = abs(phi), t
+        if step % stride == 0:
+            last_row = step // stride
+            _record(series, last_row, t, qk, vk, qe, i_mid, energy, nc)
+        if abs(phi) > 0.5 * math.pi:
+            status = 1
+            break
+        if nc == 0 and (qk[0] < -L or qk[0] > 2.0 * L or qk[1] < -L):
+            status = 2
+            break
+    if peak > cross_eps and n_peaks < max_events:
+        peaks[n_peaks, 0], peaks[n_peaks, 1] = t_peak, peak
+        n_peaks += 1
+    return (status, step, series[:last_row + 1], peaks[:n_peaks], impacts[:n_imp], stats,
+            qk, vk, qe, ve)
