@@ -157,6 +157,12 @@ class Record(Excitation):
                    accel=to_mps2(np.asarray(accel, dtype=float), units_c) * scale,
                    name=name, units=units, scale=scale, source=source)
 
+    def scaled(self, factor: float) -> "Record":
+        """The same record scaled again by `factor` (scale factors multiply)."""
+        factor = _check_scale(self.source, factor)
+        return Record(time=self.time, accel=self.accel * factor, dt=self.dt, name=self.name,
+                      units=self.units, scale=self.scale * factor, source=self.source)
+
     # pickling: fields only; the interpolation cache is rebuilt
     def __getstate__(self):
         return {"time": self.time, "accel": self.accel, "dt": self.dt, "name": self.name,

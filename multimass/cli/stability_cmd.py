@@ -1,0 +1,78 @@
+"""``multimass stability``: overturning map of a rigid block (paper 004, Figs 4–9)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from ..errors import InputError
+from ._sweep_args import add_executor_args, executor_kwargs
+
+__all__ = ["register"]
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "stability", help="overturning map of a rigid block under a single sine or cosine pulse",
+        description="Outcome (no rocking, rocking then rest, overturned) over ω/p and a0/(α g) "
+                    "for a single sine or cosine pulse (paper 004). Ranges are inclusive: "
+                    "START:STOP:COUNT.")
+    p.add_argument("block", metavar="BLOCK", help="bundled block (B6M, B3L, ...) or TOML file")
+    p.add_argument("--pulse", choices=("sine", "cosine"), default="sine")
+    p.add_argument("--restitution", default="modified",
+                   help="modified (η_M, paper 004 Eq 10) | housner (η_H, Eq 9) | VALUE")
+    p.add_argument("--k", type=float, default=None, help="k of η_M (default: the block's published k)")
+    p.add_argument("--omega-p", default="0.5:10:40", help="ω/p range START:STOP:COUNT")
+    p.add_argument("--amp", default="0.25:8:40", help="a0/(α g) range START:STOP:COUNT")
+    p.add_argument("--refine", type=int, default=2, help="bisection rounds on the boundary")
+    p.add_argument("--integrator", choices=("solve_ivp", "newmark"), default="solve_ivp",
+                   help="solve_ivp with exact impact location, or paper 004's Newmark + Newton-Raphson")
+    p.add_argument("--dt", type=float, default=1e-3, help="Newmark step (s)")
+    p.add_argument("--t-free", type=float, default=10.0, help="free rocking after the pulse (s)")
+    add_executor_args(p)
+    p.add_argument("--compare", action="store_true",
+                   help="also run the other restitution (housner vs modified) and draw both")
+    p.add_argument("--out", type=Path, default=None, help="folder for the table (CSV), JSON and figure")
+    p.add_argument("--json", action="store_true", help="print the summary as JSON")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    import multimass
+    from multimass.sweeps.maps import overturning_map
+    from multimass.sweeps.plots import plot_map, plot_map_comparison
+    from multimass.sweeps.ranges import parse_range
+
+    st = multimass.from_specimen(args.block)
+    if st.n != 0:
+        raise InputError(f"`BLOCK` = {args.block!r} is a column; `stability` maps rigid blocks "
+                         "(use `multimass spectrum` for a column)")
+    omega_p = parse_range(args.omega_p, "--omega-p")
+    amp = parse_range(args.amp, "--amp")
+    sim = dict(integrator=args.integrator, dt=args.dt) if args.integrator == "newmark" else {}
+    kw = dict(pulse=args.pulse, omega_p=omega_p, amp=amp, k=args.k, refine=args.refine,
+              t_free=args.t_free, **executor_kwargs(args), **sim)
+    m = overturning_map(st, restitution=args.restitution, **kw)
+    info = m.summary()
+    other = None
+    if args.compare:
+        alt = "housner" if args.restitution != "housner" else "modified"
+        other = overturning_map(st, restitution=alt, **kw)
+        info["comparison"] = {alt: other.summary()}
+    if args.out is not None:
+        args.out.mkdir(parents=True, exist_ok=True)
+        stem = args.out / f"{st.name}_{args.pulse}_{args.restitution}"
+        m.cells.to_csv(f"{stem}_cells.csv", index=False)
+        Path(f"{stem}_map.json").write_text(json.dumps(info, indent=2))
+        plot_map(m, f"{stem}_map.png")
+        if other is not None:
+            plot_map_comparison({args.restitution: m, alt: other}, f"{stem}_vs_{alt}.png")
+    if args.json:
+        print(json.dumps(info, indent=2))
+    else:
+        o = info["outcomes"]
+        print(f"{st.name} {args.pulse}: {info['n_simulations']} simulations in {info['wall_time_s']:.1f} s; "
+              f"overturned {o['overturned']}, rest {o['rest']}, no rocking {o['no_rocking']}"
+              + (f", undecided {o['undecided']}" if o["undecided"] else "")
+              + (f"; files in {args.out}/" if args.out else ""))
+    return 0

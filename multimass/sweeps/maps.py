@@ -1,0 +1,264 @@
+"""Overturning maps of rigid blocks under single sine and cosine pulses (paper 004, Figs 4–9).
+
+A map runs one simulation per cell of a grid over the normalised pulse
+frequency ω/p and amplitude a0/(α g), classifies each outcome — no rocking,
+rocking then rest, overturned — and can refine the overturning boundary by
+bisection in amplitude, which resolves the safe islands above the first
+overturning amplitude (the boundary is not monotone).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from ..errors import InputError
+from ..excitations import CosineWave, SineWave
+from ..simulate import simulate
+from ..structure import Structure, from_specimen
+from .base import Executor
+from .engine import run_jobs
+from .executors import get_executor
+from .ranges import check_values
+
+__all__ = ["OverturningMap", "overturning_map", "map_cell", "OUTCOMES", "executor_session"]
+
+OUTCOMES = ("no_rocking", "rest", "overturned", "undecided")
+PULSES = {"sine": SineWave, "cosine": CosineWave}
+
+
+@contextmanager
+def executor_session(executor, workers):
+    """One executor for several `run_jobs` calls; closed after unless the caller owns it."""
+    if isinstance(executor, Executor):
+        yield executor
+        return
+    ex = get_executor(executor, workers)
+    try:
+        yield ex
+    finally:
+        ex.close()
+
+
+@dataclass(frozen=True)
+class _Cell:
+    structure: Structure
+    pulse: str
+    omega: float
+    a0: float
+    t_free: float
+    options: dict
+
+
+def map_cell(cell: _Cell) -> tuple:
+    """Simulate one cell: (outcome, overturn time or nan, max|θ|/α, impacts, rhs evaluations)."""
+    st = cell.structure
+    exc = PULSES[cell.pulse](cell.a0, cell.omega)
+    resp = simulate(st, exc, t_end=exc.duration + cell.t_free, output_dt=None,
+                    stop_when_safe=True, **cell.options)
+    if resp.status == "failed":
+        raise RuntimeError(f"cell ω = {cell.omega:.6g} rad/s, a0 = {cell.a0:.6g} m/s²: {resp.message}")
+    if resp.status == "overturned":
+        outcome = "overturned"
+    elif not any(e.kind == "uplift" for e in resp.events):
+        outcome = "no_rocking"
+    elif any(e.kind == "rest" for e in resp.events):
+        outcome = "rest"
+    else:
+        outcome = "undecided"
+    t_over = next((e.time for e in resp.events if e.kind == "overturn"), math.nan)
+    return outcome, t_over, resp.theta_max / st.alpha_cg, resp.n_impacts, resp.n_rhs
+
+
+@dataclass(frozen=True, eq=False)
+class OverturningMap:
+    """Outcome of `overturning_map`.
+
+    Attributes
+    ----------
+    block : str
+    pulse : {"sine", "cosine"}
+    omega_p, amp : ndarray
+        Grid of ω/p and of a0/(α g).
+    cells : pandas.DataFrame
+        One row per simulated cell (grid and refinement): ``omega_p``,
+        ``amp``, ``outcome``, ``overturn_time``, ``theta_max_over_alpha``,
+        ``n_impacts``, ``grid`` (True on the base grid).
+    boundaries : pandas.DataFrame
+        Refined boundary segments per ω/p: ``omega_p``, ``amp_low``,
+        ``amp_high``, ``low_outcome``, ``high_outcome``.
+    options : dict
+    wall_time_s : float
+    """
+
+    block: str
+    pulse: str
+    omega_p: np.ndarray
+    amp: np.ndarray
+    cells: pd.DataFrame
+    boundaries: pd.DataFrame
+    options: dict = field(default_factory=dict)
+    wall_time_s: float = 0.0
+
+    @property
+    def grid(self) -> np.ndarray:
+        """Outcomes on the base grid, shape (len(amp), len(omega_p))."""
+        g = self.cells[self.cells.grid]
+        table = g.pivot(index="amp", columns="omega_p", values="outcome")
+        return table.loc[self.amp, self.omega_p].to_numpy()
+
+    def overturned(self) -> np.ndarray:
+        """Boolean grid (amp × omega_p): the cell overturned."""
+        return self.grid == "overturned"
+
+    def min_overturn_amp(self) -> list:
+        """Smallest a0/(α g) that overturns, per ω/p (refined; None if none in range)."""
+        out = []
+        for w in self.omega_p:
+            b = self.boundaries[(self.boundaries.omega_p == w)
+                                & (self.boundaries.high_outcome == "overturned")]
+            cells = self.cells[(self.cells.omega_p == w) & (self.cells.outcome == "overturned")]
+            if cells.empty:
+                out.append(None)
+                continue
+            first = float(cells.amp.min())
+            below = b[b.amp_high <= first + 1e-12]
+            out.append(float(below.amp_high.min()) if not below.empty else first)
+        return out
+
+    def overturn_fraction(self) -> float:
+        """Share of base-grid cells that overturn."""
+        return float(np.mean(self.overturned()))
+
+    def summary(self) -> dict:
+        """JSON-ready summary (keys of the `multimass stability --json` object)."""
+        counts = self.cells[self.cells.grid].outcome.value_counts().to_dict()
+        return {"block": self.block, "pulse": self.pulse,
+                "restitution": self.options.get("restitution_name"),
+                "restitution_value": self.options.get("restitution_value"),
+                "k": self.options.get("k"),
+                "omega_p": [float(w) for w in self.omega_p],
+                "amp": [float(a) for a in self.amp],
+                "min_overturn_amp": self.min_overturn_amp(),
+                "overturn_fraction": self.overturn_fraction(),
+                "outcomes": {k: int(counts.get(k, 0)) for k in OUTCOMES},
+                "n_simulations": int(len(self.cells)),
+                "wall_time_s": float(self.wall_time_s),
+                "options": {k: v for k, v in self.options.items() if k not in ("restitution_name",)}}
+
+
+def _block(block) -> Structure:
+    st = block if isinstance(block, Structure) else from_specimen(block)
+    if st.n != 0:
+        raise InputError(f"`block` = {st.name!r} is not a rigid block; overturning maps are "
+                         "for rigid blocks (use a rocking spectrum for columns)")
+    return st
+
+
+def overturning_map(block, pulse: str = "sine", omega_p=np.linspace(1, 10, 10),
+                    amp=np.linspace(0.5, 5, 10), *, impact: str = "CIM", restitution="modified",
+                    k: float | None = None, refine: int = 0, t_free: float = 10.0,
+                    executor="process", workers: int | None = None, progress=None,
+                    **sim_options) -> OverturningMap:
+    """Overturning map over (ω/p, a0/(α g)) for a single sine or cosine pulse (paper 004).
+
+    Parameters
+    ----------
+    block : Structure, specimen or str
+        A rigid block (e.g. "B6M").
+    pulse : {"sine", "cosine"}
+        Single sine or cosine wave of paper 004, Fig 2.
+    omega_p, amp : array_like
+        Increasing values of ω/p (> 0) and a0/(α g) (≥ 0); p = sqrt(m g R / J_p),
+        α = α_cg.
+    impact, restitution, k :
+        Impact model (classical) and restitution ("modified" η_M(k), "housner"
+        η_H, or a value); k defaults to the block's published k.
+    refine : int
+        Bisection rounds in amplitude on every boundary between overturning
+        and not overturning, per ω/p (each halves the boundary bracket).
+    t_free : float
+        Free rocking after the pulse (s); runs stop earlier once the block
+        cannot overturn any more (`simulate(..., stop_when_safe=True)`).
+    executor, workers, progress :
+        Passed to `run_jobs` ("serial", "process" (default), "dask" or an Executor).
+    **sim_options :
+        Passed to `simulate` (e.g. ``integrator="newmark"``, ``dt``, ``rtol``).
+
+    Returns
+    -------
+    OverturningMap
+    """
+    st = _block(block)
+    if pulse not in PULSES:
+        raise InputError(f"`pulse` = {pulse!r}: use 'sine' or 'cosine'")
+    omega_p = check_values("omega_p", omega_p, positive=True)
+    amp = check_values("amp", amp, nonnegative=True)
+    if int(refine) < 0:
+        raise InputError(f"`refine` = {refine!r}: must be ≥ 0")
+    if not (math.isfinite(t_free) and t_free > 0):
+        raise InputError(f"`t_free` = {t_free!r}: must be > 0 (s)")
+    from impact_models import impact_model
+
+    model = impact_model(impact, st.specimen, restitution, k)   # validates restitution and k
+    options = dict(impact=impact, restitution=restitution, k=k) | sim_options
+    scale_a = st.alpha_cg * st.g
+
+    def cells_for(pairs):
+        return [_Cell(st, pulse, w * st.p, a * scale_a, t_free, options) for w, a in pairs]
+
+    wall = time.perf_counter()
+    pairs = [(w, a) for a in amp for w in omega_p]
+    with executor_session(executor, workers) as ex:
+        results = run_jobs(map_cell, cells_for(pairs), executor=ex, progress=progress,
+                           desc=f"{st.name} {pulse} map")
+        rows = [_row(w, a, r, True) for (w, a), r in zip(pairs, results)]
+        boundaries = _refine(rows, omega_p, int(refine), cells_for, ex, progress)
+    rows += boundaries.pop("extra")
+    wall = time.perf_counter() - wall
+    rest_value = getattr(model.restitution, "k", None)
+    return OverturningMap(
+        block=st.name, pulse=pulse, omega_p=omega_p, amp=amp, cells=pd.DataFrame(rows),
+        boundaries=pd.DataFrame(boundaries["segments"],
+                                columns=["omega_p", "amp_low", "amp_high", "low_outcome", "high_outcome"]),
+        options={"restitution_name": restitution if isinstance(restitution, str) else "value",
+                 "restitution_value": model.restitution.describe(), "k": rest_value,
+                 "impact": impact, "refine": int(refine), "t_free": t_free,
+                 **{k_: v for k_, v in sim_options.items()}},
+        wall_time_s=wall)
+
+
+def _row(w, a, result, grid):
+    outcome, t_over, theta, impacts, _ = result
+    return {"omega_p": float(w), "amp": float(a), "outcome": outcome, "overturn_time": t_over,
+            "theta_max_over_alpha": theta, "n_impacts": impacts, "grid": grid}
+
+
+def _refine(rows, omega_p, rounds, cells_for, executor, progress) -> dict:
+    """Bisect, in amplitude, every grid interval whose ends differ in overturning."""
+    segments = []
+    for w in omega_p:
+        col = sorted((r for r in rows if r["omega_p"] == float(w)), key=lambda r: r["amp"])
+        for lo, hi in zip(col, col[1:]):
+            if (lo["outcome"] == "overturned") != (hi["outcome"] == "overturned"):
+                segments.append([float(w), lo["amp"], hi["amp"], lo["outcome"], hi["outcome"]])
+    extra = []
+    for _ in range(rounds):
+        if not segments:
+            break
+        mids = [(s[0], 0.5 * (s[1] + s[2])) for s in segments]
+        results = run_jobs(map_cell, cells_for(mids), executor=executor, progress=progress,
+                           desc="refining boundary")
+        for s, (w, a), r in zip(segments, mids, results):
+            row = _row(w, a, r, False)
+            extra.append(row)
+            if (row["outcome"] == "overturned") == (s[3] == "overturned"):
+                s[1], s[3] = a, row["outcome"]
+            else:
+                s[2], s[4] = a, row["outcome"]
+    return {"segments": [tuple(s) for s in segments], "extra": extra}

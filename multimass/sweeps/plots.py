@@ -1,0 +1,100 @@
+"""Figures of sweeps: overturning maps (paper 004, Figs 4–9) and rocking spectra (paper 001, Figs 10, 12)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from matplotlib.colors import ListedColormap
+from matplotlib.figure import Figure
+from matplotlib.patches import Patch
+
+__all__ = ["plot_map", "plot_map_comparison", "plot_spectrum"]
+
+_CODES = {"no_rocking": 0, "rest": 1, "undecided": 2, "overturned": 3}
+_COLOURS = ["#dbe9f6", "#ffffff", "#f4d35e", "#7f7f7f"]
+
+
+def _edges(v: np.ndarray) -> np.ndarray:
+    if v.size == 1:
+        return np.array([v[0] - 0.5, v[0] + 0.5])
+    mid = 0.5 * (v[1:] + v[:-1])
+    return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
+
+
+def _draw_map(ax, m, boundary_colour="k"):
+    codes = np.vectorize(_CODES.get)(m.grid)
+    ax.pcolormesh(_edges(m.omega_p), _edges(m.amp), codes, cmap=ListedColormap(_COLOURS),
+                  vmin=-0.5, vmax=3.5, shading="flat")
+    b = m.boundaries
+    if not b.empty:
+        ax.plot(b.omega_p, 0.5 * (b.amp_low + b.amp_high), ".", color=boundary_colour, ms=3,
+                label="refined boundary")
+    ax.set_xlabel("ω/p")
+    ax.set_ylabel("a0/(α g)")
+
+
+def plot_map(m, path, title: str = "") -> Path:
+    """The overturning map: overturned cells shaded, refined boundary points marked."""
+    fig = Figure(figsize=(7.5, 5.5), layout="constrained")
+    ax = fig.subplots()
+    _draw_map(ax, m)
+    handles = [Patch(facecolor=c, edgecolor="0.6", label=k.replace("_", " "))
+               for k, c in zip(_CODES, _COLOURS)]
+    ax.legend(handles=handles, loc="upper left", fontsize=8, framealpha=0.9)
+    rest = m.options.get("restitution_value", {})
+    k = m.options.get("k")
+    k_text = "" if k is None else f" (k = {k})"
+    ax.set_title(title or f"{m.block}: single {m.pulse} pulse, restitution {rest.get('kind', '')}"
+                 f"{k_text}\n{len(m.cells)} simulations, {m.overturn_fraction():.1%} of the grid overturns")
+    path = Path(path)
+    fig.savefig(path, dpi=120)
+    return path
+
+
+def plot_map_comparison(maps: dict, path, title: str = "") -> Path:
+    """Overturning regions of several maps of the same grid, as outlines (e.g. η_H vs η_M)."""
+    fig = Figure(figsize=(7.5, 5.5), layout="constrained")
+    ax = fig.subplots()
+    colours = ["tab:red", "tab:blue", "tab:green", "tab:purple"]
+    for (label, m), c in zip(maps.items(), colours):
+        over = m.overturned().astype(float)
+        ax.contourf(m.omega_p, m.amp, over, levels=[0.5, 1.5], colors=[c], alpha=0.25)
+        ax.contour(m.omega_p, m.amp, over, levels=[0.5], colors=[c], linewidths=1.5)
+        ax.plot([], [], color=c, lw=6, alpha=0.4, label=f"{label}: {m.overturn_fraction():.1%} overturns")
+    ax.set_xlabel("ω/p")
+    ax.set_ylabel("a0/(α g)")
+    ax.legend(loc="upper left", fontsize=8)
+    first = next(iter(maps.values()))
+    ax.set_title(title or f"{first.block}: overturning regions, single {first.pulse} pulse")
+    path = Path(path)
+    fig.savefig(path, dpi=120)
+    return path
+
+
+def plot_spectrum(table, x: str, path, xlabel: str, title: str, y: str = "theta_max") -> Path:
+    """θ_max against a swept parameter: every run as a marker, the mean as a line
+    (paper 001, Figs 10 and 12); overturned runs marked with crosses."""
+    fig = Figure(figsize=(7.5, 4.5), layout="constrained")
+    ax = fig.subplots()
+    ok = table[table.status != "overturned"]
+    ax.plot(ok[x], ok[y], "o", ms=3.5, color="tab:blue", alpha=0.6, label="runs")
+    over = table[table.status == "overturned"]
+    if not over.empty:
+        ax.plot(over[x], np.full(len(over), ax.get_ylim()[1] if not ok.empty else 1.0), "x",
+                color="tab:red", label="overturned")
+    g = table.groupby(x)[y]
+    mean = g.mean()
+    ax.plot(mean.index, mean.values, "-", color="k", lw=1.5, label="mean")
+    if table.groupby(x).size().max() > 1:
+        std = g.std().fillna(0.0)
+        ax.fill_between(mean.index, (mean - std).values, (mean + std).values, color="0.8",
+                        alpha=0.7, label="± 1 std")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("θ_max (rad)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(title)
+    path = Path(path)
+    fig.savefig(path, dpi=120)
+    return path

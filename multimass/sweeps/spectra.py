@@ -1,0 +1,173 @@
+"""Rocking response spectra (paper 001, Section 4.4, Figs 10 and 12).
+
+θ_max of a structure against the frequency or the amplitude of a pulse, or
+against the scale factor of a recorded ground motion, each point optionally
+repeated with random restitution (DD5) to show the spread.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from ..errors import InputError
+from ..excitations import CosinePulse, CosineWave, Ricker, SineWave
+from ..records import Record
+from ..simulate import simulate
+from ..structure import Structure, from_specimen
+from .engine import run_jobs
+from .maps import executor_session
+from .ranges import check_values
+from .seeding import job_seeds
+
+__all__ = ["Spectrum", "pulse_spectrum", "record_spectrum", "spectrum_point"]
+
+
+def _pulse(kind: str, omega: float, amp: float, structure_kind: str):
+    if kind == "sine":
+        return SineWave(amp, omega)
+    if kind == "cosine":      # paper 001's cosine pulse is paper 004's cosine wave
+        return CosinePulse(omega, amp) if structure_kind == "column" else CosineWave(amp, omega)
+    if kind == "ricker":
+        return Ricker(amp, omega)
+    raise InputError(f"`pulse` = {kind!r}: use 'sine', 'cosine' or 'ricker'")
+
+
+@dataclass(frozen=True)
+class _Point:
+    structure: Structure
+    excitation: object
+    t_end: float
+    seed: int
+    options: dict
+
+
+def spectrum_point(p: _Point) -> tuple:
+    """One simulation of a spectrum: (θ_max, status, impacts, overturn time or nan)."""
+    resp = simulate(p.structure, p.excitation, t_end=p.t_end, output_dt=None, seed=p.seed,
+                    **p.options)
+    if resp.status == "failed":
+        raise RuntimeError(f"{p.excitation.describe()}: {resp.message}")
+    t_over = next((e.time for e in resp.events if e.kind == "overturn"), math.nan)
+    return resp.theta_max, resp.status, resp.n_impacts, t_over
+
+
+@dataclass(frozen=True, eq=False)
+class Spectrum:
+    """A rocking spectrum: one row per run in `table`.
+
+    ``table`` columns: the swept parameter(s) (``omega``, ``amp`` in m/s²,
+    ``scale``), ``repeat``, ``seed``, ``theta_max`` (rad), ``status``,
+    ``n_impacts``, ``overturn_time``.
+    """
+
+    structure: str
+    kind: str
+    table: pd.DataFrame
+    options: dict = field(default_factory=dict)
+    wall_time_s: float = 0.0
+
+    def stats(self, by: str) -> pd.DataFrame:
+        """Mean, standard deviation, min and max of θ_max per value of `by`."""
+        g = self.table.groupby(by)
+        out = g.theta_max.agg(["mean", "std", "min", "max"]).reset_index()
+        out["overturned"] = g.status.apply(lambda s: int((s == "overturned").sum())).to_numpy()
+        return out
+
+    def summary(self) -> dict:
+        return {"structure": self.structure, "kind": self.kind,
+                "rows": self.table.replace({np.nan: None}).to_dict(orient="records"),
+                "n_simulations": int(len(self.table)), "wall_time_s": float(self.wall_time_s),
+                "options": self.options}
+
+
+def _run(st, points, sweep_cols, executor, workers, progress, desc, kind, options):
+    wall = time.perf_counter()
+    with executor_session(executor, workers) as ex:
+        res = run_jobs(spectrum_point, points, executor=ex, progress=progress, desc=desc)
+    table = pd.DataFrame(sweep_cols)
+    table["theta_max"] = [r[0] for r in res]
+    table["status"] = [r[1] for r in res]
+    table["n_impacts"] = [r[2] for r in res]
+    table["overturn_time"] = [r[3] for r in res]
+    return Spectrum(st.name, kind, table, options, time.perf_counter() - wall)
+
+
+def pulse_spectrum(structure, pulse: str = "cosine", omega=15.0, amp=0.4 * 9.81, *,
+                   impact: str = "DD2", repeats: int = 1, seed: int | None = 0,
+                   t_free: float = 5.0, executor="process", workers=None, progress=None,
+                   **sim_options) -> Spectrum:
+    """θ_max over pulse frequencies and amplitudes (paper 001, Fig 10).
+
+    Parameters
+    ----------
+    structure : Structure, specimen or str
+    pulse : {"cosine", "sine", "ricker"}
+        "cosine": paper 001's cosine pulse (`CosinePulse`).
+    omega : float or array_like
+        Circular frequencies (rad/s, > 0).
+    amp : float or array_like
+        Amplitudes (m/s², ≥ 0).
+    impact : str or ImpactModel
+    repeats : int
+        Runs per point; with random restitution (DD5) each gets its own seed.
+    seed : int
+        Base seed; job k uses `job_seeds(seed, n)[k]`, so results do not
+        depend on the executor.
+    t_free : float
+        Free response after the pulse (s).
+    """
+    st = structure if isinstance(structure, Structure) else from_specimen(structure)
+    omegas = check_values("omega", omega, positive=True)
+    amps = check_values("amp", amp, nonnegative=True)
+    if int(repeats) < 1:
+        raise InputError(f"`repeats` = {repeats!r}: must be ≥ 1")
+    kind = getattr(st.specimen, "kind", "column")
+    grid = [(w, a, r) for a in amps for w in omegas for r in range(int(repeats))]
+    seeds = job_seeds(seed, len(grid))
+    options = dict(impact=impact) | sim_options
+    points = []
+    for (w, a, _), s in zip(grid, seeds):
+        exc = _pulse(pulse, w, a, kind)
+        points.append(_Point(st, exc, exc.duration + t_free, s, options))
+    cols = {"omega": [g[0] for g in grid], "amp": [g[1] for g in grid],
+            "repeat": [g[2] for g in grid], "seed": list(seeds)}
+    return _run(st, points, cols, executor, workers, progress, f"{st.name} {pulse} spectrum",
+                f"{pulse}_pulse", options | {"pulse": pulse, "t_free": t_free, "seed": seed})
+
+
+def record_spectrum(structure, record: Record, scale=np.linspace(0.5, 1.5, 5), *,
+                    impact: str = "DD5", repeats: int = 3, seed: int | None = 0,
+                    t_free: float = 5.0, executor="process", workers=None, progress=None,
+                    **sim_options) -> Spectrum:
+    """θ_max over scale factors of a record, repeated with random restitution (paper 001, Fig 12).
+
+    Parameters
+    ----------
+    record : Record
+        The unscaled record; each run uses it scaled by `scale`.
+    scale : array_like
+        Scale factors A_sc (> 0).
+    impact : str
+        Default DD5 (random restitution per impact).
+    repeats : int
+        Runs per scale factor, each with its own seed.
+    """
+    st = structure if isinstance(structure, Structure) else from_specimen(structure)
+    scales = check_values("scale", scale, positive=True)
+    if not isinstance(record, Record):
+        raise InputError(f"`record` = {record!r}: give a Record (multimass.read_record)")
+    if int(repeats) < 1:
+        raise InputError(f"`repeats` = {repeats!r}: must be ≥ 1")
+    grid = [(s, r) for s in scales for r in range(int(repeats))]
+    seeds = job_seeds(seed, len(grid))
+    options = dict(impact=impact) | sim_options
+    points = [_Point(st, record.scaled(s), record.duration + t_free, sd, options)
+              for (s, _), sd in zip(grid, seeds)]
+    cols = {"scale": [g[0] for g in grid], "repeat": [g[1] for g in grid], "seed": list(seeds)}
+    return _run(st, points, cols, executor, workers, progress, f"{st.name} record spectrum",
+                "record", options | {"record": record.name, "t_free": t_free, "seed": seed})
