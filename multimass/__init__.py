@@ -14,6 +14,7 @@ from .records import Record, read_at2, read_record, read_two_column
 from .units import G, parse_acceleration, to_mps2
 from .response import Event, Response
 from .simulate import DEFAULTS, simulate
+from .traces import ChannelMetrics, Trace, compare_trace, read_trace
 
 __all__ = [
     "InputError",
@@ -39,4 +40,8 @@ __all__ = [
     "Response",
     "DEFAULTS",
     "simulate",
+    "Trace",
+    "ChannelMetrics",
+    "read_trace",
+    "compare_trace",
 ]
