@@ -88,16 +88,58 @@ def plot_accelerations(resp: Response, nodes: dict[str, int], path, g: float = 9
     return _save(fig, path)
 
 
-def plot_overlay(t_meas, meas, t_sim, sim, label: str, unit: str, path, metrics: dict) -> Path:
-    """A measured trace against the simulated one, with the error metrics in the title."""
-    fig = Figure(figsize=(10, 3.6), layout="constrained")
-    ax = fig.subplots()
-    ax.plot(t_meas, meas, color="k", lw=0.9, label="measured")
-    ax.plot(t_sim, sim, color="tab:red", lw=0.9, alpha=0.85, label="simulated")
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel(f"{label} ({unit})")
-    ax.legend(fontsize=8)
+def plot_overlay(trace, name: str, responses: dict, structure, path, *, t_offset: float = 0.0,
+                 metrics: dict | None = None, title: str = "") -> Path:
+    """A measured channel against one or more simulations, with the residuals below.
+
+    Parameters
+    ----------
+    trace : multimass.traces.Trace
+    name : str
+        The channel to plot (e.g. ``"theta"``, ``"a_A2"``); shown in the unit it
+        was written in (e.g. deg, g).
+    responses : mapping of str to Response
+        Model label (e.g. ``"CIM"``, ``"DD2"``) → simulation.
+    structure : Structure, specimen or str
+        Maps sensor names to nodes.
+    path : str or Path
+    t_offset : float, optional
+        Trace time of the simulations' t = 0 (s).
+    metrics : mapping of str to ChannelMetrics, optional
+        Per label, the metrics of this channel (shown in the legend, converted to
+        the unit the channel was written in).
+    title : str, optional
+    """
+    from .traces import align, channel_columns
+
+    column = channel_columns(trace, structure)[name]
+    unit = trace.units[name]
+    fig = Figure(figsize=(10, 5.2 + 0.2 * len(responses)), layout="constrained")
+    ax, ax2 = fig.subplots(2, 1, sharex=True, height_ratios=[3, 1.3])
+    ax.plot(trace.time, trace.to_written_units(name, trace.channels[name]), color="k", lw=1.1,
+            label="measured")
+    lo, hi = trace.time[0], trace.time[-1]
+    for i, (label, resp) in enumerate(responses.items()):
+        color = f"C{(i + 3) % 10}"
+        df = resp.series
+        t = df["t"].to_numpy() + t_offset
+        keep = (t >= lo) & (t <= hi)
+        m = (metrics or {}).get(label)
+        text = label if m is None else (
+            f"{label}: RMS err {float(trace.to_written_units(name, m.rms_error)):.3g} {unit}"
+            + (f" (NRMSE {100 * m.nrmse:.1f} %)" if m.nrmse is not None else "")
+            + f", peak err {float(trace.to_written_units(name, m.peak_error)):+.3g} {unit}, "
+              f"peak-time shift {m.peak_time_shift_s:+.3f} s")
+        ax.plot(t[keep], trace.to_written_units(name, df[column].to_numpy()[keep]), color=color,
+                lw=0.9, alpha=0.85, label=text)
+        tt, meas, sim = align(trace, resp, structure, name, t_offset=t_offset)
+        ax2.plot(tt, trace.to_written_units(name, sim - meas), color=color, lw=0.8)
+    ax.set_ylabel(f"{name} ({unit})")
+    ax.legend(fontsize=8, loc="lower left", bbox_to_anchor=(0.0, 1.0), frameon=False)
     ax.grid(alpha=0.3)
-    ax.set_title(f"{label}: RMS error {metrics['rms_error']:.3g} {unit}, peak error "
-                 f"{metrics['peak_error']:.3g} {unit}, peak-time shift {metrics['peak_time_shift_s']:+.3f} s")
+    ax2.axhline(0.0, color="k", lw=0.6)
+    ax2.set_ylabel(f"simulated −\nmeasured ({unit})")
+    ax2.set_xlabel("t (s)")
+    ax2.grid(alpha=0.3)
+    fig.suptitle(title or f"{name}: measured ({trace.source}) and simulated")
     return _save(fig, path)

@@ -64,10 +64,16 @@ def excitation_from_args(args, structure):
     return read_record(args.record, units=args.units, scale=args.scale)
 
 
-def add_impact_args(p) -> None:
+def add_impact_args(p, *, multiple: bool = False, default: str | None = "DD2") -> None:
     g = p.add_argument_group("impact model")
-    g.add_argument("--impact", default="DD2",
-                   help="CIM, DD1..DD5 (paper 001 Table 2) or DD (default DD2; blocks: CIM is usual)")
+    if multiple:   # several models overlaid (e.g. `multimass compare`): a list, default ["DD2"]
+        g.add_argument("--impact", action="append", default=None, metavar="MODEL[,MODEL...]",
+                       help="CIM, DD1..DD5 (paper 001 Table 2) or DD; repeat the flag or give a "
+                            "comma list to overlay several models (default DD2)")
+    else:
+        g.add_argument("--impact", default=default,
+                       help="CIM, DD1..DD5 (paper 001 Table 2) or DD (default "
+                            f"{default or 'DD2 for pulses, DD5 for records'}; blocks: CIM is usual)")
     g.add_argument("--restitution", default=None,
                    help="housner | modified | mean | random | r_h | VALUE (overrides Table 2)")
     g.add_argument("--k", type=float, default=None, help="k of the modified restitution (paper 004 Eq 10)")
