@@ -112,7 +112,8 @@ def overhead(executors: dict, n: int, repeat: int) -> None:
             t = _best(lambda: run_jobs(identity, jobs, executor=ex, batch_size=batch_size,
                                        progress=False), repeat)
             label = "default batches" if batch_size is None else "batch_size=1"
-            print(f"   {name:<8s} {label:<16s} {t * 1e6 / n:9.1f} µs/job   ({t * 1e3:7.1f} ms total)")
+            print(f"   {name:<8s} {label:<16s} {t * 1e6 / n:9.1f} µs/job"
+                  f"   ({t * 1e3:7.1f} ms total)")
 
 
 def scaling(n: int, repeat: int) -> None:

@@ -130,6 +130,3 @@ class DaskExecutor(Executor):
     def __repr__(self):
         where = self._address or ("client" if self._client is not None else "local")
         return f"DaskExecutor({where})"
-
-
-#: Registry of executors by name; `get_executor` reads it.

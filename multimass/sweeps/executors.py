@@ -162,6 +162,7 @@ class ProcessExecutor(Executor):
         return f"ProcessExecutor(workers={self._workers}, start_method={self.start_method!r})"
 
 
+#: Registry of executors by name; `get_executor` reads it.
 EXECUTORS: dict[str, type[Executor]] = {
     "serial": SerialExecutor,
     "process": ProcessExecutor,
