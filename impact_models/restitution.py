@@ -37,12 +37,18 @@ def modified_eta(alpha: float, k: float) -> float:
 def r_h(J_p: float, m_t: float, B: float, M_diag, u, side_new: int) -> float:
     """Restitution from angular momentum about the impacting corner (paper 001, Eq 13).
 
-    r_h = (J_p − 2 m_t B² + uᵀMu) / (J_p ± 2B 1ᵀMu + uᵀMu), the ± being the
-    sign of the new pivot (`side_new` = +1 right, −1 left). "m_l" in the
+    r_h = (J_p − 2 m_t B² + uᵀMu) / (J_p ± 2B 1ᵀMu + uᵀMu). "m_l" in the
     paper is the total mass m_t (DESIGN.md). For u = 0 and a uniform block
     this is Housner's 1 − 1.5 sin²α.
+
+    Sign (decided): the denominator must be the θ̇ coefficient of the angular
+    momentum about the new pivot after impact, J_p + uᵀMu ∓ 2B 1ᵀMu with ∓
+    the new pivot (`side_new` = +1 right, −1 left) — Eq 5's inertia term.
+    So Eq 13's ± is the sign of the pivot *before* impact; read with the
+    impending pivot it would not conserve angular momentum, which is how the
+    paper derives it (tests/impact_models/test_restitution.py).
     """
     m = np.asarray(M_diag, dtype=float)
     u = np.asarray(u, dtype=float)
     uMu = float(u @ (m * u))
-    return (J_p - 2.0 * m_t * B * B + uMu) / (J_p + side_new * 2.0 * B * float(m @ u) + uMu)  # paper 001, Eq 13
+    return (J_p - 2.0 * m_t * B * B + uMu) / (J_p - side_new * 2.0 * B * float(m @ u) + uMu)  # paper 001, Eq 13

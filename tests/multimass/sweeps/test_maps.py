@@ -1,0 +1,155 @@
+"""Overturning maps (paper 004, Figs 4–9) and the Newmark path behind them."""
+
+import math
+
+import numpy as np
+import pytest
+
+import multimass
+from multimass import FreeRelease, InputError, SineWave, simulate
+from multimass.sweeps.maps import overturning_map
+
+
+@pytest.mark.parametrize("integrator", ["solve_ivp", "newmark"])
+@pytest.mark.parametrize("name", ["B4M", "B6M", "B8M"])
+def test_first_peak_from_paper_002_initial_angles(name, integrator):
+    # paper 002, Section 6.2: B4M 14.839° → 8.28°, B6M 11.268° → 7.76°, B8M 7.731° → 6.18°
+    blk = multimass.rigid_block(name)
+    ref = blk.specimen.reference
+    theta0 = math.radians(ref.theta0_deg)
+    kw = dict(integrator="newmark", dt=1e-4) if integrator == "newmark" else dict(rtol=1e-10, atol=1e-12)
+    resp = simulate(blk, FreeRelease(theta0), "CIM", 1.0, restitution="housner", output_dt=None, **kw)
+    eta = 1 - 1.5 * math.sin(blk.alpha_cg) ** 2                        # paper 004, Eq 9
+    a = blk.alpha_cg
+    exact = a - math.acos(math.cos(a) + eta**2 * (math.cos(a - theta0) - math.cos(a)))
+    assert abs(resp.peaks[1] - exact) < 1e-6
+    assert abs(math.degrees(resp.peaks[1]) - ref.first_peak_deg) < 0.03
+
+
+def test_rocking_starts_only_above_g_tan_alpha():
+    blk = multimass.rigid_block("B6M")
+    a_th = blk.g * math.tan(blk.alpha_cg)                             # paper 004, Section 2
+    below = simulate(blk, SineWave(0.999 * a_th, 20.0), "CIM", 1.0)
+    above = simulate(blk, SineWave(1.001 * a_th, 20.0), "CIM", 1.0)
+    assert not any(e.kind == "uplift" for e in below.events)
+    assert any(e.kind == "uplift" for e in above.events)
+
+
+def _grid_agreement(a, b):
+    same = a.grid == b.grid
+    over_a, over_b = a.overturned(), b.overturned()
+    # a disagreement must sit next to a boundary of either map
+    near = np.zeros_like(same)
+    for over in (over_a, over_b):
+        edge = np.zeros_like(over)
+        edge[1:, :] |= over[1:, :] != over[:-1, :]
+        edge[:-1, :] |= over[1:, :] != over[:-1, :]
+        edge[:, 1:] |= over[:, 1:] != over[:, :-1]
+        edge[:, :-1] |= over[:, 1:] != over[:, :-1]
+        near |= edge
+    return same.mean(), bool(np.all(same | near))
+
+
+def test_solve_ivp_and_newmark_maps_agree_small():
+    kw = dict(omega_p=np.linspace(0.5, 10, 20), amp=np.linspace(0.25, 8, 20), executor="serial")
+    a = overturning_map("B6M", "sine", **kw)
+    b = overturning_map("B6M", "sine", integrator="newmark", **kw)
+    share, only_near_boundary = _grid_agreement(a, b)
+    assert share >= 0.99 and only_near_boundary
+
+
+@pytest.mark.slow
+def test_solve_ivp_and_newmark_maps_agree_60x60():
+    kw = dict(omega_p=np.linspace(0.5, 10, 60), amp=np.linspace(0.25, 8, 60))
+    a = overturning_map("B6M", "sine", **kw)
+    b = overturning_map("B6M", "sine", integrator="newmark", **kw)
+    share, only_near_boundary = _grid_agreement(a, b)
+    print(f"\n60 x 60 B6M sine map: {share:.4%} of cells agree")
+    assert share >= 0.995 and only_near_boundary
+
+
+@pytest.fixture(scope="module")
+def maps():
+    kw = dict(omega_p=np.linspace(0.5, 10, 24), amp=np.linspace(0.25, 8, 24), executor="serial",
+              integrator="newmark")
+    return {(b, p, r): overturning_map(b, p, restitution=r, **kw)
+            for b in ("B6M", "B3L") for p in ("sine", "cosine") for r in ("modified", "housner")}
+
+
+def _shift(m, h):
+    """Mean rise of the first overturning amplitude from η_M to η_H, over ω/p where both overturn."""
+    pairs = [(a, b) for a, b in zip(m.min_overturn_amp(), h.min_overturn_amp())
+             if a is not None and b is not None]
+    return float(np.mean([b - a for a, b in pairs]))
+
+
+@pytest.mark.parametrize("block", ["B6M", "B3L"])
+def test_housner_shrinks_the_sine_overturning_region(maps, block):
+    # paper 004, Section 2.4 and Figs 4–7: η_H overestimates stability
+    m, h = maps[block, "sine", "modified"], maps[block, "sine", "housner"]
+    assert h.overturn_fraction() < m.overturn_fraction()
+    assert _shift(m, h) > 0
+
+
+def test_cosine_maps_barely_change(maps):
+    # paper 004, Section 3.3 and Figs 8–9: cosine-wave overturning hardly depends on the
+    # restitution, unlike the sine wave's (shown on the stocky B3L, where η_H = 0.753 and
+    # η_M = 0.862 differ most)
+    sine = maps["B3L", "sine", "modified"], maps["B3L", "sine", "housner"]
+    cosine = maps["B3L", "cosine", "modified"], maps["B3L", "cosine", "housner"]
+    changed = lambda pair: float(np.mean(pair[0].grid != pair[1].grid))
+    assert changed(cosine) < 0.6 * changed(sine)
+    assert _shift(*cosine) < 0.3 * _shift(*sine)
+
+
+def test_map_has_safe_islands_above_the_first_overturning_amplitude(maps):
+    # paper 004, Figs 4–7: the boundary is not monotone in amplitude
+    over = maps["B6M", "sine", "modified"].overturned()
+    islands = 0
+    for j in range(over.shape[1]):
+        col = over[:, j]
+        if col.any():
+            first = int(np.argmax(col))
+            islands += int(np.sum(~col[first:] & np.r_[col[first:][1:], False]))
+    assert islands >= 1
+
+
+def test_refinement_narrows_boundaries():
+    m = overturning_map("B6M", "sine", omega_p=[2.0, 4.0], amp=np.linspace(0.5, 4, 8), refine=4,
+                        executor="serial", integrator="newmark")
+    width = (m.boundaries.amp_high - m.boundaries.amp_low).to_numpy()
+    assert width.size and np.all(width <= (3.5 / 7) / 2**4 + 1e-12)
+    lo = m.min_overturn_amp()
+    assert all(v is not None for v in lo)
+
+
+def test_summary_keys():
+    m = overturning_map("B6M", "sine", omega_p=[2.0, 6.0], amp=[0.5, 3.0], executor="serial",
+                        integrator="newmark")
+    info = m.summary()
+    for key in ("block", "pulse", "restitution", "k", "omega_p", "min_overturn_amp",
+                "n_simulations", "wall_time_s"):
+        assert key in info
+    assert info["k"] == 0.8241                       # B6M's block-specific k (paper 004)
+    assert len(info["min_overturn_amp"]) == 2
+
+
+@pytest.mark.parametrize("kwargs, fragment", [
+    (dict(omega_p=[0.0, 1.0]), "`omega_p`"),
+    (dict(amp=[-1.0, 1.0]), "`amp`"),
+    (dict(amp=[2.0, 1.0]), "increase"),
+    (dict(amp=[]), "empty"),
+    (dict(k=1.5), "`k`"),
+    (dict(pulse="square"), "`pulse`"),
+])
+def test_bad_map_input(kwargs, fragment):
+    args = dict(omega_p=[1.0], amp=[1.0], executor="serial") | kwargs
+    with pytest.raises(ValueError, match=fragment):
+        overturning_map("B6M", **args)
+
+
+def test_unknown_block_and_column():
+    with pytest.raises(ValueError, match="no such bundled specimen"):
+        overturning_map("B9X", omega_p=[1.0], amp=[1.0], executor="serial")
+    with pytest.raises(InputError, match="not a rigid block"):
+        overturning_map("S1", omega_p=[1.0], amp=[1.0], executor="serial")

@@ -1,0 +1,80 @@
+"""The `multimass simulate`, `stability` and `spectrum` commands."""
+
+import json
+
+import pytest
+
+from multimass.cli import main
+
+
+def _json(capsys):
+    return json.loads(capsys.readouterr().out)
+
+
+def test_simulate_release_writes_files_and_json(tmp_path, capsys):
+    assert main(["simulate", "S1", "--impact", "DD2", "--release", "0.05", "--t-end", "1.2",
+                 "--out", str(tmp_path), "--json"]) == 0
+    info = _json(capsys)
+    for key in ("status", "n_impacts", "n_full_contact", "theta_max", "peaks",
+                "energy_balance_error", "wall_time_s"):
+        assert key in info
+    assert info["status"] == "completed" and info["theta_max"] == pytest.approx(0.05)
+    for name in ("S1_series.csv", "S1_events.csv", "S1_summary.json", "S1_rocking.png",
+                 "S1_energy.png", "S1_accelerations.png"):
+        assert (tmp_path / name).is_file(), name
+
+
+def test_simulate_pulse_and_block(capsys):
+    assert main(["simulate", "S1", "--pulse", "cosine", "--omega", "15", "--amp", "0.4g",
+                 "--t-end", "1.0", "--json"]) == 0
+    assert _json(capsys)["options"]["excitation"]["kind"] == "cosine_pulse"
+    assert main(["simulate", "B6M", "--release", "0.19666", "--impact", "CIM", "--restitution",
+                 "housner", "--t-end", "1.0", "--json"]) == 0
+    peaks = _json(capsys)["peaks"]
+    assert peaks[1] == pytest.approx(0.135551, abs=2e-6)   # exact energy solution, paper 004 Eq 9
+
+
+def test_simulate_record(ground_motions, capsys):
+    assert main(["simulate", "S1", "--record", str(ground_motions / "elcentro_1940_NS.dat"),
+                 "--units", "g", "--scale", "1.1", "--t-end", "2", "--json"]) == 0
+    assert _json(capsys)["status"] == "completed"
+
+
+@pytest.mark.parametrize("argv, fragment", [
+    (["simulate", "S1", "--release", "0.05", "--impact", "XYZ"], "unknown impact model"),
+    (["simulate", "S1", "--release", "0.05", "--t-end", "0"], "`t_end`"),
+    (["simulate", "S1", "--release", "0.5"], "α_cg"),
+    (["simulate", "S1"], "exactly one excitation"),
+    (["simulate", "S1", "--pulse", "sine", "--omega", "10", "--amp", "0.4parsecs"], "--amp"),
+    (["simulate", "S1", "--record", "x.dat", "--units", "furlongs"], "units"),
+    (["stability", "B6M", "--omega-p", "5:1:4", "--executor", "serial"], "inverted"),
+    (["stability", "B6M", "--amp", "1:2:0", "--executor", "serial"], "empty"),
+    (["stability", "B6M", "--k", "1.4", "--executor", "serial", "--omega-p", "1", "--amp", "1"], "`k`"),
+    (["stability", "B99", "--executor", "serial"], "no such bundled specimen"),
+    (["stability", "S1", "--executor", "serial"], "column"),
+    (["spectrum", "S1", "--pulse", "cosine", "--omega", "-3", "--amp", "0.4g", "--executor", "serial"], "`omega`"),
+])
+def test_bad_input_exits_2(argv, fragment, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert fragment in err and err.count("\n") == 1
+
+
+def test_stability_json_and_files(tmp_path, capsys):
+    assert main(["stability", "B6M", "--pulse", "sine", "--restitution", "modified",
+                 "--omega-p", "2:6:3", "--amp", "0.5:4:4", "--refine", "1", "--integrator",
+                 "newmark", "--executor", "serial", "--out", str(tmp_path), "--json"]) == 0
+    info = _json(capsys)
+    for key in ("block", "pulse", "restitution", "k", "omega_p", "min_overturn_amp",
+                "n_simulations", "wall_time_s"):
+        assert key in info
+    assert info["k"] == 0.8241 and info["omega_p"] == [2.0, 4.0, 6.0]
+    assert (tmp_path / "B6M_sine_modified_map.png").is_file()
+
+
+def test_spectrum_json(capsys, tmp_path):
+    assert main(["spectrum", "S1", "--pulse", "cosine", "--omega", "10:20:2", "--amp", "0.4g",
+                 "--t-free", "1", "--executor", "serial", "--out", str(tmp_path), "--json"]) == 0
+    info = _json(capsys)
+    assert info["n_simulations"] == 2 and len(info["stats"]) == 2
+    assert (tmp_path / "S1_spectrum_omega.png").is_file()
