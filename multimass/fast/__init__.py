@@ -1,0 +1,19 @@
+"""The compiled fast path of `multimass.simulate` (``backend="compiled"``).
+
+solve_ivp stays the reference. This backend keeps the Python phase loop of
+`multimass.simulate` (transitions are rare) and runs each phase segment —
+steps, dense output, events, the output grid — in numba-compiled kernels
+that follow SciPy's explicit Runge–Kutta solvers (RK23, RK45, DOP853), so the
+two backends give the same events and the same `Response` up to round-off.
+
+* `FastPath` — replaces one solve_ivp call (`multimass.fast.path`);
+* `encode` — the excitations the kernels know (`multimass.fast.excitation`);
+* `warm_up` — compile or load the kernels once per process, timed apart
+  (`multimass.fast.compile`).
+"""
+
+from .compile import CompileReport, warm_up
+from .excitation import KNOWN, encode
+from .path import FastPath, check_model
+
+__all__ = ["FastPath", "check_model", "encode", "KNOWN", "warm_up", "CompileReport"]

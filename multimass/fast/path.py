@@ -1,0 +1,178 @@
+"""`FastPath`: the compiled replacement of `_Run.integrate` (one phase segment).
+
+`multimass.simulate` keeps its Python phase loop — uplift, impacts, the
+restitution draws, the chattering guard and the recorder are the reference
+code — and, with ``backend="compiled"``, hands each phase segment to
+`FastPath.integrate`, which builds the same events as
+`multimass._events.phase_events` (codes, directions, quiet guards), runs the
+compiled kernel and feeds the recorder and the event handler exactly as the
+solve_ivp segment would.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from impact_models.models import DiracDelta
+
+from ..errors import InputError
+from ..response import Event
+from . import _maths as mx
+from ._kernel import integrate_phase
+from ._rk import EVENT, FAILED, METHOD_CODES
+from .excitation import encode
+
+__all__ = ["FastPath", "check_model"]
+
+_FAIL_MESSAGE = "Required step size is less than spacing between numbers."
+_NONE = np.empty(0)
+
+
+def _table(*rows):
+    """(names, codes, directions, terminal, quiet values, guarded) of a list of events."""
+    names, codes, dirs, term, quiet, guarded = zip(*rows)
+    return (list(names), np.array(codes, dtype=np.int64), np.array(dirs, dtype=np.float64),
+            np.array(term, dtype=np.int64), np.array(quiet, dtype=np.float64), np.array(guarded))
+
+
+# The events of each phase, in the order of multimass._events.phase_events:
+# name, code, direction, terminal, quiet value, held quiet after a restart
+_ROCKING = [("zero", mx.EV_ZERO, -1.0, 1, 1.0, True),                          # θ = 0
+            ("overturn", mx.EV_OVERTURN, 1.0, 1, -1.0, True),
+            ("peak", mx.EV_PEAK, 0.0, 0, 0.0, False)]                          # θ̇ = 0
+_EVENTS = {
+    "contact": _table(("uplift_right", mx.EV_UPLIFT_RIGHT, 1.0, 1, -1.0, True),  # paper 001, Eq 8
+                      ("uplift_left", mx.EV_UPLIFT_LEFT, 1.0, 1, -1.0, True)),
+    "rocking": _table(*_ROCKING),
+    "activate": _table(*_ROCKING, ("activate", mx.EV_ACTIVATE, -1.0, 1, 1.0, True)),        # Eq 16
+    "deactivate": _table(*_ROCKING, ("deactivate", mx.EV_DEACTIVATE, 1.0, 1, -1.0, True)),  # Eq 17
+}
+
+
+def check_model(model) -> None:
+    """Raise InputError unless the compiled kernels reproduce `model`'s force and events.
+
+    Models without a force (the classical impact, any transition map) are
+    fine: their transitions run in Python. A model with a force must be the
+    Gaussian `DiracDelta` of paper 001 (Eqs 14–17) with its own formulas.
+    """
+    if not getattr(model, "has_force", False):
+        return
+    tp = type(model)
+    if not (isinstance(model, DiracDelta) and tp.width is DiracDelta.width
+            and tp.threshold is DiracDelta.threshold):
+        raise InputError(f"`impact` = {getattr(model, 'name', tp.__name__)!r}: backend='compiled' "
+                         "knows the Gaussian Dirac-delta force of paper 001 (Eqs 14–17) only; "
+                         "use backend='scipy' for this impact model")
+
+
+@dataclass(frozen=True, eq=False)
+class _Segment:
+    """What `Recorder.segment` reads from a solve_ivp result."""
+
+    t: np.ndarray
+    y: np.ndarray
+    t_events: list
+    y_events: list
+
+
+@dataclass(eq=False)
+class FastPath:
+    """Arrays of one simulation laid out for the compiled kernels.
+
+    Build it with `FastPath.of`; `integrate` replaces one solve_ivp call.
+    """
+
+    method: str
+    code: int
+    m: np.ndarray
+    H: np.ndarray
+    K: np.ndarray
+    C: np.ndarray
+    mp: np.ndarray
+    kind: int
+    par: np.ndarray
+    samples: np.ndarray
+    delay: float
+    dd: tuple = field(default=(0.0, 0.0, 0.0, 1.0))     # C_p, n_min, z, release
+
+    @classmethod
+    def of(cls, st, model, excitation, method, delay: float) -> "FastPath":
+        """Validate that the compiled path can run this case, and lay out its arrays.
+
+        Raises
+        ------
+        InputError
+            For an excitation, impact model or method the kernels do not know.
+        """
+        if not (isinstance(method, str) and method in METHOD_CODES):
+            raise InputError(f"`method` = {getattr(method, '__name__', method)!r}: backend='compiled' "
+                             f"integrates with the explicit pairs {', '.join(METHOD_CODES)}; "
+                             "use backend='scipy' for implicit methods")
+        check_model(model)
+        kind, par, samples = encode(excitation)
+        dd = ((float(model.C_p), float(model.n_min), float(model.z), float(model.release))
+              if model.has_force else (0.0, 0.0, 0.0, 1.0))
+        arr = lambda a: np.array(a, dtype=np.float64, order="C")      # writable C copies
+        return cls(method=method, code=METHOD_CODES[method], m=arr(st.m), H=arr(st.H),
+                   K=arr(st.K).reshape(st.n, st.n), C=arr(st.C).reshape(st.n, st.n),
+                   mp=mx.model_params(st), kind=int(kind), par=arr(par), samples=arr(samples),
+                   delay=float(delay), dd=dd)
+
+    # -- the events of the current phase (multimass._events.phase_events) --------------------
+    def events(self, run):
+        """Names, codes, directions, terminal flags, quiet values, guard ends, ep, fp."""
+        st, t0, d = run.st, run.t, self.delay
+        ep = np.zeros(mx.EP_SIZE)
+        ep[mx.EP_TDMIN], ep[mx.EP_OVERTURN] = run.theta_dot_min, run.overturn
+        ep[mx.EP_CP], ep[mx.EP_NMIN], ep[mx.EP_Z] = self.dd[:3]
+        ep[mx.EP_MREF] = st.m_t * st.g * st.B
+        ep[mx.EP_LREF] = st.J_p * run.theta_dot_min
+        fp = np.zeros(mx.FP_SIZE)
+        if run.phase == 0:
+            key, t_on = "contact", t0 + max(d, run.hold_until - t0)
+        else:
+            key, t_on = "rocking", t0 + d
+            if run.model.has_force and run.force is None:
+                key = "activate"
+                ep[mx.EP_R_PENDING] = run.r_pending
+            elif run.force is not None:
+                key = "deactivate"
+                ep[mx.EP_LIMIT] = self.dd[3] * abs(run.force.theta_i)
+                fp[:] = (1.0, run.force.E_ini, run.force.r, run.force.n)
+        names, codes, dirs, term, quiet, guarded = _EVENTS[key]
+        t_ons = np.where(guarded, t_on, -math.inf)
+        return names, codes, dirs, term, quiet, t_ons, ep, fp
+
+    # -- one phase segment --------------------------------------------------------------------
+    def integrate(self, run, t_stop: float) -> None:
+        """Integrate the current phase of `run` to `t_stop` or its first terminal event."""
+        names, codes, dirs, term, quiet, t_on, ep, fp = self.events(run)
+        t_eval = np.ascontiguousarray(run.recorder.grid(run.t, t_stop), dtype=np.float64)
+        ivp = run.ivp
+        status, t, y, ev, nfev, samples, nt_i, nt_t, nt_y = integrate_phase(
+            float(run.t), float(t_stop), np.ascontiguousarray(run.y, dtype=np.float64), t_eval,
+            int(run.phase), self.m, self.H, self.K, self.C, self.mp, fp, codes, dirs, term,
+            quiet, t_on, ep, self.kind, self.par, self.samples, self.code,
+            max(float(ivp["rtol"]), 100 * np.finfo(float).eps), float(ivp["atol"]),
+            float(ivp["max_step"]))
+        run.n_rhs += int(nfev)
+        k = len(samples)
+        if status == FAILED:
+            t_fail = float(t_eval[k - 1]) if k else run.t
+            run.status = "failed"
+            run.message = f"compiled {self.method} failed at t = {t:.6g} s: {_FAIL_MESSAGE}"
+            run.events.append(Event("failed", t_fail, run.phase, run.phase, detail=_FAIL_MESSAGE))
+            return
+        t_events = [nt_t[nt_i == i] if names[i] == "peak" else _NONE for i in range(len(names))]
+        y_events = [nt_y[nt_i == i] if names[i] == "peak" else _NONE for i in range(len(names))]
+        run.recorder.segment(_Segment(t_eval[:k], samples.T, t_events, y_events), None,
+                             run.phase, run.force, names)
+        if status == EVENT:
+            run.t, run.y = float(t), y
+            run.handle(names[ev])
+        else:
+            run.t, run.y = t_stop, samples[-1].copy()
