@@ -88,7 +88,7 @@ class PoissonImpact:
 
 
 def _matrix(name: str, value, shape=None) -> np.ndarray:
-    a = np.asarray(value, dtype=float)
+    a = np.array(value, dtype=float)          # a copy: results never alias the caller's arrays
     if not np.all(np.isfinite(a)):
         raise LCPError(f"`{name}` holds NaN or inf: pass finite numbers")
     if shape is not None and a.shape != shape:
