@@ -9,13 +9,14 @@ measure is "converged" when its last difference is within tolerance,
 as an order-1/2 method would (half the scheme's first order), and "not
 converged" when they do not decrease, or more slowly — the loss of
 convergence paper 002 reports for flexible beams is flagged, not silently
-plotted.
+plotted. The rest time is "undetermined" when the two finest runs are still
+rocking at t_end; a study's status is its worst determined verdict.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -134,15 +135,19 @@ def compare_runs(levels, runs: list[NSCDResult], ratio: float | None = None,
     """Verdicts of the four measures along runs ordered coarse → fine."""
     tol = {**TOLERANCES, **(tolerances or {})}
     pairs = list(zip(runs[:-1], runs[1:]))
+    rest = judge("rest_time_s", levels, [r.rest_time_s for r in runs],
+                 [_scalar_difference(a.rest_time_s, b.rest_time_s) for a, b in pairs],
+                 tol["rest_time_s"], ratio)
+    if len(runs) >= 2 and runs[-1].rest_time_s is None and runs[-2].rest_time_s is None:
+        rest = replace(rest, status="undetermined",
+                       reason="still rocking at t_end at the two finest levels; extend t_end")
     return [
         judge("first_peak_deg", levels, [r.first_peak_deg for r in runs],
               [_scalar_difference(a.first_peak_deg, b.first_peak_deg) for a, b in pairs],
               tol["first_peak_deg"], ratio),
         judge("peaks_deg", levels, [len(r.peaks_deg) for r in runs],
               [_peaks_difference(a, b) for a, b in pairs], tol["peaks_deg"], ratio),
-        judge("rest_time_s", levels, [r.rest_time_s for r in runs],
-              [_scalar_difference(a.rest_time_s, b.rest_time_s) for a, b in pairs],
-              tol["rest_time_s"], ratio),
+        rest,
         judge("history_deg", levels, [None] * len(runs),
               [_history_difference(a, b) for a, b in pairs], tol["history_deg"], ratio),
     ]
@@ -161,9 +166,10 @@ class Study:
 
     @property
     def status(self) -> str:
-        """The worst verdict over the measures."""
+        """The worst verdict over the measures ("undetermined" ones are left out)."""
         order = ("not converged", "converging", "converged")
-        return min((v.status for v in self.verdicts), key=order.index)
+        return min((v.status for v in self.verdicts if v.status in order), key=order.index,
+                   default="undetermined")
 
     def to_dict(self) -> dict:
         return {"kind": self.kind, "block": self.block, "levels": list(self.levels),

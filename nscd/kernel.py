@@ -33,17 +33,37 @@ I_GS, I_CAP, I_MULTI, I_SLIP, I_SLIPV, I_DE, I_PEN, I_MOVE, I_CONTACT, I_ESCALE 
 
 
 @njit(cache=True)
-def _energy(qk, vk, qe, ve, mass, inertia, Fk, Me, Ke, pe):
+def _spmv_add(csr, x, y, scale):
+    """y += scale · A x for A = (indptr, indices, data) in CSR form."""
+    ptr, idx, val = csr
+    for i in range(ptr.size - 1):
+        acc = 0.0
+        for k in range(ptr[i], ptr[i + 1]):
+            acc += val[k] * x[idx[k]]
+        y[i] += scale * acc
+
+
+@njit(cache=True)
+def _quadratic(csr, x):
+    """xᵀ A x for A in CSR form."""
+    ptr, idx, val = csr
+    out = 0.0
+    for i in range(ptr.size - 1):
+        acc = 0.0
+        for k in range(ptr[i], ptr[i + 1]):
+            acc += val[k] * x[idx[k]]
+        out += x[i] * acc
+    return out
+
+
+@njit(cache=True)
+def _energy(qk, vk, qe, ve, mass, inertia, Fk, Mc, Kc, pe):
     """Kinetic + elastic + gravitational energy (J)."""
     E = 0.5 * mass * (vk[0] ** 2 + vk[1] ** 2) + 0.5 * inertia * vk[2] ** 2
     E -= Fk[0] * qk[0] + Fk[1] * qk[1] + Fk[2] * qk[2]
-    n = qe.size
-    for i in range(n):
-        mv, kq = 0.0, 0.0
-        for j in range(n):
-            mv += Me[i, j] * ve[j]
-            kq += Ke[i, j] * qe[j]
-        E += 0.5 * ve[i] * mv + 0.5 * qe[i] * kq - pe[i] * qe[i]
+    E += 0.5 * _quadratic(Mc, ve) + 0.5 * _quadratic(Kc, qe)
+    for i in range(qe.size):
+        E -= pe[i] * qe[i]
     return E
 
 
@@ -56,17 +76,24 @@ def _record(series, row, t, qk, vk, qe, i_mid, energy, nc):
 
 
 @njit(cache=True)
-def _free_step(qk, vk, qe, ve, vkf, vef, qkb, qeb, Fk, inv_m, inv_i, G1, G2, g0, dt, theta):
+def _free_step(qk, vk, qe, ve, vkf, vef, qkb, qeb, Fk, inv_m, inv_i, Ainv, Kc, Cc, pe,
+               dt, theta, work):
     """v̄ (paper 002, Eqs 21, 24, 34) and q̄ = q + Δt(θ v̄ + (1 − θ) v) (Eqs 22, 25)."""
     for k in range(3):
-        vkf[k] = vk[k] + dt * Fk[k] * (inv_m if k < 2 else inv_i)
+        vkf[k] = vk[k] + dt * Fk[k] * (inv_m if k < 2 else inv_i)             # Eq 21
         qkb[k] = qk[k] + dt * (theta * vkf[k] + (1.0 - theta) * vk[k])
     n = qe.size
+    r, x = work[0], work[1]
     for i in range(n):
-        acc = g0[i]
+        r[i] = pe[i]
+        x[i] = qe[i] + dt * theta * ve[i]
+    _spmv_add(Kc, x, r, -1.0)                 # −K(Δtθ q̇ + q) − C q̇ + p   (Eq 24)
+    _spmv_add(Cc, ve, r, -1.0)
+    for i in range(n):
+        acc = 0.0
         for j in range(n):
-            acc += G1[i, j] * qe[j] + G2[i, j] * ve[j]
-        vef[i] = ve[i] + acc
+            acc += Ainv[i, j] * r[j]
+        vef[i] = ve[i] + dt * acc
         qeb[i] = qe[i] + dt * (theta * vef[i] + (1.0 - theta) * ve[i])
 
 
@@ -161,7 +188,61 @@ def _slip_speed(nc, P, sliding, Qk, Qe, el, edof, vkf, vef):
 
 
 @njit(cache=True)
-def run_kernel(qk0, vk0, qe0, ve0, mass, inertia, Fk, verts, Ainv, G1, G2, g0, Me, Ke, pe,
+def _solve_contacts(nc, ids, was_active, now_active, P, P_prev, W, Qk, Qe, el, Ubar, sliding,
+                    edof, Ainv, inv_m, inv_i, vkf, vef, mu, gs_tol, gs_max_iter, p_scale, stats):
+    """Impulses of the active contacts (Eqs 41–44) and v_{i+1} = v̄ + B Qᵀ P (Eq 34)."""
+    for h in range(nc):
+        if was_active[ids[h]]:                              # warm start
+            P[h, 0], P[h, 1] = P_prev[ids[h], 0], P_prev[ids[h], 1]
+        else:
+            P[h, 0], P[h, 1] = 0.0, 0.0
+        for j in range(nc):
+            delassus_block(W[h, j], Qk[h], Qe[h], el[h], Qk[j], Qe[j], el[j],
+                           inv_m, inv_i, Ainv, edof)
+    iters, ok = gauss_seidel(W, Ubar, P, sliding, nc, mu, gs_tol, gs_max_iter, p_scale)
+    stats[I_GS] = max(stats[I_GS], iters)
+    if not ok:
+        stats[I_CAP] += 1
+    _apply_impulses(nc, P, Qk, Qe, el, edof, vkf, vef, inv_m, inv_i, Ainv)
+    slip = _slip_speed(nc, P, sliding, Qk, Qe, el, edof, vkf, vef)
+    if slip >= 0.0:
+        stats[I_SLIP] += 1
+        stats[I_SLIPV] = max(stats[I_SLIPV], slip)
+    for h in range(nc):
+        P_prev[ids[h], 0], P_prev[ids[h], 1] = P[h, 0], P[h, 1]
+        now_active[ids[h]] = P[h, 0] > 0.0
+
+
+@njit(cache=True)
+def _advance(qk, vk, qe, ve, vkf, vef, dt, theta):
+    """q_{i+1} = q_i + Δt(θ v_{i+1} + (1 − θ) v_i) (paper 002, Eqs 22, 25, 28); returns max |q_e|."""
+    for k in range(3):
+        qk[k] += dt * (theta * vkf[k] + (1.0 - theta) * vk[k])
+        vk[k] = vkf[k]
+    q_max = 0.0
+    for i in range(qe.size):
+        qe[i] += dt * (theta * vef[i] + (1.0 - theta) * ve[i])
+        ve[i] = vef[i]
+        q_max = max(q_max, abs(qe[i]))
+    return q_max
+
+
+@njit(cache=True)
+def _half_cycle(phi, t, sign, peak, t_peak, cross_eps, peaks, n_peaks):
+    """A sign change of φ (with hysteresis `cross_eps`) closes a half-cycle and logs its peak."""
+    new_sign = 1 if phi > cross_eps else (-1 if phi < -cross_eps else sign)
+    if new_sign != sign and sign != 0:
+        if n_peaks < peaks.shape[0]:
+            peaks[n_peaks, 0], peaks[n_peaks, 1] = t_peak, peak
+            n_peaks += 1
+        peak, t_peak = 0.0, t
+    if abs(phi) > peak:
+        peak, t_peak = abs(phi), t
+    return new_sign, peak, t_peak, n_peaks
+
+
+@njit(cache=True)
+def run_kernel(qk0, vk0, qe0, ve0, mass, inertia, Fk, verts, Ainv, Mc, Kc, Cc, pe,
                edof, x_nodes, Le, L, dt, theta, mu, e_rest, gs_tol, gs_max_iter,
                n_steps, stride, rest_angle, rest_rate, cross_eps, i_mid, max_events):
     """Run `n_steps` Moreau–Jean steps from the given state (see module docstring).
@@ -190,58 +271,35 @@ def run_kernel(qk0, vk0, qe0, ve0, mass, inertia, Fk, verts, Ainv, G1, G2, g0, M
     sliding = np.zeros(4, dtype=np.bool_)
     was_active, now_active = np.zeros(4, dtype=np.bool_), np.zeros(4, dtype=np.bool_)
     vkf, vef, qkb, qeb = np.zeros(3), np.zeros(n), np.zeros(3), np.zeros(n)
-    energy = _energy(qk, vk, qe, ve, mass, inertia, Fk, Me, Ke, pe)
+    work = np.zeros((2, n))
+    energy = _energy(qk, vk, qe, ve, mass, inertia, Fk, Mc, Kc, pe)
     stats[I_ESCALE] = abs(energy) + mass * abs(Fk[1]) * L
-    last_row, nc = 0, 0
+    last_row, nc, status, step = 0, 0, 0, 0
     _record(series, 0, 0.0, qk, vk, qe, i_mid, energy, 0)
     sign, peak, t_peak = 0, abs(qk[2]), 0.0
     if abs(qk[2]) > cross_eps:
         sign = 1 if qk[2] > 0 else -1
-    status, step = 0, 0
     for step in range(1, n_steps + 1):
         t = step * dt
-        _free_step(qk, vk, qe, ve, vkf, vef, qkb, qeb, Fk, inv_m, inv_i, G1, G2, g0, dt, theta)
+        _free_step(qk, vk, qe, ve, vkf, vef, qkb, qeb, Fk, inv_m, inv_i, Ainv, Kc, Cc, pe,
+                   dt, theta, work)
         nc, pen = _detect(qkb, qeb, vk, ve, vkf, vef, verts, edof, x_nodes, Le, L, e_rest,
                           Qk, Qe, el, ids, Ubar, Un_minus, N)
         stats[I_PEN] = max(stats[I_PEN], pen)
         now_active[:] = False
         if nc > 0:
             stats[I_CONTACT] += 1
-            if nc > 1:
-                stats[I_MULTI] += 1
+            stats[I_MULTI] += 1 if nc > 1 else 0
             for h in range(nc):
                 if not was_active[ids[h]] and Un_minus[h] < -v_impact and n_imp < max_events:
                     impacts[n_imp] = t
                     n_imp += 1
-                if was_active[ids[h]]:                      # warm start
-                    P[h, 0], P[h, 1] = P_prev[ids[h], 0], P_prev[ids[h], 1]
-                else:
-                    P[h, 0], P[h, 1] = 0.0, 0.0
-                for j in range(nc):
-                    delassus_block(W[h, j], Qk[h], Qe[h], el[h], Qk[j], Qe[j], el[j],
-                                   inv_m, inv_i, Ainv, edof)
-            iters, ok = gauss_seidel(W, Ubar, P, sliding, nc, mu, gs_tol, gs_max_iter, p_scale)
-            stats[I_GS] = max(stats[I_GS], iters)
-            if not ok:
-                stats[I_CAP] += 1
-            _apply_impulses(nc, P, Qk, Qe, el, edof, vkf, vef, inv_m, inv_i, Ainv)
-            slip = _slip_speed(nc, P, sliding, Qk, Qe, el, edof, vkf, vef)
-            if slip >= 0.0:
-                stats[I_SLIP] += 1
-                stats[I_SLIPV] = max(stats[I_SLIPV], slip)
-            for h in range(nc):
-                P_prev[ids[h], 0], P_prev[ids[h], 1] = P[h, 0], P[h, 1]
-                now_active[ids[h]] = P[h, 0] > 0.0
+            _solve_contacts(nc, ids, was_active, now_active, P, P_prev, W, Qk, Qe, el, Ubar,
+                            sliding, edof, Ainv, inv_m, inv_i, vkf, vef, mu, gs_tol, gs_max_iter,
+                            p_scale, stats)
         was_active[:] = now_active
-        for k in range(3):                                  # paper 002, Eqs 22, 25 (Eq 28)
-            qk[k] += dt * (theta * vkf[k] + (1.0 - theta) * vk[k])
-            vk[k] = vkf[k]
-        q_max = 0.0
-        for i in range(n):
-            qe[i] += dt * (theta * vef[i] + (1.0 - theta) * ve[i])
-            ve[i] = vef[i]
-            q_max = max(q_max, abs(qe[i]))
-        e_new = _energy(qk, vk, qe, ve, mass, inertia, Fk, Me, Ke, pe)
+        q_max = _advance(qk, vk, qe, ve, vkf, vef, dt, theta)
+        e_new = _energy(qk, vk, qe, ve, mass, inertia, Fk, Mc, Kc, pe)
         stats[I_DE] = max(stats[I_DE], e_new - energy)
         energy = e_new
         # diverged: non-finite, or beam displacements beyond the span (linear theory long gone)
@@ -251,16 +309,8 @@ def run_kernel(qk0, vk0, qe0, ve0, mass, inertia, Fk, verts, Ainv, G1, G2, g0, M
         phi = qk[2]
         if abs(phi) > rest_angle or abs(vk[2]) > rest_rate:
             stats[I_MOVE] = step
-        # half-cycles: a sign change of φ (with hysteresis cross_eps) closes one
-        new_sign = 1 if phi > cross_eps else (-1 if phi < -cross_eps else sign)
-        if new_sign != sign and sign != 0:
-            if n_peaks < max_events:
-                peaks[n_peaks, 0], peaks[n_peaks, 1] = t_peak, peak
-                n_peaks += 1
-            peak, t_peak = 0.0, t
-        sign = new_sign
-        if abs(phi) > peak:
-            peak, t_peak = abs(phi), t
+        sign, peak, t_peak, n_peaks = _half_cycle(phi, t, sign, peak, t_peak, cross_eps,
+                                                  peaks, n_peaks)
         if step % stride == 0:
             last_row = step // stride
             _record(series, last_row, t, qk, vk, qe, i_mid, energy, nc)

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg as sla
+from scipy import sparse
 
 import specimens
 from multimass.errors import InputError
@@ -20,7 +21,7 @@ from specimens import BeamSpecimen, BlockSpecimen
 
 from .fe_beam import BeamModel, build_beam, static_deflection
 
-__all__ = ["System", "build_system", "flexible_modulus", "load_block", "load_beam"]
+__all__ = ["System", "build_system", "flexible_modulus", "load_block", "load_beam", "csr"]
 
 
 def load_block(block) -> BlockSpecimen:
@@ -70,9 +71,6 @@ class System:
     Fk: np.ndarray
     verts: np.ndarray
     Ainv: np.ndarray
-    G1: np.ndarray
-    G2: np.ndarray
-    g0: np.ndarray
     qk0: np.ndarray
     qe0: np.ndarray
 
@@ -93,8 +91,9 @@ def _check(name: str, value, low: float, high: float | None = None, *, low_open=
         x = float(value)
     except (TypeError, ValueError):
         raise InputError(f"`{name}` = {value!r}: expected a number; {fix}") from None
-    bad = (not math.isfinite(x) or (x <= low if low_open else x < low)
-           or (high is not None and x > high))
+    if not math.isfinite(x):
+        raise InputError(f"`{name}` = {value!r}: expected a finite number; {fix}")
+    bad = (x <= low if low_open else x < low) or (high is not None and x > high)
     if bad:
         rng = f"{'(' if low_open else '['}{low:g}, {'inf)' if high is None else f'{high:g}]'}"
         raise InputError(f"`{name}` = {value!r}: must lie in {rng}; {fix}")
@@ -112,23 +111,25 @@ def _block_inputs(blk: BlockSpecimen, bm: BeamSpecimen, theta0: float, x_centre:
         raise InputError(f"`x_centre` = {xc:g}: the block's footprint [{xc - blk.b / 2:g}, "
                          f"{xc + blk.b / 2:g}] m does not rest on the beam [0, {bm.span:g}] m; "
                          f"put its centre within [{blk.b / 2:g}, {bm.span - blk.b / 2:g}] m")
-    th0 = float(theta0)
-    if not math.isfinite(th0) or abs(th0) >= blk.alpha:
+    th0 = _check("theta0", theta0, -math.inf, fix="the release angle in rad")
+    if abs(th0) >= blk.alpha:
         raise InputError(f"`theta0` = {theta0!r} rad: the block does not rest on its corner: "
                          f"|θ0| must be below the overturning angle α = {blk.alpha:.4f} rad "
                          f"({math.degrees(blk.alpha):.3f}°) of {blk.name}")
     return th0, xc
 
 
-def _step_matrices(beam: BeamModel, dt: float, th: float):
-    """B's beam block A⁻¹ and the free-velocity operators (paper 002, Eqs 24, 26)."""
+def _inverse_A(beam: BeamModel, dt: float, th: float) -> np.ndarray:
+    """The beam block A⁻¹ of B (paper 002, Eqs 26, 33), dense and symmetric."""
     A = beam.M + dt * th * beam.C + (dt * th) ** 2 * beam.K          # paper 002, Eq 26
     Ainv = sla.cho_solve(sla.cho_factor(A), np.eye(A.shape[0]))
-    Ainv = 0.5 * (Ainv + Ainv.T)
-    G1 = -dt * Ainv @ beam.K                                        # −Δt A⁻¹ K q_i
-    G2 = -dt * Ainv @ (dt * th * beam.K + beam.C)                   # −Δt A⁻¹ (Δtθ K + C) q̇_i
-    g0 = dt * Ainv @ beam.p_self                                    # Δt A⁻¹ p
-    return Ainv, G1, G2, g0
+    return 0.5 * (Ainv + Ainv.T)
+
+
+def csr(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(indptr, indices, data) of a banded matrix, for the kernel's sparse products."""
+    S = sparse.csr_matrix(A)
+    return S.indptr.astype(np.int64), S.indices.astype(np.int64), S.data.astype(float)
 
 
 def build_system(block, beam="beam_mudric2024", *, theta0: float, dt: float,
@@ -181,8 +182,8 @@ def build_system(block, beam="beam_mudric2024", *, theta0: float, dt: float,
     c, s = math.cos(phi0), math.sin(phi0)
     r = verts[pivot]
     G = corner - np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
-    Ainv, G1, G2, g0 = _step_matrices(model, dt, th)
+    Ainv = _inverse_A(model, dt, th)
     return System(block=blk, beam_spec=bm, beam=model, dt=dt, theta_method=th, mu=mu,
                   restitution=e, theta0=th0, x_centre=xc, mass=m, inertia=inertia,
-                  Fk=np.array([0.0, -m * blk.g, 0.0]), verts=verts, Ainv=Ainv, G1=G1, G2=G2,
-                  g0=g0, qk0=np.array([G[0], G[1], phi0]), qe0=qe0)
+                  Fk=np.array([0.0, -m * blk.g, 0.0]), verts=verts, Ainv=Ainv,
+                  qk0=np.array([G[0], G[1], phi0]), qe0=qe0)

@@ -19,7 +19,8 @@ import numpy as np  # noqa: E402
 __all__ = ["plot_history", "plot_study", "plot_first_peak", "plot_flexibility"]
 
 _DPI = 100
-_STATUS_COLOUR = {"converged": "tab:green", "converging": "tab:orange", "not converged": "tab:red"}
+_STATUS_COLOUR = {"converged": "tab:green", "converging": "tab:orange", "not converged": "tab:red",
+                  "undetermined": "tab:gray"}
 
 
 def _save(fig, path: Path) -> Path:
@@ -112,16 +113,16 @@ def _study_axes(ax, study, t_max=None, legend=True):
 
 def plot_study(study, path, title: str = "") -> Path:
     """θ(t) at each refinement level with the verdicts (paper 002, Figs 10–11)."""
-    fig, ax = plt.subplots(figsize=(9, 5.5))
+    fig, ax = plt.subplots(figsize=(9, 6))
     _study_axes(ax, study)
     ax.set_xlabel("t (s)")
     colour = _STATUS_COLOUR[study.status]
     ax.set_title((title or f"{study.block}: {study.kind} study") + f" — {study.status.upper()}",
                  color=colour, fontsize=10)
-    ax.text(0.01, 0.02, _verdict_text(study), transform=ax.transAxes, fontsize=6.5,
-            family="monospace", va="bottom",
-            bbox={"facecolor": "white", "alpha": 0.85, "edgecolor": colour})
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.15, 1, 1))
+    fig.text(0.01, 0.01, "differences between successive levels:\n" + _verdict_text(study),
+             fontsize=7, family="monospace", va="bottom",
+             bbox={"facecolor": "white", "edgecolor": colour})
     return _save(fig, path)
 
 
@@ -187,7 +188,7 @@ def plot_flexibility(flex, outdir) -> list[Path]:
         for ax, n in zip(np.atleast_1d(axes), exps):
             st = flex[key][n]
             _study_axes(ax, st)
-            bad = [v.measure for v in st.verdicts if v.status != "converged"]
+            bad = [v.measure for v in st.verdicts if v.status in ("not converged", "converging")]
             ax.set_title(f"{_exp_label(n)}: {st.status.upper()}"
                          + (f" ({', '.join(bad)})" if bad else ""),
                          color=_STATUS_COLOUR[st.status], fontsize=9)

@@ -17,7 +17,7 @@ import numpy as np
 from multimass.errors import InputError
 
 from .kernel import STAT_NAMES, STATUS, run_kernel
-from .model import System, build_system
+from .model import System, build_system, csr
 
 __all__ = ["NSCDResult", "simulate", "run_system"]
 
@@ -166,7 +166,7 @@ def run_system(sys: System, t_end: float, *, gs_tol: float = 1e-8, gs_max_iter: 
     bm = sys.beam
     wall0 = time.perf_counter()
     out = run_kernel(sys.qk0, np.zeros(3), sys.qe0, np.zeros(bm.n_dof), sys.mass, sys.inertia,
-                     sys.Fk, sys.verts, sys.Ainv, sys.G1, sys.G2, sys.g0, bm.M, bm.K,
+                     sys.Fk, sys.verts, sys.Ainv, csr(bm.M), csr(bm.K), csr(bm.C),
                      bm.p_self, bm.edof, bm.x_nodes, bm.Le, bm.L, sys.dt, sys.theta_method,
                      sys.mu, sys.restitution, float(gs_tol), int(gs_max_iter), n_steps,
                      int(stride), rest_angle, np.inf, CROSS_EPS, sys.i_mid, MAX_EVENTS)

@@ -50,7 +50,8 @@ def register(sub) -> None:
     c = sub.add_parser(
         "nscd-convergence", help="convergence studies of the paper 002 simulation, with verdicts",
         description="Refine the time step or the mesh, compare successive levels and flag "
-                    "non-convergence (paper 002, Figs 10-11 and 16-19).")
+                    "non-convergence (paper 002, Figs 10-11 and 16-19). With --study first-peak, "
+                    "BLOCK may be `all` (B4M, B6M, B8M).")
     _common(c)
     c.add_argument("--study", required=True, choices=("dt", "mesh", "first-peak", "flexibility"),
                    help="dt: Fig 10; mesh: Fig 11; first-peak: B4M/B6M/B8M vs exact; "
@@ -161,6 +162,9 @@ def run_convergence(args) -> int:
     common = {"beam": args.beam, "theta_method": args.theta_method, "mu": args.mu,
               "restitution": args.restitution, "gs_tol": args.gs_tol, "gs_max_iter": args.gs_max_iter}
     if args.study == "first-peak":
+        if args.flex is not None:
+            raise InputError("`--flex` does not apply to the first-peak study (Ē differs per "
+                             "block); give `--E` in Pa or leave the rigid base")
         fps = C.first_peak_study((args.block,) if args.block.lower() != "all" else ("B4M", "B6M", "B8M"),
                                  args.dts, t_end=t_end or 2.0, E=args.E, n_elements=args.elements,
                                  progress=say)

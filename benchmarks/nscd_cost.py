@@ -1,0 +1,68 @@
+"""Cost per step of the Moreau–Jean simulation of a block on a beam (`nscd`, paper 002).
+
+Run:  python -m benchmarks.nscd_cost [--repeat 3] [--t-end 4]
+
+Prints
+1. the numba compile (or cache-load) time of the kernel, paid once per process;
+2. for B6M released at 11.268° (dt = 1e-5 s, `--t-end` s): wall time per run and
+   µs per step of the compiled kernel on the rigid base with 3, 6, 12 and 24
+   elements, and on flexible beams E = Ē·10² and Ē·10⁰ with 6 elements;
+3. µs per step of the pure-NumPy reference step (a few hundred steps), for scale.
+Timings are the best of `--repeat` runs; they depend on the machine and its load.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+
+import nscd
+from nscd.model import build_system
+from nscd.reference import reference_run
+
+__all__ = ["main"]
+
+THETA0 = math.radians(11.268)      # paper 002, Section 6.2 (B6M)
+
+
+def _cases():
+    Ebar = nscd.flexible_modulus("B6M")
+    yield "rigid base, 3 elements", {"n_elements": 3}
+    yield "rigid base, 6 elements", {"n_elements": 6}
+    yield "rigid base, 12 elements", {"n_elements": 12}
+    yield "rigid base, 24 elements", {"n_elements": 24}
+    yield "E = Ebar·10^2, 6 elements", {"n_elements": 6, "E": 1e2 * Ebar}
+    yield "E = Ebar·10^0, 6 elements", {"n_elements": 6, "E": Ebar}
+
+
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--t-end", type=float, default=4.0)
+    ap.add_argument("--dt", type=float, default=1e-5)
+    args = ap.parse_args(argv)
+    t0 = time.perf_counter()
+    nscd.simulate("B6M", theta0=THETA0, dt=1e-3, t_end=0.01)
+    print(f"numba kernel compile / cache load: {time.perf_counter() - t0:.2f} s")
+    print(f"B6M, θ0 = 11.268°, dt = {args.dt:g} s, t_end = {args.t_end:g} s "
+          f"({round(args.t_end / args.dt)} steps)")
+    print(f"{'case':28s} {'s/run':>7s} {'µs/step':>8s} {'GS max':>6s} {'2-contact steps':>15s}")
+    for name, kw in _cases():
+        best = None
+        for _ in range(args.repeat):
+            res = nscd.simulate("B6M", theta0=THETA0, dt=args.dt, t_end=args.t_end, **kw)
+            if best is None or res.kernel_time_s < best.kernel_time_s:
+                best = res
+        print(f"{name:28s} {best.kernel_time_s:7.2f} {best.cost_per_step_us:8.2f} "
+              f"{best.max_gs_iterations:6d} {best.n_multi_contact_steps:15d}")
+    sys = build_system("B6M", theta0=0.003, dt=1e-4, n_elements=6)
+    n = 200
+    t0 = time.perf_counter()
+    reference_run(sys, n)
+    print(f"NumPy reference step, rigid base, 6 elements: "
+          f"{1e6 * (time.perf_counter() - t0) / n:.0f} µs/step")
+
+
+if __name__ == "__main__":
+    main()
