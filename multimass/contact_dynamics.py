@@ -40,7 +40,8 @@ class ContactEvent:
     """One event: ``kind`` is "impact", "liftoff", "zeno_rest" or a model event name.
 
     ``closed_before`` / ``closed_after`` are the closed contact sets;
-    ``impact`` holds the Poisson impact result for impacts, else None.
+    ``contacts`` the contacts taking part in an impact (the columns of its
+    W_N, in order); ``impact`` holds the Poisson impact result, else None.
     """
 
     time: float
@@ -48,6 +49,7 @@ class ContactEvent:
     closed_before: tuple[int, ...]
     closed_after: tuple[int, ...]
     impact: PoissonImpact | None = None
+    contacts: tuple[int, ...] = ()
 
 
 @dataclass(frozen=True, eq=False)
@@ -190,7 +192,7 @@ def _select(model, t, q, v, cands, ftol) -> tuple[int, ...]:
     force or acceleration is zero to within ~1e-6 of the load scale), the subset
     with the smallest relative violation is taken; a larger violation raises.
     """
-    cands = tuple(sorted(cands))
+    cands = tuple(sorted(int(c) for c in cands))
     f_scale = ftol * 1e10
     best, best_viol = None, np.inf
     for size in range(len(cands), -1, -1):
@@ -310,8 +312,8 @@ class _Driver:
         g = m.contacts(q, v)[0]
         closing = [j for j in hit_contacts if j not in S]
         if closing:
-            K = tuple(sorted(set(S) | {j for j in range(k) if abs(g[j]) <= o["gap_tol"]}
-                             | set(closing)))
+            K = tuple(sorted(int(j) for j in set(S) | set(closing)
+                             | {j for j in range(k) if abs(g[j]) <= o["gap_tol"]}))
             y[:n] = q = _project_q(m, K, q, v)          # the impact happens at g_N = 0
             _, WN, WT, _, _ = m.contacts(q, v)
             _, tk = _constraint_matrix(WN, WT, K)
@@ -329,10 +331,10 @@ class _Driver:
                 cands = [K[i] for i, st in enumerate(res.final_states) if st == "closed"]
                 kind = "impact"
         else:                                     # lift-off: the unloading contact leaves
-            res, kind = None, "liftoff"
+            res, kind, K = None, "liftoff", tuple(hit_contacts)
             cands = [j for j in S if j not in hit_contacts]
         S_new = _select(m, t, y[:n], y[n:2 * n], cands, o["ftol"])
-        self.events.append(ContactEvent(t, kind, S, S_new, res))
+        self.events.append(ContactEvent(t, kind, tuple(S), S_new, res, tuple(int(j) for j in K)))
         self.record(np.array([t]), y[:, None], S_new)
         return S_new
 

@@ -161,8 +161,8 @@ def test_elastic_single_contact_conserves_energy():
         A = rng.normal(size=(3, 3))
         M = A @ A.T + 0.1 * np.eye(3)
         w = rng.normal(size=(3, 1))
-        u = rng.normal(size=3)
-        u -= (w[:, 0] @ u + 1.0) * np.linalg.solve(M, w[:, 0]) / (w[:, 0] @ np.linalg.solve(M, w[:, 0]))
+        u, Miw = rng.normal(size=3), np.linalg.solve(M, w[:, 0])
+        u -= (w[:, 0] @ u + 1.0) * Miw / (w[:, 0] @ Miw)          # ġ_N⁻ = −1: approaching
         r = poisson_impact(M, w, None, u, 1.0)
         assert r.energy_loss == pytest.approx(0.0, abs=1e-12 * (u @ M @ u))
         assert r.gN_plus[0] == pytest.approx(-r.gN_minus[0], rel=1e-12)

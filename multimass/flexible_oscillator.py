@@ -1,0 +1,278 @@
+"""The flexible rocking oscillator with Poisson impacts (paper 000, Section 4).
+
+A lumped mass m on a flexible column (mass m_c, height h, stiffness EI,
+shape ψ of Eq 26) standing on a rigid base (mass m_b, width 2b) that can
+rock, bounce or fly on a rigid ground. Coordinates q = (u, x, y, φ), φ
+counter-clockwise positive as in paper 000; contact 0 is the left base
+corner, contact 1 the right one. The equations of motion come from
+`multimass.flexible_oscillator_eom` (SymPy, Lagrangian of Eq 30); phases and
+impacts from `multimass.contact_dynamics` and `impact_models.poisson_impact`.
+
+Decided readings of the paper (its Eqs 27–30 are partly garbled):
+
+* Eq 27 prints α3²/3 in m̃; ∫ψ² gives α3²/7, so m̃ = m + (33/140) m_c for
+  the adopted shape (α2 = 3/2, α3 = −1/2), not the printed formula's value.
+* Eq 28 prints (1 + 31/140 γ_mc) where the derivation (and Eq 29, which it must
+  reduce to with ω_n² = k̃/m̃) needs m̃/m = 1 + 33/140 γ_mc. `uplift_margin`
+  uses m̃/m.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import sympy as sp
+
+from .contact_dynamics import ContactResponse, simulate_contacts
+from .errors import InputError
+from .flexible_oscillator_eom import numeric, symbolic
+
+__all__ = ["FlexibleOscillator", "OscillatorResponse", "ricker_pulse", "simulate_oscillator"]
+
+SHAPE = (0.0, 0.0, 1.5, -0.5)          # α0, α1, α2, α3: paper 000, Sec 4 (Chopra)
+
+
+def _positive(name, value, allow_zero=False) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"`{name}` = {value!r}: expected a number") from None
+    if not math.isfinite(x) or x < 0.0 or (x == 0.0 and not allow_zero):
+        need = "non-negative" if allow_zero else "positive"
+        raise InputError(f"`{name}` = {value!r}: expected a {need} finite number")
+    return x
+
+
+@dataclass(frozen=True)
+class FlexibleOscillator:
+    """Flexible rocking oscillator of paper 000, Fig 2b.
+
+    Parameters
+    ----------
+    m, m_c, m_b : float
+        Lumped top mass, column mass (may be 0) and base mass (kg).
+    h : float
+        Column height (m).
+    b : float
+        Half-width of the base (m).
+    EI : float
+        Flexural rigidity of the column (N m²).
+    zeta : float
+        Damping ratio of the fixed-base vibration.
+    g : float
+    shape : tuple of float
+        (α0, α1, α2, α3) of Eq 26, with ψ(h) = 1.
+    """
+
+    m: float
+    m_c: float
+    m_b: float
+    h: float
+    b: float
+    EI: float
+    zeta: float = 0.0
+    g: float = 9.81
+    shape: tuple = SHAPE
+
+    def __post_init__(self):
+        for name in ("m", "h", "b", "EI", "g"):
+            object.__setattr__(self, name, _positive(name, getattr(self, name)))
+        for name in ("m_c", "m_b", "zeta"):
+            object.__setattr__(self, name, _positive(name, getattr(self, name), True))
+        shape = tuple(float(a) for a in self.shape)
+        if len(shape) != 4 or abs(sum(shape) - 1.0) > 1e-12:
+            raise InputError(f"`shape` = {self.shape!r}: expected (α0, α1, α2, α3) with "
+                             "ψ(h) = α0 + α1 + α2 + α3 = 1 (u is the top deflection)")
+        object.__setattr__(self, "shape", shape)
+
+    @classmethod
+    def from_frequency(cls, f_n: float, **kw) -> "FlexibleOscillator":
+        """Oscillator whose fixed-base frequency √(k̃/m̃)/2π is `f_n` (Hz)."""
+        probe = cls(EI=1.0, **kw)
+        k = (2.0 * math.pi * _positive("f_n", f_n)) ** 2 * probe.m_tilde
+        return cls(EI=k / probe.k_tilde, **kw)
+
+    def _coef(self, name):
+        s = symbolic(tuple(sp.nsimplify(a) for a in self.shape))
+        expr = getattr(s, name)
+        P = s.params
+        return float(expr.subs({P["m"]: self.m, P["m_c"]: self.m_c, P["h"]: self.h}))
+
+    @cached_property
+    def m_tilde(self) -> float:
+        """Generalised mass m̃ = m + (m_c/h)∫ψ² dξ (paper 000, Eq 27, corrected)."""
+        return self._coef("m_tilde")
+
+    @cached_property
+    def k_tilde(self) -> float:
+        """Generalised stiffness k̃ = ∫EI ψ''² dξ (paper 000, Eq 27)."""
+        return self.EI / self.h**3 * self._coef("k_tilde_factor")
+
+    @cached_property
+    def omega_n(self) -> float:
+        """Fixed-base circular frequency √(k̃/m̃) (rad/s)."""
+        return math.sqrt(self.k_tilde / self.m_tilde)
+
+    @cached_property
+    def c(self) -> float:
+        """Damping coefficient 2ζ√(m̃ k̃) (paper 000, Eq 28)."""
+        return 2.0 * self.zeta * math.sqrt(self.m_tilde * self.k_tilde)
+
+    @property
+    def alpha(self) -> float:
+        """Slenderness atan(b/h) (paper 000, Sec 4)."""
+        return math.atan2(self.b, self.h)
+
+    @cached_property
+    def L0(self) -> float:
+        """(m_c/h)∫ψ dξ: 3/8 m_c for the adopted shape."""
+        return self._coef("L0")
+
+    @cached_property
+    def L1(self) -> float:
+        """(m_c/h²)∫ψ ξ dξ: 11/40 m_c for the adopted shape."""
+        return self._coef("L1")
+
+    def params(self) -> tuple:
+        return (self.m, self.m_c, self.m_b, self.h, self.b, self.g, self.k_tilde, self.c)
+
+    def uplift_margin(self, u: float, udot: float, ag: float) -> float:
+        """Left-hand side of Eq 28: ≥ 0 when rocking about the right corner starts.
+
+        With γ = m_c/m and the corrected m̃/m (module docstring).
+        """
+        m, g, hb = self.m, self.g, self.h / self.b
+        l1, l0 = 1.0 + self.L1 / m, 1.0 + self.L0 / m
+        mt = self.m_tilde / m
+        return (hb * l1 / mt * (self.c * udot / (m * g) + self.k_tilde * u / (m * g)
+                                + l0 * ag / g)
+                - (1.0 + self.m_b / m + self.m_c / m)
+                - hb * (1.0 + 0.5 * self.m_c / m) * ag / g + l0 * u / self.b)  # paper 000, Eq 28
+
+    @cached_property
+    def u_cr(self) -> float:
+        """Static deflection that starts rocking (paper 000, Eq 29)."""
+        m, g = self.m, self.g
+        return ((1.0 + self.m_b / m + self.m_c / m) * self.b * g
+                / ((1.0 + self.L1 / m) * self.h * self.omega_n**2
+                   + (1.0 + self.L0 / m) * g))                               # paper 000, Eq 29
+
+
+class _OscillatorModel:
+    """`contact_dynamics` model of the oscillator."""
+
+    n, k = 4, 2
+
+    def __init__(self, osc: FlexibleOscillator, ag, quiet_after: float):
+        self.o, self.ag, self.quiet_after = osc, ag, quiet_after
+        self.f = numeric(osc.shape)
+        self.p = osc.params()
+        self.c = osc.c
+        self.events = (("overturned", lambda t, q, v: abs(q[3]) - 0.5 * math.pi),)
+
+    def mass(self, q):
+        return np.asarray(self.f["M"](q, self.p), dtype=float)
+
+    def forces(self, t, q, v):
+        return np.array(self.f["forcing"](q, v, self.ag(t), self.p))
+
+    def contacts(self, q, v):
+        b, c, sn, w = self.o.b, math.cos(q[3]), math.sin(q[3]), v[3]
+        s = np.array([-1.0, 1.0])
+        z, one = np.zeros(2), np.ones(2)
+        g = q[2] + s * b * sn
+        WN = np.array([z, z, one, s * b * c])
+        WT = np.array([z, one, z, -s * b * sn])
+        return g, WN, WT, -s * b * sn * w * w, -s * b * c * w * w
+
+    def energy(self, q, v):
+        return self.f["energy"](q, v, self.p)
+
+    def powers(self, t, q, v):
+        return self.f["ground_power"](q, v, self.ag(t), self.p), self.c * v[0] ** 2
+
+
+@dataclass(frozen=True, eq=False)
+class OscillatorResponse:
+    """Response of `simulate_oscillator` with named views of the coordinates."""
+
+    oscillator: FlexibleOscillator
+    eps_p: float
+    raw: ContactResponse
+
+    t = property(lambda self: self.raw.t)
+    u = property(lambda self: self.raw.q[:, 0])
+    x = property(lambda self: self.raw.q[:, 1])
+    y = property(lambda self: self.raw.q[:, 2])
+    phi = property(lambda self: self.raw.q[:, 3], doc="Rotation, counter-clockwise positive.")
+    theta = property(lambda self: -self.raw.q[:, 3], doc="Toolkit convention θ = −φ.")
+    status = property(lambda self: self.raw.status)
+    events = property(lambda self: self.raw.events)
+
+    @property
+    def phase(self) -> np.ndarray:
+        """Per sample: "full", "rock_left", "rock_right" or "flight"."""
+        return np.array(["flight", "rock_left", "rock_right", "full"])[self.raw.closed]
+
+
+def ricker_pulse(a_g: float, omega_g: float, t0: float | None = None):
+    """Ricker wavelet ag(t) = a_g (1 − ω²τ²/2) exp(−ω²τ²/4), τ = t − t0, on [0, 2 t0].
+
+    Default t0 = 8.327/ω_g (|ag| < 1e-6 a_g at the truncation points).
+    """
+    a_g, w = float(a_g), _positive("omega_g", omega_g)
+    t0 = 8.327 / w if t0 is None else _positive("t0", t0)
+
+    def ag(t: float) -> float:
+        if not 0.0 <= t <= 2.0 * t0:
+            return 0.0
+        x2 = (w * (t - t0)) ** 2
+        return a_g * (1.0 - 0.5 * x2) * math.exp(-0.25 * x2)
+
+    ag.breakpoints, ag.duration = (2.0 * t0,), 2.0 * t0
+    return ag
+
+
+def simulate_oscillator(osc: FlexibleOscillator, eps_p: float, t_end: float, *, ag=None,
+                        u0: float = 0.0, udot0: float = 0.0, dt_out: float | None = 0.005,
+                        rtol: float = 1e-10, atol: float = 1e-12,
+                        zeno_velocity: float | None = None,
+                        max_events: int = 20_000) -> OscillatorResponse:
+    """Event-driven response of the oscillator, starting in full contact.
+
+    Parameters
+    ----------
+    osc : FlexibleOscillator
+    eps_p : float
+        Poisson's coefficient ε_P ∈ [0, 1].
+    t_end : float
+    ag : callable, optional
+        Ground acceleration ag(t) (m/s²), e.g. `ricker_pulse`; ``duration`` and
+        ``breakpoints`` attributes are honoured.
+    u0, udot0 : float
+        Initial deflection and rate of the column top (base at rest, flat).
+    dt_out, rtol, atol, zeno_velocity, max_events
+        As in `multimass.contact_dynamics.simulate_contacts`; zeno_velocity
+        defaults to 1e-4 √(g b).
+
+    Returns
+    -------
+    OscillatorResponse
+    """
+    if not isinstance(osc, FlexibleOscillator):
+        raise InputError(f"`osc` = {osc!r}: expected a FlexibleOscillator")
+    if ag is not None and not callable(ag):
+        raise InputError(f"`ag` = {ag!r}: expected a callable ag(t) in m/s²")
+    quiet = 0.0 if ag is None else float(getattr(ag, "duration", np.inf))
+    ag = ag if ag is not None else (lambda t: 0.0)
+    zv = 1e-4 * math.sqrt(osc.g * osc.b) if zeno_velocity is None else float(zeno_velocity)
+    q0 = np.array([float(u0), 0.0, 0.0, 0.0])
+    v0 = np.array([float(udot0), 0.0, 0.0, 0.0])
+    raw = simulate_contacts(_OscillatorModel(osc, ag, quiet), q0, v0, t_end, eps_p,
+                            dt_out=dt_out, rtol=rtol, atol=atol, gap_tol=1e-9 * osc.h,
+                            zeno_velocity=zv, max_events=max_events,
+                            breakpoints=getattr(ag, "breakpoints", ()))
+    return OscillatorResponse(osc, float(eps_p), raw)

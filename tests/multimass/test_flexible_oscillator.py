@@ -1,0 +1,188 @@
+"""Flexible rocking oscillator (paper 000, Section 4): SymPy EOMs, uplift, impacts, energy."""
+
+import math
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from multimass import InputError
+from multimass.contact_dynamics import _Phase
+from multimass.flexible_oscillator import (FlexibleOscillator, _OscillatorModel, ricker_pulse,
+                                           simulate_oscillator)
+from multimass.flexible_oscillator_eom import numeric, symbolic
+
+# an illustrative oscillator (paper 000 takes its specimens from [23], not reproduced there)
+OSC = dict(m=1000.0, m_c=200.0, m_b=300.0, h=2.0, b=0.3, zeta=0.02)
+
+
+@pytest.fixture(scope="module")
+def osc():
+    return FlexibleOscillator.from_frequency(2.0, **OSC)
+
+
+def test_mass_matrix_matches_the_legible_terms_of_eq_30():
+    s = symbolic()
+    P, (u, x, y, ph) = s.params, s.q
+    m, mc, mb, h = P["m"], P["m_c"], P["m_b"], P["h"]
+    L = m + sp.Rational(3, 8) * mc          # m + (α3/4 + α2/3 + α1/2 + α0) m_c, Eq 30
+    assert sp.simplify(s.M[0, 0] - (m + sp.Rational(33, 140) * mc)) == 0    # m̃, Eq 27
+    assert sp.simplify(s.M[0, 1] - L * sp.cos(ph)) == 0                     # Eq 30, row 1
+    assert sp.simplify(s.M[0, 2] - L * sp.sin(ph)) == 0                     # Eq 30, row 1
+    assert sp.simplify(s.M[1, 1] - (m + mb + mc)) == 0                      # Eq 30, row 2
+    assert sp.simplify(s.M[2, 2] - (m + mb + mc)) == 0                      # Eq 30, row 3
+    # Eq 30 row 2: −(m h cos φ + m u sin φ + ½ m_c h cos φ + (3/8) m_c u sin φ) φ̈
+    assert sp.simplify(s.M[1, 3] + m * h * sp.cos(ph) + m * u * sp.sin(ph)
+                       + mc * h * sp.cos(ph) / 2 + sp.Rational(3, 8) * mc * u * sp.sin(ph)) == 0
+    # the φ̈ coefficient of row 1 is −(m + (α3/5 + α2/4 + α1/3 + α0/2) m_c) h (printed garbled)
+    assert sp.simplify(s.M[0, 3] + (m + sp.Rational(11, 40) * mc) * h) == 0
+
+
+def test_forcing_matches_the_legible_right_hand_sides_of_eq_30():
+    s = symbolic()
+    P, (u, x, y, ph), (ud, xd, yd, phd) = s.params, s.q, s.qd
+    m, mc, mb, h, g, k, c = (P[n] for n in ("m", "m_c", "m_b", "h", "g", "k", "c"))
+    L, mt = m + sp.Rational(3, 8) * mc, m + sp.Rational(33, 140) * mc
+    # row 1: −c u̇ − k̃ u + m̃ u φ̇² − L cos φ ü_g − L sin φ g
+    row1 = -c * ud - k * u + mt * u * phd**2 - L * sp.cos(ph) * s.ag - L * sp.sin(ph) * g
+    assert sp.simplify(s.forcing[0] - row1) == 0
+    # row 2: −(m h sin φ − m u cos φ + ½ m_c h sin φ − (3/8) m_c u cos φ) φ̇²
+    #        + 2 L sin φ u̇ φ̇ − (m + m_b + m_c) ü_g
+    row2 = (-(m * h * sp.sin(ph) - m * u * sp.cos(ph) + mc * h * sp.sin(ph) / 2
+              - sp.Rational(3, 8) * mc * u * sp.cos(ph)) * phd**2
+            + 2 * L * sp.sin(ph) * ud * phd - (m + mb + mc) * s.ag)
+    assert sp.simplify(s.forcing[1] - row2) == 0
+    # row 3 (printed garbled): ends with −(m + m_b + m_c) g
+    assert sp.simplify(s.forcing[2].subs({phd: 0, ud: 0}) + (m + mb + mc) * g) == 0
+
+
+@pytest.mark.parametrize("shape", [(0, 0, sp.Rational(3, 2), -sp.Rational(1, 2)),
+                                   (0, 1, 0, 0), (sp.Rational(1, 5), sp.Rational(1, 2),
+                                                  sp.Rational(1, 2), -sp.Rational(1, 5))])
+def test_generalised_mass_and_stiffness_of_eq_27(shape):
+    s = symbolic(shape)
+    a0, a1, a2, a3 = shape
+    m, mc, h = s.params["m"], s.params["m_c"], s.params["h"]
+    # Eq 27 with α3²/7 (the printed α3²/3 is a typo: ∫₀¹ s⁶ ds = 1/7)
+    m_tilde = m + (a3**2 / 7 + a3 * a2 / 3 + 2 * a3 * a1 / 5 + a3 * a0 / 2 + a2**2 / 5
+                   + a2 * a1 / 2 + 2 * a2 * a0 / 3 + a1**2 / 3 + a1 * a0 + a0**2) * mc
+    assert sp.simplify(s.m_tilde - m_tilde) == 0
+    assert sp.simplify(s.k_tilde_factor - 4 * (3 * a3**2 + a2**2 + 3 * a3 * a2)) == 0  # Eq 27
+
+
+def test_lambdified_functions_are_built_once():
+    assert numeric() is numeric()
+    assert symbolic() is symbolic()
+
+
+def test_uplift_condition_eq_28_is_the_sign_of_the_left_contact_force(osc):
+    # the general contact forces of the full-contact phase against Eq 28:
+    # λ_left = −(m g / 2) · LHS(Eq 28), so Eq 28 ≥ 0 ⇔ the left corner unloads
+    rng = np.random.default_rng(3)
+    osc_damped = FlexibleOscillator.from_frequency(2.0, **dict(OSC, zeta=0.05))
+    for o in (osc, osc_damped):
+        for trial in range(50):
+            u, ud, ag = rng.normal(0, 0.02), rng.normal(0, 0.2), rng.normal(0, 4.0)
+            model = _OscillatorModel(o, lambda t, ag=ag: ag, np.inf)
+            q, v = np.array([u, 0, 0, 0.0]), np.array([ud, 0, 0, 0.0])
+            lam = _Phase(model, (0, 1), q, v).solve(0.0, q, v)[1]
+            margin = o.uplift_margin(u, ud, ag)
+            assert lam[0] == pytest.approx(-0.5 * o.m * o.g * margin, rel=1e-10, abs=1e-8)
+
+
+def test_u_cr_of_eq_29_is_where_eq_28_vanishes(osc):
+    undamped = FlexibleOscillator.from_frequency(2.0, **dict(OSC, zeta=0.0))
+    for o in (osc, undamped):
+        # ζ = 0 term-by-term: with u̇ = 0 and ü_g = 0 the damping term is zero anyway
+        assert o.uplift_margin(o.u_cr, 0.0, 0.0) == pytest.approx(0.0, abs=1e-12)
+        assert o.uplift_margin(1.01 * o.u_cr, 0.0, 0.0) > 0.0
+        assert o.uplift_margin(0.99 * o.u_cr, 0.0, 0.0) < 0.0
+        model = _OscillatorModel(o, lambda t: 0.0, np.inf)
+        q, v = np.array([o.u_cr, 0, 0, 0.0]), np.zeros(4)
+        lam = _Phase(model, (0, 1), q, v).solve(0.0, q, v)[1]
+        assert abs(lam[0]) < 1e-10 * o.m * o.g
+    # the printed factor (1 + 31/140 γ) in Eq 28 is inconsistent with Eq 29:
+    g_mc, o = osc.m_c / osc.m, osc
+    printed = (o.h / o.b * (1 + 11 / 40 * g_mc) / (1 + 31 / 140 * g_mc)
+               * o.k_tilde * o.u_cr / (o.m * o.g) - (1 + o.m_b / o.m + g_mc)
+               + (1 + 3 / 8 * g_mc) * o.u_cr / o.b)
+    assert abs(printed) > 1e-3
+
+
+def test_u_cr_closed_form(osc):
+    # paper 000, Eq 29 written out for the adopted shape
+    g_mc, g_mb = osc.m_c / osc.m, osc.m_b / osc.m
+    w2 = osc.k_tilde / (osc.m * (1 + 33 / 140 * g_mc))
+    expected = ((1 + g_mb + g_mc) * osc.b * osc.g
+                / ((1 + 11 / 40 * g_mc) * osc.h * w2 + (1 + 3 / 8 * g_mc) * osc.g))
+    assert osc.u_cr == pytest.approx(expected, rel=1e-14)
+    assert osc.omega_n == pytest.approx(2 * math.pi * 2.0, rel=1e-14)
+    assert osc.k_tilde == pytest.approx(3 * osc.EI / osc.h**3, rel=1e-14)   # cantilever
+
+
+@pytest.mark.parametrize("eps", [0.0, 0.5])
+def test_free_release_energy_ledger_closes(osc, eps):
+    r = simulate_oscillator(osc, eps, 3.0, u0=2.5 * osc.u_cr)
+    E0 = r.raw.energy[0]
+    assert E0 > 0
+    assert np.abs(r.raw.ledger_error).max() < 1e-7 * E0
+    assert r.raw.damping[-1] > 0
+    impacts = r.raw.impacts
+    assert impacts and all(ev.impact.energy_loss >= -1e-10 * E0 for ev in impacts)
+    # release beyond u_cr rocks about the right corner first (u > 0 leans right, φ < 0)
+    assert r.phase[1] == "rock_right" and r.phi[5] < 0
+
+
+def test_impacts_bounce_only_with_positive_eps(osc):
+    # Poisson's law: ε_P = 0 keeps the impacting corner down (ġ_N⁺ = 0, Eq 11 with
+    # ε = 0), ε_P > 0 lets it bounce off (ġ_N⁺ > 0), paper 000 Sec 4.1
+    for eps in (0.0, 0.6):
+        r = simulate_oscillator(osc, eps, 2.0, u0=2.5 * osc.u_cr)
+        rebound = []
+        for ev in r.raw.impacts:
+            new = [i for i, c in enumerate(ev.contacts) if c not in ev.closed_before]
+            v_scale = np.abs(ev.impact.gN_minus).max()
+            rebound += [ev.impact.gN_plus[i] / v_scale for i in new]
+        assert rebound
+        if eps == 0.0:
+            np.testing.assert_allclose(rebound, 0.0, atol=1e-9)
+        else:
+            assert max(rebound) > 0.1
+
+
+def test_ricker_pulse_response_and_ledger(osc):
+    ag = ricker_pulse(0.25 * osc.g, 2 * math.pi * 1.0)
+    r = simulate_oscillator(osc, 0.3, 6.0, ag=ag)
+    assert r.status == "completed"
+    assert {"rock_left", "rock_right"} <= set(r.phase)
+    ref = np.abs(r.raw.ground_work).max()
+    assert np.abs(r.raw.ledger_error).max() < 1e-7 * ref
+
+
+def test_ricker_pulse_shape():
+    ag = ricker_pulse(2.0, 10.0)
+    t0 = 8.327 / 10.0
+    assert ag(t0) == pytest.approx(2.0, rel=1e-15)                # peak a_g at t0
+    assert abs(ag(0.0)) < 1e-6 * 2.0 and abs(ag(2 * t0)) < 1e-6 * 2.0
+    assert ag(-1.0) == 0.0 and ag(2 * t0 + 1e-9) == 0.0
+    x = math.sqrt(2.0)                                          # zero crossing ω τ = √2
+    assert ag(t0 + x / 10.0) == pytest.approx(0.0, abs=1e-15)
+    assert ag.duration == pytest.approx(2 * t0)
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(m=-1.0), "`m`"), (dict(h=0.0), "`h`"), (dict(zeta=-0.1), "`zeta`"),
+    (dict(shape=(0.0, 0.0, 1.0, 0.5)), "`shape`"),
+])
+def test_bad_oscillator(kw, match):
+    args = dict(OSC, EI=1e5)
+    args.update(kw)
+    with pytest.raises(InputError, match=match):
+        FlexibleOscillator(**args)
+
+
+def test_bad_simulation_input(osc):
+    with pytest.raises(InputError, match="eps_p"):
+        simulate_oscillator(osc, 1.2, 1.0)
+    with pytest.raises(InputError, match="`ag`"):
+        simulate_oscillator(osc, 0.5, 1.0, ag="record.csv")
