@@ -7,8 +7,9 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from impact_models import housner_eta
+import multimass
 from multimass import InputError
-from multimass.poisson_block import PoissonBlock, simulate_block, sine_pulse
+from multimass.poisson_block import PoissonBlock, _BlockModel, simulate_block, sine_pulse
 
 
 def housner(block, ag, t_start, theta0, t_grid, eta, side=None):
@@ -165,6 +166,12 @@ def test_geometry():
     np.testing.assert_array_equal(W_N, [[0, 0], [1, 1], [-0.5, 0.5]])     # paper 000, Eq 13
     np.testing.assert_array_equal(W_T, [[1], [0], [3.5]])
     assert M[2, 2] == pytest.approx(2.0 * 12.5 / 3)
+    # the simulation's contact kinematics reduce to Eq 13 at φ = 0 (both corners' W_T equal)
+    g, WN, WT, _, _ = _BlockModel(block, lambda t: 0.0).contacts(np.array([0.0, 3.5, 0.0]),
+                                                                 np.zeros(3))
+    np.testing.assert_allclose(g, 0.0, atol=1e-15)
+    np.testing.assert_allclose(WN, W_N, atol=1e-15)
+    np.testing.assert_allclose(WT, np.hstack([W_T, W_T]), atol=1e-15)
     q, v = block.rocking_state(0.2, -0.3)
     # the left corner (−b, −h) of the rotated block sits at (−b, 0) and does not move
     c, s = math.cos(0.2), math.sin(0.2)
@@ -192,3 +199,26 @@ def test_bad_input(kw, match):
 def test_bad_block(kw):
     with pytest.raises(InputError):
         PoissonBlock(**kw)
+
+
+@pytest.mark.skipif(not hasattr(multimass, "simulate"), reason="engine not available")
+@pytest.mark.parametrize("case", ["free", "sine"])
+def test_agrees_with_the_engine_classical_impact(case):
+    # the multi-mass engine's rigid block B6M with the classical impact and Housner's η
+    st = multimass.rigid_block("B6M")
+    block = PoissonBlock(b=st.B, h=st.h0, mass=st.m0)
+    if case == "free":
+        exc, kw = multimass.FreeRelease(0.1), dict(phi0=-0.1)      # θ0 = 0.1 ⇒ φ0 = −0.1
+    else:
+        exc = multimass.SineWave(0.3 * block.g, 3.0 * block.p)
+        kw = dict(ag=exc)
+    eng = multimass.simulate(st, exc, impact="CIM", restitution="housner", t_end=2.0,
+                             rtol=1e-10, atol=1e-12)
+    r = simulate_block(block, 0.0, 2.0, dt_out=0.001, **kw)
+    df = eng.series
+    keep = np.r_[np.diff(df.t) > 0, True]
+    grid = np.arange(0.0, 1.9, 0.001)
+    theta_engine = np.interp(grid, df.t[keep], df.theta[keep])
+    theta_lcp = r.theta[np.searchsorted(r.t, grid, side="right") - 1]
+    assert np.abs(theta_engine).max() > 0.3 * block.alpha
+    assert np.abs(theta_lcp - theta_engine).max() < 1e-6 * block.alpha
