@@ -93,8 +93,15 @@ def add_solver_args(p) -> None:
     g.add_argument("--atol", type=float, default=DEFAULTS["atol"])
     g.add_argument("--max-step", type=float, default=DEFAULTS["max_step"], help="s")
     g.add_argument("--output-dt", type=float, default=DEFAULTS["output_dt"], help="sampling of the series (s)")
+    g.add_argument("--backend", choices=("scipy", "compiled"), default=None,
+                   help="scipy: solve_ivp (the reference); compiled: the same explicit RK steps in "
+                        "numba kernels (multimass.fast). Default: the function's own (scipy for "
+                        "one simulation)")
 
 
 def solver_kwargs(args) -> dict:
-    return dict(method=args.method, rtol=args.rtol, atol=args.atol, max_step=args.max_step,
-                output_dt=args.output_dt)
+    kw = dict(method=args.method, rtol=args.rtol, atol=args.atol, max_step=args.max_step,
+              output_dt=args.output_dt)
+    if getattr(args, "backend", None) is not None:
+        kw["backend"] = args.backend
+    return kw

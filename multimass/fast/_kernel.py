@@ -20,7 +20,7 @@ from ._rk import (_A3, _A5, _A8, _B3, _B5, _B8, _C3, _C5, _C8, _DOP, _MAX_FACTOR
 __all__ = ["integrate_phase"]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _tableau(method):
     """(A, B, C, stages, rows of K, error order, dense coefficients) of a method code."""
     if method == _DOP:
@@ -30,7 +30,7 @@ def _tableau(method):
     return _A3, _B3, _C3, 3, 4, 2, 3
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def integrate_phase(t0, t_stop, y0, t_eval, side, m, H, K, C_, mp, fp,
                     ev_code, ev_dir, ev_term, ev_quiet, ev_ton, ep, kind, par, smp,
                     method, rtol, atol, max_step):

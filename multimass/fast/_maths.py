@@ -61,7 +61,7 @@ _SQRT_PI = math.sqrt(math.pi)
 _SQRT_2 = math.sqrt(2.0)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def ground_acc(t, kind, par, samples):
     """ü_g(t) in m/s² of an encoded excitation (the `_scalar` methods of each class)."""
     if kind == EXC_NONE:
@@ -87,7 +87,7 @@ def ground_acc(t, kind, par, samples):
     return par[0] * (1.0 - 0.5 * x2) * math.exp(-0.25 * x2)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def rocking_rhs(t, y, out, side, m, H, K, C, mp, fp, kind, par, samples):
     """dy/dt while rocking about pivot `side` (paper 001, Eqs 4–5), written into `out`."""
     n = m.size
@@ -142,7 +142,7 @@ def rocking_rhs(t, y, out, side, m, H, K, C, mp, fp, kind, par, samples):
     out[2 * n + 4] = 2.0 * B * F * thd
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def full_contact_rhs(t, y, out, m, K, C, kind, par, samples):
     """dy/dt in full contact (paper 001, Eq 3); θ and θ̇ stay 0."""
     n = m.size
@@ -166,7 +166,7 @@ def full_contact_rhs(t, y, out, m, K, C, kind, par, samples):
     out[2 * n + 4] = 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy", inline="always")
 def rhs(t, y, out, side, m, H, K, C, mp, fp, kind, par, samples):
     """dy/dt of the phase `side` (0: full contact, ±1: rocking)."""
     if side == 0:
@@ -175,7 +175,7 @@ def rhs(t, y, out, side, m, H, K, C, mp, fp, kind, par, samples):
         rocking_rhs(t, y, out, side, m, H, K, C, mp, fp, kind, par, samples)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _total_energy(side, y, m, H, K, mp):
     """T + V_g + U relative to rest while rocking (multimass.kinematics.total_energy)."""
     n = m.size
@@ -202,7 +202,7 @@ def _total_energy(side, y, m, H, K, mp):
     return kinetic + grav + 0.5 * elastic
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _momentum_new_pivot(y, m, H, mp):
     """L_p about the impending pivot (multimass.kinematics.angular_momentum_new_pivot)."""
     n = m.size
@@ -215,7 +215,7 @@ def _momentum_new_pivot(y, m, H, mp):
     return hmu + y[2 * n + 1] * (mp[MP_JP] - 2.0 * mp[MP_MT] * B * B + umu)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _uplift(sgn, t, y, m, H, K, C, mp, ep, kind, par, samples):
     """Uplift function about pivot `sgn` from full contact (paper 001, Eq 8)."""
     n = m.size
@@ -241,7 +241,7 @@ def _uplift(sgn, t, y, m, H, K, C, mp, ep, kind, par, samples):
     return lm if lm < moment else moment                       # paper 001, Eq 8
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _activate(side, y, m, H, K, mp, ep):
     """Dirac-delta activation function (paper 001, Eqs 15–16)."""
     n = m.size
@@ -260,7 +260,7 @@ def _activate(side, y, m, H, K, mp, ep):
                (tdm - side_imp * thd) / tdm)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def event_value(code, t, y, t_on, quiet, side, m, H, K, C, mp, ep, kind, par, samples):
     """Value of event `code` at (t, y); `quiet` until `t_on` (multimass._phase.guard)."""
     if not (t > t_on):

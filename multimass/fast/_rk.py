@@ -68,7 +68,7 @@ _D8 = np.ascontiguousarray(_dop.D, dtype=np.float64)       # 4 × 16
 _NEXT8 = _dop.N_STAGES_EXTENDED
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _rms(v, scale):
     acc = 0.0
     for j in range(v.size):
@@ -77,7 +77,7 @@ def _rms(v, scale):
     return math.sqrt(acc) / math.sqrt(v.size)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _rk_step(t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, m, H, K, C_, mp, fp, kind, par, smp):
     """One explicit RK step of size h: stages in Kst[0..ns], solution in ynew."""
     ny = y.size
@@ -98,7 +98,7 @@ def _rk_step(t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, m, H, K, C_, mp, f
     rhs(t + h, ynew, Kst[ns], side, m, H, K, C_, mp, fp, kind, par, smp)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _error_norm(method, Kst, h, scale, ns, ytmp):
     ny = scale.size
     if method == _DOP:
@@ -126,7 +126,7 @@ def _error_norm(method, Kst, h, scale, ns, ytmp):
     return _rms(ytmp, scale)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _dense_prepare(method, t_old, h, y_old, ynew, Kst, ns, Q, ytmp,
                    side, m, H, K, C_, mp, fp, kind, par, smp):
     """Coefficients Q of the interpolant over the last step; returns RHS calls made."""
@@ -160,7 +160,7 @@ def _dense_prepare(method, t_old, h, y_old, ynew, Kst, ns, Q, ytmp,
     return _NEXT8 - ns - 1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _dense_eval(method, t, t_old, h, y_old, Q, out):
     """The interpolant at t (SciPy's RkDenseOutput / Dop853DenseOutput)."""
     x = (t - t_old) / h
@@ -183,7 +183,7 @@ def _dense_eval(method, t, t_old, h, y_old, Q, out):
         out[j] = v + y_old[j]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _brent(code, a, b, t_on, quiet, method, t_old, h, y_old, Q, ytmp,
            side, m, H, K, C_, mp, ep, kind, par, smp):
     """Root of event `code` on the dense output in [a, b]: Brent's zeroin, tolerance 4 ε.
@@ -244,7 +244,7 @@ def _brent(code, a, b, t_on, quiet, method, t_old, h, y_old, Q, ytmp,
     return b
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _first_step(t0, y0, f0, t_bound, max_step, order, rtol, atol, ytmp, f1,
                 side, m, H, K, C_, mp, fp, kind, par, smp):
     """Initial step (Hairer, Nørsett & Wanner I, Sec. II.4)."""

@@ -8,13 +8,22 @@ process, on a tiny problem whose argument types are those of every real call,
 and says how long it took and whether the code came from the cache.
 `multimass.simulate` calls it before starting its clock, so
 ``Response.wall_time_s`` never includes compilation.
+
+Numba keys a cached function on the file that defines it, not on the files of
+the functions it calls: after an edit of `._maths` or `._rk` (or an upgrade)
+the cached `._kernel.integrate_phase` would be stale. `warm_up` therefore keeps
+a fingerprint of the kernel sources and numba's version beside the cache and
+drops the cached kernels when it changes.
 """
 
 from __future__ import annotations
 
+import hashlib
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
+import numba
 import numpy as np
 
 from . import _maths as mx
@@ -46,6 +55,30 @@ class CompileReport:
 
 
 _REPORT: CompileReport | None = None
+_MODULES = ("_maths", "_rk", "_kernel")        # the modules holding njit(cache=True) code
+_STAMP = "multimass_fast.sources"
+
+
+def _fingerprint() -> str:
+    h = hashlib.sha256(numba.__version__.encode())
+    for mod in _MODULES:
+        h.update((Path(__file__).parent / f"{mod}.py").read_bytes())
+    return h.hexdigest()
+
+
+def _drop_stale_cache(cache_dir: Path, stamp: str) -> None:
+    """Delete the cached kernels if the sources changed since they were compiled."""
+    try:
+        if (cache_dir / _STAMP).read_text() == stamp:
+            return
+    except OSError:
+        pass
+    for mod in _MODULES:
+        for f in cache_dir.glob(f"{mod}.*.nb[ic]"):
+            try:
+                f.unlink()
+            except OSError:          # another process got there first, or read-only
+                pass
 
 
 def _tiny_call() -> None:
@@ -79,9 +112,15 @@ def warm_up() -> CompileReport:
     if _REPORT is not None:
         return CompileReport(0.0, "in memory", _REPORT.cache_dir)
     start = time.perf_counter()
+    cache_dir, stamp = Path(integrate_phase.stats.cache_path), _fingerprint()
+    _drop_stale_cache(cache_dir, stamp)
     _tiny_call()
     seconds = time.perf_counter() - start
     stats = integrate_phase.stats
     source = "disk cache" if stats.cache_hits and not stats.cache_misses else "compiled"
-    _REPORT = CompileReport(seconds, source, str(stats.cache_path))
+    try:
+        (cache_dir / _STAMP).write_text(stamp)
+    except OSError:
+        pass
+    _REPORT = CompileReport(seconds, source, str(cache_dir))
     return _REPORT

@@ -43,6 +43,7 @@ def _table(*rows):
 _ROCKING = [("zero", mx.EV_ZERO, -1.0, 1, 1.0, True),                          # θ = 0
             ("overturn", mx.EV_OVERTURN, 1.0, 1, -1.0, True),
             ("peak", mx.EV_PEAK, 0.0, 0, 0.0, False)]                          # θ̇ = 0
+_PEAK = 2
 _EVENTS = {
     "contact": _table(("uplift_right", mx.EV_UPLIFT_RIGHT, 1.0, 1, -1.0, True),  # paper 001, Eq 8
                       ("uplift_left", mx.EV_UPLIFT_LEFT, 1.0, 1, -1.0, True)),
@@ -153,7 +154,7 @@ class FastPath:
         names, codes, dirs, term, quiet, t_on, ep, fp = self.events(run)
         t_eval = np.ascontiguousarray(run.recorder.grid(run.t, t_stop), dtype=np.float64)
         ivp = run.ivp
-        status, t, y, ev, nfev, samples, nt_i, nt_t, nt_y = integrate_phase(
+        status, t, y, ev, nfev, samples, _, nt_t, nt_y = integrate_phase(
             float(run.t), float(t_stop), np.ascontiguousarray(run.y, dtype=np.float64), t_eval,
             int(run.phase), self.m, self.H, self.K, self.C, self.mp, fp, codes, dirs, term,
             quiet, t_on, ep, self.kind, self.par, self.samples, self.code,
@@ -167,8 +168,9 @@ class FastPath:
             run.message = f"compiled {self.method} failed at t = {t:.6g} s: {_FAIL_MESSAGE}"
             run.events.append(Event("failed", t_fail, run.phase, run.phase, detail=_FAIL_MESSAGE))
             return
-        t_events = [nt_t[nt_i == i] if names[i] == "peak" else _NONE for i in range(len(names))]
-        y_events = [nt_y[nt_i == i] if names[i] == "peak" else _NONE for i in range(len(names))]
+        t_events, y_events = [_NONE] * len(names), [_NONE] * len(names)
+        if run.phase:           # θ̇ = 0, the one non-terminal event (index 2 while rocking)
+            t_events[_PEAK], y_events[_PEAK] = nt_t, nt_y
         run.recorder.segment(_Segment(t_eval[:k], samples.T, t_events, y_events), None,
                              run.phase, run.force, names)
         if status == EVENT:

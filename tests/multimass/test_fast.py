@@ -256,3 +256,17 @@ def test_unknown_excitation_model_method_and_backend_are_refused():
 
     with pytest.raises(InputError, match="`impact`"):
         simulate("S1", FreeRelease(0.05), Wider(FixedRestitution(0.9)), 0.5, backend="compiled")
+
+
+def test_cli_backend_option(capsys):
+    import json
+
+    from multimass.cli import main
+
+    out = {}
+    for backend in ("scipy", "compiled"):
+        assert main(["simulate", "B6M", "--release", "0.12", "--impact", "CIM", "--restitution",
+                     "housner", "--t-end", "1.0", "--backend", backend, "--json"]) == 0
+        out[backend] = json.loads(capsys.readouterr().out)
+        assert out[backend]["options"]["backend"] == backend
+    np.testing.assert_allclose(out["compiled"]["peaks"], out["scipy"]["peaks"], atol=PEAK_TOL)
