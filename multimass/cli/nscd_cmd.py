@@ -45,6 +45,8 @@ def register(sub) -> None:
     p.add_argument("--t-end", type=float, default=4.0, help="duration (s; default 4)")
     p.add_argument("--rest-fraction", type=float, default=0.01,
                    help="at rest once |θ| stays below this fraction of |θ0| (default 0.01)")
+    p.add_argument("--x-centre", type=float, default=None, metavar="X",
+                   help="abscissa of the upright block's centre on the span (m; default midspan)")
     p.set_defaults(func=run)
 
     c = sub.add_parser(
@@ -115,7 +117,8 @@ def run(args) -> int:
                         E=_modulus(args), n_elements=args.elements,
                         theta_method=args.theta_method, mu=args.mu,
                         restitution=args.restitution, gs_tol=args.gs_tol,
-                        gs_max_iter=args.gs_max_iter, rest_fraction=args.rest_fraction)
+                        gs_max_iter=args.gs_max_iter, rest_fraction=args.rest_fraction,
+                        x_centre=args.x_centre)
     info = {**res.summary(), **_references(args.block, theta0)}
     if args.out is not None:
         args.out.mkdir(parents=True, exist_ok=True)

@@ -41,6 +41,7 @@ def test_nscd_writes_files(tmp_path, capsys):
     (["--mu=-0.1"], "`mu`"),
     (["--restitution", "2"], "`restitution`"),
     (["--t-end", "0"], "`t_end`"),
+    (["--x-centre", "0.29"], "`x_centre`"),
 ])
 def test_bad_input_is_one_clear_line(capsys, argv, fragment):
     assert main(["nscd", "B6M", "--t-end", "0.01", *argv]) == 2

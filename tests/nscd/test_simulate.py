@@ -34,6 +34,7 @@ def test_first_peak_reproduces_paper_002(paper_runs, name):
     res = paper_runs[name]
     assert res.status == "completed" and len(res.peaks_deg) >= 2
     assert abs(res.first_peak_deg - PAPER[name][1]) <= 0.03          # paper 002, Section 6.2
+    assert res.n_slip_steps == 0                 # paper 002, Section 6.2: no slip with mu = 0.364
 
 
 @pytest.mark.parametrize("name", list(PAPER))
