@@ -11,13 +11,41 @@ Nothing is allocated inside the loop.
 
 from __future__ import annotations
 
+import hashlib
 import math
+from pathlib import Path
 
+import numba
 import numpy as np
 from numba import njit
 
 from .contact import beam_q, block_q, delassus_block, gauss_seidel
 from .geometry import closest_point, contact_frame
+
+
+def _drop_stale_cache() -> None:
+    """Delete numba's cached nscd kernels when any compiled source or numba changed.
+
+    numba keys a cached function on its own file only, so an edit of
+    contact.py or geometry.py would leave run_kernel's cache stale.
+    """
+    here = Path(__file__).resolve().parent
+    try:
+        src = b"".join((here / f).read_bytes() for f in ("geometry.py", "contact.py", "kernel.py"))
+        stamp = hashlib.sha256(src + numba.__version__.encode()).hexdigest()
+        cache = here / "__pycache__"
+        mark = cache / "nscd_kernel.stamp"
+        if mark.is_file() and mark.read_text() == stamp:
+            return
+        for f in list(cache.glob("*.nbi")) + list(cache.glob("*.nbc")):
+            f.unlink(missing_ok=True)
+        cache.mkdir(exist_ok=True)
+        mark.write_text(stamp)
+    except OSError:        # read-only install or a concurrent process: numba recompiles if needed
+        pass
+
+
+_drop_stale_cache()
 
 __all__ = ["run_kernel", "STATUS", "STAT_NAMES", "SERIES"]
 
