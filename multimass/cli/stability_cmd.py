@@ -27,6 +27,8 @@ def register(sub) -> None:
     p.add_argument("--refine", type=int, default=2, help="bisection rounds on the boundary")
     p.add_argument("--integrator", choices=("solve_ivp", "newmark"), default="solve_ivp",
                    help="solve_ivp with exact impact location, or paper 004's Newmark + Newton-Raphson")
+    p.add_argument("--backend", choices=("scipy", "compiled"), default=None,
+                   help="solve_ivp path: compiled fast path (default) or scipy's solve_ivp")
     p.add_argument("--dt", type=float, default=1e-3, help="Newmark step (s)")
     p.add_argument("--t-free", type=float, default=10.0, help="free rocking after the pulse (s)")
     add_executor_args(p)
@@ -50,6 +52,8 @@ def run(args) -> int:
     omega_p = parse_range(args.omega_p, "--omega-p")
     amp = parse_range(args.amp, "--amp")
     sim = dict(integrator=args.integrator, dt=args.dt) if args.integrator == "newmark" else {}
+    if args.backend is not None and args.integrator != "newmark":
+        sim["backend"] = args.backend
     kw = dict(pulse=args.pulse, omega_p=omega_p, amp=amp, k=args.k, refine=args.refine,
               t_free=args.t_free, **executor_kwargs(args), **sim)
     m = overturning_map(st, restitution=args.restitution, **kw)

@@ -26,7 +26,8 @@ from .engine import run_jobs
 from .executors import get_executor
 from .ranges import check_values
 
-__all__ = ["OverturningMap", "overturning_map", "map_cell", "OUTCOMES", "executor_session"]
+__all__ = ["OverturningMap", "overturning_map", "map_cell", "OUTCOMES", "executor_session",
+           "default_backend"]
 
 OUTCOMES = ("no_rocking", "rest", "overturned", "undecided")
 PULSES = {"sine": SineWave, "cosine": CosineWave}
@@ -152,6 +153,13 @@ class OverturningMap:
                 "options": {k: v for k, v in self.options.items() if k not in ("restitution_name",)}}
 
 
+def default_backend(sim_options: dict) -> dict:
+    """Sweeps run the compiled fast path unless told otherwise (issue 7)."""
+    if sim_options.get("integrator", "solve_ivp") == "solve_ivp":
+        return {"backend": "compiled"} | sim_options
+    return dict(sim_options)
+
+
 def _block(block) -> Structure:
     st = block if isinstance(block, Structure) else from_specimen(block)
     if st.n != 0:
@@ -188,7 +196,8 @@ def overturning_map(block, pulse: str = "sine", omega_p=np.linspace(1, 10, 10),
     executor, workers, progress :
         Passed to `run_jobs` ("serial", "process" (default), "dask" or an Executor).
     **sim_options :
-        Passed to `simulate` (e.g. ``integrator="newmark"``, ``dt``, ``rtol``).
+        Passed to `simulate` (e.g. ``integrator="newmark"``, ``dt``, ``rtol``);
+        ``backend="compiled"`` (the fast path) unless given.
 
     Returns
     -------
@@ -206,6 +215,7 @@ def overturning_map(block, pulse: str = "sine", omega_p=np.linspace(1, 10, 10),
     from impact_models import impact_model
 
     model = impact_model(impact, st.specimen, restitution, k)   # validates restitution and k
+    sim_options = default_backend(sim_options)
     options = dict(impact=impact, restitution=restitution, k=k) | sim_options
     scale_a = st.alpha_cg * st.g
 

@@ -20,7 +20,7 @@ from ..records import Record
 from ..simulate import simulate
 from ..structure import Structure, from_specimen
 from .engine import run_jobs
-from .maps import executor_session
+from .maps import default_backend, executor_session
 from .ranges import check_values
 from .seeding import job_seeds
 
@@ -120,6 +120,8 @@ def pulse_spectrum(structure, pulse: str = "cosine", omega=15.0, amp=0.4 * 9.81,
         depend on the executor.
     t_free : float
         Free response after the pulse (s).
+    **sim_options :
+        Passed to `simulate`; ``backend="compiled"`` (the fast path) unless given.
     """
     st = structure if isinstance(structure, Structure) else from_specimen(structure)
     omegas = check_values("omega", omega, positive=True)
@@ -129,7 +131,7 @@ def pulse_spectrum(structure, pulse: str = "cosine", omega=15.0, amp=0.4 * 9.81,
     kind = getattr(st.specimen, "kind", "column")
     grid = [(w, a, r) for a in amps for w in omegas for r in range(int(repeats))]
     seeds = job_seeds(seed, len(grid))
-    options = dict(impact=impact) | sim_options
+    options = dict(impact=impact) | default_backend(sim_options)
     points = []
     for (w, a, _), s in zip(grid, seeds):
         exc = _pulse(pulse, w, a, kind)
@@ -165,7 +167,7 @@ def record_spectrum(structure, record: Record, scale=np.linspace(0.5, 1.5, 5), *
         raise InputError(f"`repeats` = {repeats!r}: must be ≥ 1")
     grid = [(s, r) for s in scales for r in range(int(repeats))]
     seeds = job_seeds(seed, len(grid))
-    options = dict(impact=impact) | sim_options
+    options = dict(impact=impact) | default_backend(sim_options)
     points = [_Point(st, record.scaled(s), record.duration + t_free, sd, options)
               for (s, _), sd in zip(grid, seeds)]
     cols = {"scale": [g[0] for g in grid], "repeat": [g[1] for g in grid], "seed": list(seeds)}
