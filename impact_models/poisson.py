@@ -53,7 +53,9 @@ class PoissonImpact:
         Per contact, its state after compression and after expansion:
         ``"closed"`` (ġ_N = 0) or ``"separating"`` (ġ_N > 0).
     energy_loss : float
-        Kinetic energy lost, ½u⁻ᵀMu⁻ − ½u⁺ᵀMu⁺ (≥ 0 for 0 ≤ ε ≤ 1 uniform).
+        Kinetic energy lost, ½u⁻ᵀMu⁻ − ½u⁺ᵀMu⁺. For one ε_P ∈ [0, 1] at all
+        contacts it is ½(1 − ε²)Λ_N⁰ᵀAΛ_N⁰ + ½Λ_NPᵀAΛ_NP ≥ 0 (A of Eq 6); with
+        per-contact ε_P no gain was found in random tests (not proved).
     eps_p : ndarray, shape (k_N,)
         Poisson coefficients used.
     solver : tuple of str

@@ -13,6 +13,13 @@ others accelerate apart (the acceleration-level Signorini condition), so
 bouncing and flight happen exactly when the impact LCP and the force signs
 say so.
 
+Housekeeping: at each phase start the state is projected back onto the closed
+contacts' constraints (integration drift), an impact is applied at g_N = 0,
+and an accumulation of impacts (approach speed below ``zeno_velocity``) ends
+with all touching contacts kept closed ("zeno_rest"). In a phase with no free
+coordinate (a block in full contact) nothing is integrated: the contact forces
+are scanned in time for the first sign change.
+
 A model supplies ``n``, ``k``, ``mass(q)``, ``forces(t, q, v)``,
 ``contacts(q, v) -> (g, W_N, W_T, ŵ_N, ŵ_T)``, ``energy(q, v)`` (kinetic +
 potential, J), ``powers(t, q, v) -> (ground power, damping power)`` and
