@@ -192,3 +192,28 @@ def test_bad_input(field, value, match):
     with pytest.raises(LCPError, match=match):
         poisson_impact(**kw)
     assert issubclass(LCPError, ValueError)
+
+
+def test_energy_loss_identity_for_uniform_eps():
+    # closed form: with ġ_T⁻ = 0 and one ε, T⁻ − T⁺ = ½(1 − ε²)Λ⁰ᵀAΛ⁰ + ½Λ_NPᵀAΛ_NP,
+    # A = G_NN − G_NT G_TT⁻¹ G_TN (paper 000, Eq 6), from Eqs 2, 7, 8, 12
+    rng = np.random.default_rng(4)
+    for trial in range(300):
+        n = int(rng.integers(2, 6))
+        kN, kT = int(rng.integers(1, n + 1)), int(rng.integers(0, n))
+        B = rng.normal(size=(n, n))
+        M = B @ B.T + 0.1 * np.eye(n)
+        W_N, W_T = rng.normal(size=(n, kN)), rng.normal(size=(n, kT))
+        u = rng.normal(size=n)
+        if kT:                                   # remove the tangential slip: ġ_T⁻ = 0
+            MiT = np.linalg.solve(M, W_T)
+            u -= MiT @ np.linalg.solve(W_T.T @ MiT, W_T.T @ u)
+        eps = rng.random()
+        r = poisson_impact(M, W_N, W_T, u, eps)
+        Mi = np.linalg.inv(M)
+        A = W_N.T @ Mi @ W_N
+        if kT:
+            A -= W_N.T @ Mi @ W_T @ np.linalg.solve(W_T.T @ Mi @ W_T, W_T.T @ Mi @ W_N)
+        L0, LP = r.impulse_compression, r.impulse_np
+        expected = 0.5 * (1 - eps**2) * L0 @ A @ L0 + 0.5 * LP @ A @ LP
+        assert r.energy_loss == pytest.approx(expected, abs=1e-8 * (0.5 * u @ M @ u))
