@@ -31,6 +31,108 @@ def _tableau(method):
 
 
 @njit(cache=True, error_model="numpy")
+def _accepted_step(t, y, f, h_abs, t_stop, max_step, rtol, atol, method, tab, work, model):
+    """One accepted step from (t, y) with SciPy's RungeKutta step-size control.
+
+    Returns (ok, t_new, h, next |h|, RHS calls); the new state is in work[1] and
+    the stages in work[0]. ok is False when |h| fell below 10 ulp(t).
+    """
+    A, Bw, C, ns, exponent = tab
+    Kst, ynew, ytmp, scale = work
+    side, m, H, K, C_, mp, fp, kind, par, smp = model
+    nfev = 0
+    min_step = 10.0 * abs(np.nextafter(t, np.inf) - t)
+    if h_abs > max_step:
+        h_abs = max_step
+    elif h_abs < min_step:
+        h_abs = min_step
+    rejected = False
+    while True:
+        if h_abs < min_step:
+            return False, t, 0.0, h_abs, nfev
+        t_new = t + h_abs
+        if t_new - t_stop > 0.0:
+            t_new = t_stop
+        h = t_new - t
+        h_abs = abs(h)
+        _rk_step(t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, m, H, K, C_, mp, fp,
+                 kind, par, smp)
+        nfev += ns
+        for j in range(y.size):
+            scale[j] = atol + max(abs(y[j]), abs(ynew[j])) * rtol
+        err = _error_norm(method, Kst, h, scale, ns, ytmp)
+        if err < 1.0:
+            factor = _MAX_FACTOR if err == 0.0 else _SAFETY * err ** exponent
+            if not (factor < _MAX_FACTOR):
+                factor = _MAX_FACTOR
+            if rejected and factor > 1.0:
+                factor = 1.0
+            return True, t_new, h, h_abs * factor, nfev
+        factor = _SAFETY * err ** exponent
+        if not (factor > _MIN_FACTOR):
+            factor = _MIN_FACTOR
+        h_abs *= factor
+        rejected = True
+
+
+@njit(cache=True, error_model="numpy")
+def _event_values(t, y, out, events, ep, model):
+    ev_code, _, _, ev_quiet, ev_ton = events
+    side, m, H, K, C_, mp, _, kind, par, smp = model
+    for k in range(ev_code.size):
+        out[k] = event_value(ev_code[k], t, y, ev_ton[k], ev_quiet[k], side, m, H, K, C_, mp, ep,
+                             kind, par, smp)
+
+
+@njit(cache=True, error_model="numpy")
+def _active(g, g_new, ev_dir, active):
+    """Events whose sign changed over the step in their direction (0: either)."""
+    n_act = 0
+    for k in range(g.size):
+        up = g[k] <= 0.0 and g_new[k] >= 0.0
+        down = g[k] >= 0.0 and g_new[k] <= 0.0
+        d = ev_dir[k]
+        if (up and d > 0.0) or (down and d < 0.0) or ((up or down) and d == 0.0):
+            active[n_act] = k
+            n_act += 1
+    return n_act
+
+
+@njit(cache=True, error_model="numpy")
+def _sorted_roots(n_act, active, roots, t_old, t, h, y_old, Q, ytmp, method, events, ep, model):
+    """Roots of the active events on the dense output, sorted by time (stable)."""
+    ev_code, _, _, ev_quiet, ev_ton = events
+    side, m, H, K, C_, mp, _, kind, par, smp = model
+    for i in range(n_act):
+        k = active[i]
+        roots[i] = _brent(ev_code[k], t_old, t, ev_ton[k], ev_quiet[k], method, t_old, h, y_old,
+                          Q, ytmp, side, m, H, K, C_, mp, ep, kind, par, smp)
+    for i in range(1, n_act):
+        k, r = active[i], roots[i]
+        j = i - 1
+        while j >= 0 and roots[j] > r:
+            active[j + 1] = active[j]
+            roots[j + 1] = roots[j]
+            j -= 1
+        active[j + 1] = k
+        roots[j + 1] = r
+
+
+@njit(cache=True, error_model="numpy")
+def _push(buf, n, k, tr, method, t_old, h, y_old, Q):
+    """Append a non-terminal root (event k at tr) to buf = (index, t, y), growing it."""
+    idx, ts, ys = buf
+    if n == idx.size:
+        idx2, ts2, ys2 = (np.empty(2 * n, np.int64), np.empty(2 * n),
+                          np.empty((2 * n, ys.shape[1])))
+        idx2[:n], ts2[:n], ys2[:n] = idx, ts, ys
+        idx, ts, ys = idx2, ts2, ys2
+    idx[n], ts[n] = k, tr
+    _dense_eval(method, tr, t_old, h, y_old, Q, ys[n])
+    return idx, ts, ys
+
+
+@njit(cache=True, error_model="numpy")
 def integrate_phase(t0, t_stop, y0, t_eval, side, m, H, K, C_, mp, fp,
                     ev_code, ev_dir, ev_term, ev_quiet, ev_ton, ep, kind, par, smp,
                     method, rtol, atol, max_step):
@@ -66,132 +168,53 @@ def integrate_phase(t0, t_stop, y0, t_eval, side, m, H, K, C_, mp, fp,
         non-terminal event roots (index, time, state), in time order.
     """
     A, Bw, C, ns, n_k, err_order, nq = _tableau(method)
-    ny = y0.size
-    Kst = np.empty((n_k, ny))
-    Q = np.empty((nq, ny))
-    y = y0.copy()
-    y_old = np.empty(ny)
-    ynew = np.empty(ny)
-    ytmp = np.empty(ny)
-    f = np.empty(ny)
-    scale = np.empty(ny)
-    t = t0
+    ny, ne = y0.size, ev_code.size
+    model = (side, m, H, K, C_, mp, fp, kind, par, smp)
+    events = (ev_code, ev_dir, ev_term, ev_quiet, ev_ton)
+    tab = (A, Bw, C, ns, -1.0 / (err_order + 1))
+    Kst, ynew, ytmp, f = np.empty((n_k, ny)), np.empty(ny), np.empty(ny), np.empty(ny)
+    work = (Kst, ynew, ytmp, np.empty(ny))
+    Q, y, y_old = np.empty((nq, ny)), y0.copy(), np.empty(ny)
+    g, g_new, active, roots = np.empty(ne), np.empty(ne), np.empty(ne, np.int64), np.empty(ne)
+    samples = np.empty((t_eval.size, ny))
+    buf = (np.empty(8, np.int64), np.empty(8), np.empty((8, ny)))
+    t, i_eval, n_nt = t0, 0, 0
     rhs(t, y, f, side, m, H, K, C_, mp, fp, kind, par, smp)
     h_abs = _first_step(t, y, f, t_stop, max_step, err_order, rtol, atol, ytmp, ynew,
                         side, m, H, K, C_, mp, fp, kind, par, smp)
     nfev = 2
-    exponent = -1.0 / (err_order + 1)
-    ne = ev_code.size
-    g = np.empty(ne)
-    g_new = np.empty(ne)
-    for k in range(ne):
-        g[k] = event_value(ev_code[k], t, y, ev_ton[k], ev_quiet[k], side, m, H, K, C_, mp, ep,
-                           kind, par, smp)
-    samples = np.empty((t_eval.size, ny))
-    i_eval = 0
-    cap = 8
-    nt_i = np.empty(cap, np.int64)
-    nt_t = np.empty(cap)
-    nt_y = np.empty((cap, ny))
-    n_nt = 0
-    active = np.empty(ne, np.int64)
-    roots = np.empty(ne)
+    _event_values(t, y, g, events, ep, model)
     while True:
-        # -- one accepted step (step-size control of SciPy's RungeKutta)
-        min_step = 10.0 * abs(np.nextafter(t, np.inf) - t)
-        if h_abs > max_step:
-            h_abs = max_step
-        elif h_abs < min_step:
-            h_abs = min_step
-        rejected = False
-        while True:
-            if h_abs < min_step:
-                return (FAILED, t, y, -1, nfev, samples[:i_eval], nt_i[:n_nt], nt_t[:n_nt],
-                        nt_y[:n_nt])
-            t_new = t + h_abs
-            if t_new - t_stop > 0.0:
-                t_new = t_stop
-            h = t_new - t
-            h_abs = abs(h)
-            _rk_step(t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, m, H, K, C_, mp, fp,
-                     kind, par, smp)
-            nfev += ns
-            for j in range(ny):
-                scale[j] = atol + max(abs(y[j]), abs(ynew[j])) * rtol
-            err = _error_norm(method, Kst, h, scale, ns, ytmp)
-            if err < 1.0:
-                factor = _MAX_FACTOR if err == 0.0 else _SAFETY * err ** exponent
-                if not (factor < _MAX_FACTOR):
-                    factor = _MAX_FACTOR
-                if rejected and factor > 1.0:
-                    factor = 1.0
-                h_abs *= factor
-                break
-            factor = _SAFETY * err ** exponent
-            if not (factor > _MIN_FACTOR):
-                factor = _MIN_FACTOR
-            h_abs *= factor
-            rejected = True
-        t_old = t
-        for j in range(ny):
-            y_old[j] = y[j]
-            y[j] = ynew[j]
-            f[j] = Kst[ns, j]
-        t = t_new
+        ok, t_new, h, h_abs, calls = _accepted_step(t, y, f, h_abs, t_stop, max_step, rtol,
+                                                    atol, method, tab, work, model)
+        nfev += calls
+        if not ok:
+            return (FAILED, t, y, -1, nfev, samples[:i_eval], buf[0][:n_nt], buf[1][:n_nt],
+                    buf[2][:n_nt])
+        t_old, t = t, t_new
+        y_old[:] = y
+        y[:] = ynew
+        f[:] = Kst[ns]
         finished = t - t_stop >= 0.0
-        dense = False
-        terminal = -1
-        # -- events: sign changes over the step, roots on the dense output
-        n_act = 0
-        for k in range(ne):
-            g_new[k] = event_value(ev_code[k], t, y, ev_ton[k], ev_quiet[k], side, m, H, K, C_,
-                                   mp, ep, kind, par, smp)
-            up = g[k] <= 0.0 and g_new[k] >= 0.0
-            down = g[k] >= 0.0 and g_new[k] <= 0.0
-            d = ev_dir[k]
-            if (up and d > 0.0) or (down and d < 0.0) or ((up or down) and d == 0.0):
-                active[n_act] = k
-                n_act += 1
+        dense, terminal = False, -1
+        # events: sign changes over the step, roots on the dense output (earliest first)
+        _event_values(t, y, g_new, events, ep, model)
+        n_act = _active(g, g_new, ev_dir, active)
         if n_act:
             nfev += _dense_prepare(method, t_old, h, y_old, ynew, Kst, ns, Q, ytmp,
                                    side, m, H, K, C_, mp, fp, kind, par, smp)
             dense = True
+            _sorted_roots(n_act, active, roots, t_old, t, h, y_old, Q, ytmp, method, events, ep,
+                          model)
             for i in range(n_act):
-                k = active[i]
-                roots[i] = _brent(ev_code[k], t_old, t, ev_ton[k], ev_quiet[k], method, t_old,
-                                  h, y_old, Q, ytmp, side, m, H, K, C_, mp, ep, kind, par, smp)
-            for i in range(1, n_act):                 # stable sort by root time
-                k, r = active[i], roots[i]
-                j = i - 1
-                while j >= 0 and roots[j] > r:
-                    active[j + 1] = active[j]
-                    roots[j + 1] = roots[j]
-                    j -= 1
-                active[j + 1] = k
-                roots[j + 1] = r
-            for i in range(n_act):
-                k = active[i]
-                if ev_term[k]:
-                    terminal = k
-                    t = roots[i]
+                if ev_term[active[i]]:
+                    terminal, t = active[i], roots[i]
                     _dense_eval(method, t, t_old, h, y_old, Q, y)
                     break
-                if n_nt == cap:                       # grow the non-terminal buffers
-                    cap *= 2
-                    nt_i2 = np.empty(cap, np.int64)
-                    nt_t2 = np.empty(cap)
-                    nt_y2 = np.empty((cap, ny))
-                    nt_i2[:n_nt] = nt_i[:n_nt]
-                    nt_t2[:n_nt] = nt_t[:n_nt]
-                    nt_y2[:n_nt] = nt_y[:n_nt]
-                    nt_i, nt_t, nt_y = nt_i2, nt_t2, nt_y2
-                nt_i[n_nt] = k
-                nt_t[n_nt] = roots[i]
-                _dense_eval(method, roots[i], t_old, h, y_old, Q, nt_y[n_nt])
+                buf = _push(buf, n_nt, active[i], roots[i], method, t_old, h, y_old, Q)
                 n_nt += 1
-        for k in range(ne):
-            g[k] = g_new[k]
-        # -- output grid up to t (the end of the step or the terminal root)
+        g[:] = g_new
+        # output grid up to t (the end of the step or the terminal root)
         while i_eval < t_eval.size and t_eval[i_eval] <= t:
             if not dense:
                 nfev += _dense_prepare(method, t_old, h, y_old, ynew, Kst, ns, Q, ytmp,
@@ -200,6 +223,5 @@ def integrate_phase(t0, t_stop, y0, t_eval, side, m, H, K, C_, mp, fp,
             _dense_eval(method, t_eval[i_eval], t_old, h, y_old, Q, samples[i_eval])
             i_eval += 1
         if terminal >= 0 or finished:
-            status = EVENT if terminal >= 0 else OK
-            return (status, t, y, terminal, nfev, samples[:i_eval], nt_i[:n_nt], nt_t[:n_nt],
-                    nt_y[:n_nt])
+            return (EVENT if terminal >= 0 else OK, t, y, terminal, nfev, samples[:i_eval],
+                    buf[0][:n_nt], buf[1][:n_nt], buf[2][:n_nt])

@@ -29,7 +29,7 @@ from numba import njit
 __all__ = ["ground_acc", "rocking_rhs", "full_contact_rhs", "rhs", "event_value",
            "EXC_NONE", "EXC_SINE", "EXC_COSINE", "EXC_RICKER", "EXC_RECORD",
            "EV_ZERO", "EV_OVERTURN", "EV_PEAK", "EV_ACTIVATE", "EV_DEACTIVATE",
-           "EV_UPLIFT_RIGHT", "EV_UPLIFT_LEFT", "MP_SIZE", "FP_SIZE", "EP_SIZE"]
+           "EV_UPLIFT_RIGHT", "EV_UPLIFT_LEFT", "MP_SIZE", "FP_SIZE", "EP_SIZE", "model_params"]
 
 # excitation kinds: params layout in the comment
 EXC_NONE = 0       # free release: ü_g ≡ 0

@@ -1,9 +1,10 @@
-"""Compiled explicit Runge–Kutta integration of one phase, with dense output and events.
+"""Compiled explicit Runge–Kutta steps, dense output, event roots and first step.
 
-`integrate_phase` is the compiled counterpart of one ``solve_ivp`` call of
-`multimass.simulate._Run.integrate`. It follows the algorithm of SciPy's
-explicit Runge–Kutta solvers so that, at the same `rtol`, `atol` and
-`max_step`, it takes essentially the same steps and finds the same events:
+These are the pieces of `._kernel.integrate_phase`, the compiled counterpart of
+one ``solve_ivp`` call of `multimass.simulate._Run.integrate`. They follow the
+algorithm of SciPy's explicit Runge–Kutta solvers so that, at the same `rtol`,
+`atol` and `max_step`, the kernel takes essentially the same steps and finds
+the same events:
 
 * the Butcher tableaus are SciPy's own arrays (RK23, RK45 = Dormand–Prince
   5(4), DOP853 with its 7th-order dense output), read at import;
@@ -36,7 +37,7 @@ from scipy.integrate._ivp.rk import RK23, RK45
 
 from ._maths import event_value, rhs
 
-__all__ = ["integrate_phase", "METHOD_CODES", "OK", "EVENT", "FAILED"]
+__all__ = ["METHOD_CODES", "OK", "EVENT", "FAILED"]
 
 #: Methods the compiled path supports, by solve_ivp name.
 METHOD_CODES = {"RK23": 0, "RK45": 1, "DOP853": 2}

@@ -131,6 +131,36 @@ def test_compiled_event_functions_equal_reference(name):
                 assert got == pytest.approx(want, rel=1e-12, abs=1e-12), (names[k], t)
 
 
+def test_many_non_terminal_roots_in_one_segment():
+    # S1 rocking with a strong elastic vibration (top node released 2 cm off): θ̇ changes
+    # sign 12 times in 0.3 s; the kernel's root buffer (8 to start) must grow, and every
+    # root must match solve_ivp's with the same event
+    from scipy.integrate import solve_ivp
+
+    from impact_models import impact_model
+    from multimass.fast._kernel import integrate_phase
+    from multimass.fast.path import FastPath
+
+    st = multimass.column("S1")
+    n = st.n
+    exc = FreeRelease(0.1, u0=0.02)
+    fast = FastPath.of(st, impact_model("CIM", st.specimen), exc, "DOP853", 1e-9)
+    y0 = np.zeros(2 * n + 5)
+    y0[:n], y0[n] = exc.initial_displacement(st), 0.1
+    peak = lambda t, y: y[2 * n + 1]
+    ref = solve_ivp(rocking_rhs(Model.of(st), 1, exc.acceleration, None), (0.0, 0.3), y0,
+                    method="DOP853", rtol=1e-8, atol=1e-10, max_step=5e-3, events=[peak],
+                    t_eval=[0.3])
+    out = integrate_phase(0.0, 0.3, y0, np.array([0.3]), 1, fast.m, fast.H, fast.K, fast.C,
+                          fast.mp, np.zeros(mx.FP_SIZE), np.array([mx.EV_PEAK]), np.zeros(1),
+                          np.zeros(1, np.int64), np.zeros(1), np.full(1, -np.inf),
+                          np.zeros(mx.EP_SIZE), fast.kind, fast.par, fast.samples, 2, 1e-8,
+                          1e-10, 5e-3)
+    assert ref.t_events[0].size > 8
+    np.testing.assert_allclose(out[7], ref.t_events[0], atol=1e-9)
+    np.testing.assert_allclose(out[5][-1], ref.y[:, -1], rtol=1e-6, atol=1e-9)
+
+
 def _same(a, b, detail=""):
     """Same status, event kinds and phases; times within EVENT_DT; peaks within PEAK_TOL."""
     assert a.status == b.status, detail
