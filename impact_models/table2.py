@@ -97,20 +97,23 @@ def restitution_source(restitution, specimen=None, k: float | None = None) -> Re
 
 
 def impact_model(impact, specimen=None, restitution=None, k: float | None = None,
-                 C_p: float | None = None) -> ImpactModel:
+                 C_p: float | None = None, eps_p: float | None = None) -> ImpactModel:
     """An impact model from a Table 2 name, "CIM"/"DD" with options, or a model.
 
     Parameters
     ----------
     impact : str or ImpactModel
         "CIM", "DD1" … "DD5" (paper 001, Table 2), "DD" (Dirac-delta with
-        `restitution` and `C_p`), or an `ImpactModel` instance (returned as is).
+        `restitution` and `C_p`), "LCP" (Poisson's law, paper 000, with
+        `eps_p`), or an `ImpactModel` instance (returned as is).
     specimen : specimen object, optional
         Supplies the restitution data of Table 2's configurations.
     restitution : optional
         Overrides Table 2's restitution (see `restitution_source`).
     k, C_p : float, optional
         k for "modified"; C_p overrides Table 2's value.
+    eps_p : float, optional
+        Poisson's coefficient ε_P of the "LCP" model (default 0).
 
     Raises
     ------
@@ -122,13 +125,19 @@ def impact_model(impact, specimen=None, restitution=None, k: float | None = None
     if not isinstance(impact, str):
         raise ValueError(f"`impact` = {impact!r}: give a name ({', '.join(TABLE_2)}, DD) or an ImpactModel")
     name = impact.strip().upper()
+    if name == "LCP":
+        from .lcp_model import PoissonLCP
+
+        return PoissonLCP(eps_p=0.0 if eps_p is None else float(eps_p))
+    if eps_p is not None:
+        raise ValueError(f"`eps_p` = {eps_p!r} applies to impact='LCP' only (got {impact!r})")
     if name == "DD":
         kind, rest_name, cp = "dirac", "mean", 1750.0
     elif name in TABLE_2:
         kind, rest_name, cp = TABLE_2[name]
     else:
         raise ValueError(f"`impact` = {impact!r}: unknown impact model; use one of "
-                         f"{', '.join(TABLE_2)} (paper 001, Table 2), DD, or an ImpactModel object")
+                         f"{', '.join(TABLE_2)} (paper 001, Table 2), DD, LCP, or an ImpactModel object")
     if restitution is None and getattr(specimen, "kind", None) == "block":
         restitution = "modified"       # paper 004: η_M(k) with the block's k
     source = restitution_source(rest_name if restitution is None else restitution, specimen, k)

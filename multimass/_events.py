@@ -115,12 +115,24 @@ def _at_zero(run, u, ud, thd):
     run.y[n] = 0.0
     L_new = kin.angular_momentum_new_pivot(st, u, ud, thd)
     r = r_used
-    if not run.model.has_force:
-        side_new = -side_old
-        will_rock = next_phase_is_rocking(side_new, L_new, float(thd), run.theta_dot_min)
-        r = run.draw(side_new) if will_rock else 1.0
-    tr = run.model.at_zero(st.H, side_old, L_new, ud, float(thd), r if r is not None else 1.0,
-                           run.theta_dot_min)
+    if getattr(run.model, "resolves_impact", False):          # the Poisson LCP decides
+        tr = run.model.impact_at_zero(st, side_old, u, ud, float(thd), run.theta_dot_min)
+        if tr.phase is None:
+            run.recorder.end_phase(run.t, run.y, side_old)
+            run.events.append(Event("failed", run.t, side_old, side_old, thetadot_minus=float(thd),
+                                    detail="the LCP predicts a bounce (flight)"))
+            run.status = "failed"
+            run.message = ("the Poisson LCP predicts flight (the impacting corner bounces off); "
+                           "the multi-mass engine has no flight phase: use eps_p = 0, or "
+                           "multimass.poisson_block for a rigid block")
+            return
+    else:
+        if not run.model.has_force:
+            side_new = -side_old
+            will_rock = next_phase_is_rocking(side_new, L_new, float(thd), run.theta_dot_min)
+            r = run.draw(side_new) if will_rock else 1.0
+        tr = run.model.at_zero(st.H, side_old, L_new, ud, float(thd), r if r is not None else 1.0,
+                               run.theta_dot_min)
     before = run.energy(side_old, run.y)
     y_new = run.y.copy()
     y_new[n + 1:2 * n + 1] = tr.udot

@@ -13,7 +13,7 @@ from matplotlib.figure import Figure
 
 from .response import Response
 
-__all__ = ["plot_rocking", "plot_energy", "plot_accelerations", "plot_overlay"]
+__all__ = ["plot_rocking", "plot_energy", "plot_accelerations", "plot_overlay", "plot_models"]
 
 
 def _save(fig: Figure, path) -> Path:
@@ -142,4 +142,23 @@ def plot_overlay(trace, name: str, responses: dict, structure, path, *, t_offset
     ax2.set_xlabel("t (s)")
     ax2.grid(alpha=0.3)
     fig.suptitle(title or f"{name}: measured ({trace.source}) and simulated")
+    return _save(fig, path)
+
+
+def plot_models(responses: dict, path, title: str = "") -> Path:
+    """θ(t) and the mechanical energy of several runs of one scene (e.g. impact models)."""
+    fig = Figure(figsize=(10, 6), layout="constrained")
+    ax, ax2 = fig.subplots(2, 1, sharex=True)
+    for label, resp in responses.items():
+        df = resp.series
+        ax.plot(df.t, df.theta, lw=0.9, label=f"{label}: {resp.n_impacts} impacts, "
+                f"{resp.n_full_contact} full contacts")
+        ax2.plot(df.t, df.kinetic + df.gravitational + df.elastic, lw=0.9, label=label)
+    ax.set_ylabel("θ (rad)")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    ax2.set_ylabel("mechanical energy (J)")
+    ax2.set_xlabel("t (s)")
+    ax2.grid(alpha=0.3)
+    ax.set_title(title)
     return _save(fig, path)

@@ -88,7 +88,8 @@ def _check_excitation(excitation):
 
 
 def simulate(structure, excitation, impact="DD2", t_end: float = 10.0, *, restitution=None,
-             k: float | None = None, C_p: float | None = None, seed: int | None = None,
+             k: float | None = None, C_p: float | None = None, eps_p: float | None = None,
+             seed: int | None = None,
              method=DEFAULTS["method"], rtol: float = DEFAULTS["rtol"],
              atol: float = DEFAULTS["atol"], max_step: float = DEFAULTS["max_step"],
              theta_dot_min: float = DEFAULTS["theta_dot_min"],
@@ -110,12 +111,16 @@ def simulate(structure, excitation, impact="DD2", t_end: float = 10.0, *, restit
         A callable ü_g(t) in m/s² with ``duration`` and ``breakpoints``, e.g.
         `FreeRelease`, `SineWave`, `CosinePulse`, a `Record`.
     impact : str or ImpactModel
-        "CIM", "DD1" … "DD5" (paper 001, Table 2), "DD", or a model object.
+        "CIM", "DD1" … "DD5" (paper 001, Table 2), "DD", "LCP" (Poisson's law,
+        paper 000: the elastic velocities change at impact too), or a model object.
     t_end : float
         End time (s).
     restitution, k, C_p : optional
         Override Table 2's restitution ("mean", "random", "housner",
         "modified", a number, ...), k of η_M, and C_p.
+    eps_p : float, optional
+        Poisson's ε_P of impact="LCP" (default 0; the engine has no flight
+        phase, so a predicted bounce ends the run as "failed").
     seed : int, optional
         Seed of the random restitution (DD5): same seed, same response.
     method, rtol, atol, max_step :
@@ -178,7 +183,7 @@ def simulate(structure, excitation, impact="DD2", t_end: float = 10.0, *, restit
         raise InputError(f"`chatter_count` = {chatter_count!r}: must be ≥ 2")
     chatter_window = _positive("chatter_window", chatter_window)
     ag_fn, duration, bps = _check_excitation(excitation)
-    model = impact_model(impact, st.specimen, restitution, k, C_p)
+    model = impact_model(impact, st.specimen, restitution, k, C_p, eps_p)
     phase, y = _initial_state(st, excitation)
     if integrator not in ("solve_ivp", "newmark"):
         raise InputError(f"`integrator` = {integrator!r}: use 'solve_ivp' or 'newmark'")

@@ -78,12 +78,14 @@ def add_impact_args(p, *, multiple: bool = False, default: str | None = "DD2") -
                    help="housner | modified | mean | random | r_h | VALUE (overrides Table 2)")
     g.add_argument("--k", type=float, default=None, help="k of the modified restitution (paper 004 Eq 10)")
     g.add_argument("--cp", type=float, default=None, help="C_p of the Dirac-delta model (kg m/rad/s)")
+    g.add_argument("--eps-p", type=float, default=None,
+                   help="Poisson's coefficient of --impact LCP (paper 000; default 0)")
     g.add_argument("--seed", type=int, default=None, help="seed of random restitution (DD5)")
 
 
 def impact_kwargs(args) -> dict:
     return dict(impact=args.impact, restitution=args.restitution, k=args.k, C_p=args.cp,
-                seed=args.seed)
+                eps_p=getattr(args, "eps_p", None), seed=args.seed)
 
 
 def add_solver_args(p) -> None:
