@@ -13,8 +13,8 @@ Prints one JSON dict, every figure measured in this run:
   (output every 1 ms) and with output_dt = None: time of one ``simulate`` call with
   each backend (the median of `--repeat`, calls interleaved so both see the same
   machine load), the ratio, ``wall_time_s`` (the phase loop alone), and the largest
-  |peak difference| of each backend from a tight solve_ivp reference (rtol = 1e-11,
-  atol = 1e-13), with the numbers of events;
+  |peak difference| and event-time difference of each backend from a tight
+  solve_ivp reference (rtol = 1e-11, atol = 1e-13), with the numbers of events;
 * ``B6M_sine``: the cell of an overturning map — B6M, SineWave(a0 = 1.5 g tan α,
   ω = 3p), CIM with η_H, t_end = pulse + 3 s, output_dt = None: ms per call (median
   of `--calls` compiled calls, a tenth as many solve_ivp calls), split into the phase
@@ -75,6 +75,12 @@ def _peak_error(resp, ref) -> float:
     return float(np.max(np.abs(resp.peaks - ref.peaks)))
 
 
+def _event_time_error(resp, ref) -> float:
+    if [e.kind for e in resp.events] != [e.kind for e in ref.events]:
+        return math.inf
+    return max(abs(a.time - b.time) for a, b in zip(resp.events, ref.events))
+
+
 def s1_case(repeat: int, ref) -> dict:
     from multimass import FreeRelease, simulate
 
@@ -101,6 +107,8 @@ def s1_case(repeat: int, ref) -> dict:
             "n_rhs": [rs.n_rhs, rc.n_rhs],
             "max_peak_error_vs_tight_rad": {"scipy": _peak_error(rs, ref),
                                             "compiled": _peak_error(rc, ref)},
+            "max_event_time_error_vs_tight_s": {"scipy": _event_time_error(rs, ref),
+                                                "compiled": _event_time_error(rc, ref)},
         }
     return out
 
