@@ -30,7 +30,7 @@ from scipy.integrate import solve_ivp
 
 from multimass.sweeps import DaskExecutor, ExecutorError, ProcessExecutor, run_jobs
 
-__all__ = ["identity", "duffing", "parallel_sum", "main"]
+__all__ = ["identity", "duffing", "timed_duffing", "parallel_sum", "main"]
 
 
 def identity(x):
@@ -116,25 +116,46 @@ def overhead(executors: dict, n: int, repeat: int) -> None:
                   f"   ({t * 1e3:7.1f} ms total)")
 
 
+def _cpu_time(t_end: float) -> float:
+    t = time.process_time()
+    for _ in range(5):
+        duffing(t_end)
+    return (time.process_time() - t) / 5
+
+
+def timed_duffing(t_end: float) -> float:
+    """`duffing`, returning the wall time spent inside the job."""
+    t = time.perf_counter()
+    duffing(t_end)
+    return time.perf_counter() - t
+
+
+def _sweep(jobs, executor, workers: int) -> tuple[float, float, float]:
+    """Wall time of a sweep, the share of the workers' time spent inside jobs,
+    and the mean wall time of one job (above its CPU time if the machine is busy)."""
+    t = time.perf_counter()
+    inside = run_jobs(timed_duffing, jobs, executor=executor)
+    wall = time.perf_counter() - t
+    return wall, sum(inside) / (wall * workers), sum(inside) / len(inside)
+
+
 def scaling(n: int, repeat: int) -> None:
-    t_end = 1.0
-    t_job = _best(lambda: duffing(t_end), 5)
-    t_end *= 5e-3 / t_job                        # calibrate to ~5 ms per job
-    t_job = _best(lambda: duffing(t_end), 5)
+    t_end = 5.0 * 5e-3 / _cpu_time(5.0)          # calibrate to ~5 ms of CPU per job
+    t_job = _cpu_time(t_end)
     jobs = [t_end] * n
-    print(f"3. CPU-bound job of {t_job * 1e3:.1f} ms × {n} jobs")
-    t_serial = _best(lambda: run_jobs(duffing, jobs, executor="serial"), repeat)
-    print(f"   serial              {t_serial:6.2f} s")
+    print(f"3. CPU-bound job of {t_job * 1e3:.1f} ms (CPU time) × {n} jobs; busy = share"
+          " of the workers' time inside jobs, job = mean wall time of one job")
+    wall, busy, per_job = min(_sweep(jobs, "serial", 1) for _ in range(repeat))
+    print(f"   serial              {wall:6.2f} s  busy {busy:4.0%}  job {per_job * 1e3:4.1f} ms")
     timings = {}
     for w in (1, 2):
         with ProcessExecutor(workers=w) as ex:
-            t0 = time.perf_counter()
-            run_jobs(duffing, jobs, executor=ex)           # includes pool start
-            cold = time.perf_counter() - t0
-            timings[w] = _best(lambda: run_jobs(duffing, jobs, executor=ex), repeat)
-        print(f"   process workers={w}  {timings[w]:6.2f} s warm, {cold:6.2f} s with pool start")
+            cold = _sweep(jobs, ex, w)[0]                  # includes pool start
+            timings[w], busy, per_job = min(_sweep(jobs, ex, w) for _ in range(repeat))
+        print(f"   process workers={w}  {timings[w]:6.2f} s  busy {busy:4.0%}"
+              f"  job {per_job * 1e3:4.1f} ms  (warm; {cold:.2f} s with pool start)")
     print(f"   speed-up 2 vs 1 worker (warm): {timings[1] / timings[2]:.2f}×;"
-          f" 2 workers vs serial: {t_serial / timings[2]:.2f}×")
+          f" 2 workers vs serial: {wall / timings[2]:.2f}×")
 
 
 def main(argv=None) -> None:
