@@ -25,8 +25,9 @@ from .executors import get_executor
 __all__ = ["run_jobs", "default_batch_size", "JobError", "ExecutorError"]
 
 #: Default batches per worker: enough to balance jobs of unequal cost and to
-#: move the progress bar, few enough that the per-task cost (~0.3 ms for the
-#: process pool, ~2 ms for Dask; benchmarks/sweep_overhead.py) stays small.
+#: move the progress bar, few enough that the per-task cost stays negligible
+#: (measured on a busy 2-core machine: ~0.2-0.5 ms per task for the process
+#: pool, ~5-9 ms for a local Dask cluster; benchmarks/sweep_overhead.py).
 BATCHES_PER_WORKER = 4
 #: Sweeps with more jobs than this show a progress bar by default (on a terminal).
 PROGRESS_MIN_JOBS = 50
