@@ -15,6 +15,7 @@ from .units import G, parse_acceleration, to_mps2
 from .response import Event, Response
 from .simulate import DEFAULTS, simulate
 from .traces import ChannelMetrics, Trace, compare_trace, read_trace
+from .scenes import Scene, choose
 
 __all__ = [
     "InputError",
@@ -44,4 +45,6 @@ __all__ = [
     "ChannelMetrics",
     "read_trace",
     "compare_trace",
+    "Scene",
+    "choose",
 ]
