@@ -13,7 +13,7 @@ from .excitations import (CosinePulse, CosineWave, Excitation, FreeRelease, Rick
 from .records import Record, read_at2, read_record, read_two_column
 from .units import G, parse_acceleration, to_mps2
 from .response import Event, Response
-from .simulate import DEFAULTS, simulate
+from .simulate import DEFAULTS, Outcome, simulate, simulate_outcome
 from .traces import ChannelMetrics, Trace, compare_trace, read_trace
 from .scenes import Scene, choose
 
@@ -41,6 +41,8 @@ __all__ = [
     "Response",
     "DEFAULTS",
     "simulate",
+    "simulate_outcome",
+    "Outcome",
     "Trace",
     "ChannelMetrics",
     "read_trace",

@@ -29,6 +29,7 @@ from __future__ import annotations
 import math
 import time
 from collections import deque
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -43,7 +44,7 @@ from .errors import InputError
 from .response import Event, Response
 from .structure import Structure, from_specimen
 
-__all__ = ["simulate", "DEFAULTS"]
+__all__ = ["simulate", "simulate_outcome", "Outcome", "DEFAULTS"]
 
 #: Default options (see the module docstring for why).
 DEFAULTS = dict(method="DOP853", rtol=1e-8, atol=1e-10, max_step=5e-3, theta_dot_min=0.01,
@@ -168,6 +169,80 @@ def simulate(structure, excitation, impact="DD2", t_end: float = 10.0, *, restit
     InputError
         For invalid arguments (named in the message).
     """
+    prepared = _prepare(structure, excitation, impact, t_end, restitution=restitution, k=k,
+                        C_p=C_p, eps_p=eps_p, seed=seed, method=method, rtol=rtol, atol=atol,
+                        max_step=max_step, theta_dot_min=theta_dot_min, output_dt=output_dt,
+                        overturn_angle=overturn_angle, chatter_window=chatter_window,
+                        chatter_count=chatter_count, stop_at_rest=stop_at_rest,
+                        stop_when_safe=stop_when_safe, integrator=integrator, dt=dt,
+                        backend=backend)
+    if not isinstance(prepared, _Run):            # the Newmark integrator ran to the end
+        return prepared
+    run = prepared
+    wall = time.perf_counter()
+    run.loop()
+    wall = time.perf_counter() - wall
+    return run.recorder.response(run.st.name, run.status, run.message, run.events, wall,
+                                 run.options, run.n_rhs, run.t_end)
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """What `simulate_outcome` returns: the run without its series and ledger.
+
+    Attributes
+    ----------
+    status, message : str
+    events : list of Event
+    peaks : ndarray
+        Absolute peak |θ| of each half-cycle (rad).
+    n_rhs : int
+    wall_time_s : float
+    """
+
+    status: str
+    message: str
+    events: list
+    peaks: np.ndarray
+    n_rhs: int
+    wall_time_s: float
+
+    @property
+    def theta_max(self) -> float:
+        return float(self.peaks.max()) if self.peaks.size else 0.0
+
+    @property
+    def n_impacts(self) -> int:
+        return sum(e.kind == "impact" for e in self.events)
+
+
+def simulate_outcome(structure, excitation, impact="DD2", t_end: float = 10.0, **options) -> Outcome:
+    """`simulate` without the time series and the energy ledger, for sweeps of many runs.
+
+    Takes the same arguments as `simulate` (``output_dt`` is ignored: nothing
+    is sampled) and returns an `Outcome`: status, events and peaks — what an
+    overturning map or a spectrum needs, without building a DataFrame.
+    """
+    options["output_dt"] = None
+    prepared = _prepare(structure, excitation, impact, t_end, **options)
+    if not isinstance(prepared, _Run):
+        r = prepared
+        return Outcome(r.status, r.message, r.events, r.peaks, r.n_rhs, r.wall_time_s)
+    run = prepared
+    wall = time.perf_counter()
+    run.loop()
+    wall = time.perf_counter() - wall
+    return Outcome(run.status, run.message, run.events, np.array(run.recorder.peaks), run.n_rhs, wall)
+
+
+def _prepare(structure, excitation, impact, t_end, *, restitution=None, k=None, C_p=None,
+             eps_p=None, seed=None, method=DEFAULTS["method"], rtol=DEFAULTS["rtol"],
+             atol=DEFAULTS["atol"], max_step=DEFAULTS["max_step"],
+             theta_dot_min=DEFAULTS["theta_dot_min"], output_dt=DEFAULTS["output_dt"],
+             overturn_angle=math.pi / 2, chatter_window=DEFAULTS["chatter_window"],
+             chatter_count=DEFAULTS["chatter_count"], stop_at_rest=True, stop_when_safe=False,
+             integrator="solve_ivp", dt=1e-3, backend="scipy"):
+    """Validate the arguments of `simulate` and set up a run (or run Newmark to the end)."""
     st = structure if isinstance(structure, Structure) else from_specimen(structure)
     t_end = _positive("t_end", t_end)
     rtol, atol = _positive("rtol", rtol), _positive("atol", atol)
@@ -198,28 +273,26 @@ def simulate(structure, excitation, impact="DD2", t_end: float = 10.0, *, restit
                                 theta_dot_min=theta_dot_min, overturn_angle=overturn_angle,
                                 stop_when_safe=stop_when_safe, options=options)
 
+    if backend not in ("scipy", "compiled"):
+        raise InputError(f"`backend` = {backend!r}: use 'scipy' or 'compiled'")
     run = _Run(st, model, ag_fn, duration, bps, t_end, phase, y, seed,
                dict(method=method, rtol=rtol, atol=atol, max_step=max_step),
                theta_dot_min, output_dt, overturn_angle, chatter_window, int(chatter_count),
                stop_at_rest, stop_when_safe)
-    if backend not in ("scipy", "compiled"):
-        raise InputError(f"`backend` = {backend!r}: use 'scipy' or 'compiled'")
     if backend == "compiled":
         from .fast import FastPath, warm_up
 
         run.fast = FastPath.of(st, model, excitation, method, _QUIET_DELAY)
         warm_up()                       # compile or load once per process, before the clock
-    wall = time.perf_counter()
-    run.loop()
-    wall = time.perf_counter() - wall
-    options = dict(impact=getattr(model, "name", type(model).__name__),
+    run.options = dict(impact=getattr(model, "name", type(model).__name__),
                    restitution=model.restitution.describe(),
                    method=method if isinstance(method, str) else method.__name__, rtol=rtol,
                    atol=atol, max_step=max_step, theta_dot_min=theta_dot_min, seed=seed,
                    excitation=excitation.describe() if hasattr(excitation, "describe") else repr(excitation))
-    options["backend"] = backend
-    return run.recorder.response(st.name, run.status, run.message, run.events, wall, options,
-                                 run.n_rhs, t_end)
+    run.options["backend"] = backend
+    return run
+
+
 
 
 class _Run:

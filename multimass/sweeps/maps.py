@@ -19,7 +19,7 @@ import pandas as pd
 
 from ..errors import InputError
 from ..excitations import CosineWave, SineWave
-from ..simulate import simulate
+from ..simulate import simulate_outcome
 from ..structure import Structure, from_specimen
 from .base import Executor
 from .engine import run_jobs
@@ -60,8 +60,8 @@ def map_cell(cell: _Cell) -> tuple:
     """Simulate one cell: (outcome, overturn time or nan, max|θ|/α, impacts, rhs evaluations)."""
     st = cell.structure
     exc = PULSES[cell.pulse](cell.a0, cell.omega)
-    resp = simulate(st, exc, t_end=exc.duration + cell.t_free, output_dt=None,
-                    stop_when_safe=True, **cell.options)
+    resp = simulate_outcome(st, exc, t_end=exc.duration + cell.t_free, stop_when_safe=True,
+                            **cell.options)
     if resp.status == "failed":
         raise RuntimeError(f"cell ω = {cell.omega:.6g} rad/s, a0 = {cell.a0:.6g} m/s²: {resp.message}")
     if resp.status == "overturned":

@@ -17,7 +17,7 @@ import pandas as pd
 from ..errors import InputError
 from ..excitations import CosinePulse, CosineWave, Ricker, SineWave
 from ..records import Record
-from ..simulate import simulate
+from ..simulate import simulate_outcome
 from ..structure import Structure, from_specimen
 from .engine import run_jobs
 from .maps import default_backend, executor_session
@@ -48,8 +48,7 @@ class _Point:
 
 def spectrum_point(p: _Point) -> tuple:
     """One simulation of a spectrum: (θ_max, status, impacts, overturn time or nan)."""
-    resp = simulate(p.structure, p.excitation, t_end=p.t_end, output_dt=None, seed=p.seed,
-                    **p.options)
+    resp = simulate_outcome(p.structure, p.excitation, t_end=p.t_end, seed=p.seed, **p.options)
     if resp.status == "failed":
         raise RuntimeError(f"{p.excitation.describe()}: {resp.message}")
     t_over = next((e.time for e in resp.events if e.kind == "overturn"), math.nan)
