@@ -19,7 +19,10 @@ A `Scene` is built in Python or read from a TOML file (`Scene.from_toml`)::
     t_end_s = 6.0
     impact = "DD2"               # restitution, max_step_s, nscd_dt_s, nscd_elements
 
-Units: SI, and each TOML key names its unit. Unknown keys are errors.
+Units: SI, and each TOML key names its unit. Unknown keys are errors. Excitation keys:
+free_release: theta0_rad or theta0_deg, [u0_m]; sine_wave, cosine_wave, cosine_pulse
+(paper 001's pulse): amplitude ("0.4g", "3.9 m/s2"), omega_rad_per_s; ricker: the same and
+[t0_s]; record: path (relative to the scene file), units (two-column files), [scale].
 
 Questions and their answers:
 
@@ -28,8 +31,8 @@ Questions and their answers:
     (default 1 for a free release — its first peak is the release angle
     itself — else 0). An overturned structure answers π/2.
 ``overturning``
-    True if the structure overturns before t_end. Verdicts must agree; no
-    tolerance is needed (one given must be ``absolute = 0``-like: omit it).
+    True if the structure overturns before t_end. Verdicts must agree, so the
+    scene has no [tolerance] table.
 ``peak_acceleration``
     Largest |total lateral acceleration| (m/s², paper 001 Eq 7) at a column
     node (`node`, 1-based, or `sensor`, a name of the specimen's [sensors]).
