@@ -4,9 +4,9 @@ For each scene in examples/scenes/ this runs ``multimass.choose(scene, verify=Tr
 the a-priori criteria pick a rung of the model ladder, the next richer rung is run
 on the same scene and the difference is measured against the scene's tolerance.
 
-Run:  python examples/choose_scenes.py            (about 15 s with the compiled backend)
+Run:  python examples/choose_scenes.py            (about 10 s with the compiled backend)
       python examples/choose_scenes.py --scipy-times   (adds the time saved on the SciPy
-                                                    reference backend: a few minutes)
+                                                    reference backend: 1-2 minutes)
 The same for one scene from the shell:  multimass choose examples/scenes/X.toml --verify
 """
 
