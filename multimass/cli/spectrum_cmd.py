@@ -75,7 +75,10 @@ def run(args) -> int:
         stem = args.out / f"{st.name}_spectrum_{x}"
         sp.table.to_csv(f"{stem}.csv", index=False)
         Path(f"{stem}.json").write_text(json.dumps(info, indent=2))
-        plot_spectrum(sp.table, x, f"{stem}.png", xlabel, title)
+        table, px = sp.table, x
+        if x == "amp":                                  # plot amplitudes in g
+            table, px, xlabel = table.assign(amp_g=table.amp / multimass.G), "amp_g", "amplitude A (g)"
+        plot_spectrum(table, px, f"{stem}.png", xlabel, title)
     if args.json:
         print(json.dumps(info, indent=2))
     else:

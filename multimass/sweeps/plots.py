@@ -34,6 +34,19 @@ def _draw_map(ax, m, boundary_colour="k"):
     ax.set_ylabel("a0/(α g)")
 
 
+def _restitution_label(m) -> str:
+    """η_M (k = …), η_H or r = … for a map's restitution source."""
+    rest = m.options.get("restitution_value", {})
+    kind = rest.get("kind", "")
+    if kind == "ModifiedRestitution":
+        return f"η_M (paper 004 Eq 10, k = {rest.get('k')})"
+    if kind == "HousnerRestitution":
+        return "η_H (paper 004 Eq 9)"
+    if kind == "FixedRestitution":
+        return f"r = {rest.get('r')}"
+    return kind
+
+
 def plot_map(m, path, title: str = "") -> Path:
     """The overturning map: overturned cells shaded, refined boundary points marked."""
     fig = Figure(figsize=(7.5, 5.5), layout="constrained")
@@ -42,11 +55,8 @@ def plot_map(m, path, title: str = "") -> Path:
     handles = [Patch(facecolor=c, edgecolor="0.6", label=k.replace("_", " "))
                for k, c in zip(_CODES, _COLOURS)]
     ax.legend(handles=handles, loc="upper left", fontsize=8, framealpha=0.9)
-    rest = m.options.get("restitution_value", {})
-    k = m.options.get("k")
-    k_text = "" if k is None else f" (k = {k})"
-    ax.set_title(title or f"{m.block}: single {m.pulse} pulse, restitution {rest.get('kind', '')}"
-                 f"{k_text}\n{len(m.cells)} simulations, {m.overturn_fraction():.1%} of the grid overturns")
+    ax.set_title(title or f"{m.block}: single {m.pulse} pulse, restitution {_restitution_label(m)}"
+                 f"\n{len(m.cells)} simulations, {m.overturn_fraction():.1%} of the grid overturns")
     path = Path(path)
     fig.savefig(path, dpi=120)
     return path
@@ -73,27 +83,38 @@ def plot_map_comparison(maps: dict, path, title: str = "") -> Path:
 
 
 def plot_spectrum(table, x: str, path, xlabel: str, title: str, y: str = "theta_max") -> Path:
-    """θ_max against a swept parameter: every run as a marker, the mean as a line
-    (paper 001, Figs 10 and 12); overturned runs marked with crosses."""
+    """θ_max against a swept parameter (paper 001, Figs 10 and 12).
+
+    Every run is a marker and the mean of the runs that did not overturn a
+    line (± 1 std shaded when repeated); overturned runs are crosses along
+    the top edge. The axis turns logarithmic when θ_max spans over two decades.
+    """
     fig = Figure(figsize=(7.5, 4.5), layout="constrained")
     ax = fig.subplots()
     ok = table[table.status != "overturned"]
-    ax.plot(ok[x], ok[y], "o", ms=3.5, color="tab:blue", alpha=0.6, label="runs")
     over = table[table.status == "overturned"]
+    ax.plot(ok[x], ok[y], "o", ms=3.5, color="tab:blue", alpha=0.6, label="runs")
+    if not ok.empty:
+        g = ok.groupby(x)[y]
+        mean = g.mean()
+        ax.plot(mean.index, mean.values, "-", color="k", lw=1.5, label="mean (not overturned)")
+        if ok.groupby(x).size().max() > 1:
+            std = g.std().fillna(0.0)
+            low = np.maximum((mean - std).values, 0.5 * mean.values)
+            ax.fill_between(mean.index, low, (mean + std).values, color="0.8", alpha=0.7,
+                            label="± 1 std")
+        positive = ok[y][ok[y] > 0]
+        if not positive.empty and positive.max() / positive.min() > 100:
+            ax.set_yscale("log")
     if not over.empty:
-        ax.plot(over[x], np.full(len(over), ax.get_ylim()[1] if not ok.empty else 1.0), "x",
-                color="tab:red", label="overturned")
-    g = table.groupby(x)[y]
-    mean = g.mean()
-    ax.plot(mean.index, mean.values, "-", color="k", lw=1.5, label="mean")
-    if table.groupby(x).size().max() > 1:
-        std = g.std().fillna(0.0)
-        ax.fill_between(mean.index, (mean - std).values, (mean + std).values, color="0.8",
-                        alpha=0.7, label="± 1 std")
+        top = ax.get_ylim()[1]
+        counts = over.groupby(x).size()
+        ax.plot(counts.index, np.full(len(counts), top), "x", color="tab:red", ms=8, mew=2,
+                clip_on=False, label=f"overturned ({len(over)} runs)")
     ax.set_xlabel(xlabel)
     ax.set_ylabel("θ_max (rad)")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8, loc="upper left")
     ax.set_title(title)
     path = Path(path)
     fig.savefig(path, dpi=120)
