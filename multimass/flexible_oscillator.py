@@ -30,7 +30,7 @@ from .contact_dynamics import ContactResponse, simulate_contacts
 from .errors import InputError
 from .flexible_oscillator_eom import numeric, symbolic
 
-__all__ = ["FlexibleOscillator", "OscillatorResponse", "ricker_pulse", "simulate_oscillator"]
+__all__ = ["FlexibleOscillator", "OscillatorResponse", "simulate_oscillator"]
 
 SHAPE = (0.0, 0.0, 1.5, -0.5)          # α0, α1, α2, α3: paper 000, Sec 4 (Chopra)
 
@@ -218,24 +218,6 @@ class OscillatorResponse:
         return np.array(["flight", "rock_left", "rock_right", "full"])[self.raw.closed]
 
 
-def ricker_pulse(a_g: float, omega_g: float, t0: float | None = None):
-    """Ricker wavelet ag(t) = a_g (1 − ω²τ²/2) exp(−ω²τ²/4), τ = t − t0, on [0, 2 t0].
-
-    Default t0 = 8.327/ω_g (|ag| < 1e-6 a_g at the truncation points).
-    """
-    a_g, w = float(a_g), _positive("omega_g", omega_g)
-    t0 = 8.327 / w if t0 is None else _positive("t0", t0)
-
-    def ag(t: float) -> float:
-        if not 0.0 <= t <= 2.0 * t0:
-            return 0.0
-        x2 = (w * (t - t0)) ** 2
-        return a_g * (1.0 - 0.5 * x2) * math.exp(-0.25 * x2)
-
-    ag.breakpoints, ag.duration = (2.0 * t0,), 2.0 * t0
-    return ag
-
-
 def simulate_oscillator(osc: FlexibleOscillator, eps_p: float, t_end: float, *, ag=None,
                         u0: float = 0.0, udot0: float = 0.0, dt_out: float | None = 0.005,
                         rtol: float = 1e-10, atol: float = 1e-12,
@@ -250,7 +232,7 @@ def simulate_oscillator(osc: FlexibleOscillator, eps_p: float, t_end: float, *, 
         Poisson's coefficient ε_P ∈ [0, 1].
     t_end : float
     ag : callable, optional
-        Ground acceleration ag(t) (m/s²), e.g. `ricker_pulse`; ``duration`` and
+        Ground acceleration ag(t) (m/s²), e.g. `multimass.Ricker`; ``duration`` and
         ``breakpoints`` attributes are honoured.
     u0, udot0 : float
         Initial deflection and rate of the column top (base at rest, flat).

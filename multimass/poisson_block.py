@@ -28,7 +28,7 @@ import numpy as np
 from .contact_dynamics import ContactResponse, simulate_contacts
 from .errors import InputError
 
-__all__ = ["PoissonBlock", "BlockResponse", "simulate_block", "sine_pulse"]
+__all__ = ["PoissonBlock", "BlockResponse", "simulate_block"]
 
 
 def _positive(name: str, value) -> float:
@@ -194,18 +194,6 @@ class BlockResponse:
     @property
     def events(self):
         return self.raw.events
-
-
-def sine_pulse(a_g: float, omega_g: float):
-    """Single sine pulse ag(t) = a_g sin(ω_g t) for 0 ≤ t ≤ 2π/ω_g, 0 after (m/s²)."""
-    a_g, omega_g = float(a_g), _positive("omega_g", omega_g)
-    T = 2.0 * math.pi / omega_g
-
-    def ag(t: float) -> float:
-        return a_g * math.sin(omega_g * t) if 0.0 <= t <= T else 0.0
-
-    ag.breakpoints, ag.duration = (T,), T
-    return ag
 
 
 def simulate_block(block: PoissonBlock, eps_p: float, t_end: float, *, phi0: float = 0.0,

@@ -9,7 +9,8 @@ from scipy.integrate import solve_ivp
 from impact_models import housner_eta
 import multimass
 from multimass import InputError
-from multimass.poisson_block import PoissonBlock, _BlockModel, simulate_block, sine_pulse
+from multimass import SineWave
+from multimass.poisson_block import PoissonBlock, _BlockModel, simulate_block
 
 
 def housner(block, ag, t_start, theta0, t_grid, eta, side=None):
@@ -65,7 +66,7 @@ def test_sine_pulse_figure_5_agrees_with_housner():
     # paper 000, Fig 5: H/b = 7, 2b = 1 m, a_g/g = 0.45, ω_g/p = 5.75, ε_P = 0
     block = PoissonBlock.from_slenderness(7.0, width=1.0)
     a_g, w_g = 0.45 * block.g, 5.75 * block.p
-    ag = sine_pulse(a_g, w_g)
+    ag = SineWave(a_g, w_g)
     r = simulate_block(block, 0.0, 15.0, ag=ag, dt_out=0.01)
     t_up = math.asin(block.g * math.tan(block.alpha) / a_g) / w_g    # closed form: ag = g tan α
     grid = np.round(np.arange(0.0, 15.0, 0.01), 12)
@@ -150,7 +151,7 @@ def test_energy_ledger_closes(h_over_b, eps):
 
 def test_forced_ledger_closes_and_pulse_can_overturn():
     block = PoissonBlock.from_slenderness(4.0, width=0.4)
-    ag = sine_pulse(1.2 * block.g, 2.0 * block.p)
+    ag = SineWave(1.2 * block.g, 2.0 * block.p)
     r = simulate_block(block, 0.0, 10.0, ag=ag)
     assert r.status == "overturned"
     ref = np.abs(r.raw.ground_work).max()
