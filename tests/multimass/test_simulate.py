@@ -120,7 +120,8 @@ class TestPaper001Section43:
     """S1 released from 0.11 rad (paper 001, Section 4.3, Figs 6–8)."""
 
     @pytest.fixture(scope="class")
-    def runs(self):
+    @classmethod
+    def runs(cls):
         return {imp: simulate("S1", FreeRelease(-0.11), imp, 6.0, output_dt=None)
                 for imp in ("CIM", "DD1", "DD2")}
 
