@@ -1,0 +1,49 @@
+"""``multimass bench`` (multimass/cli/bench_cmd.py, benchmarks/run.py): structure of the output.
+
+A smoke configuration (seconds; its numbers mean nothing) runs the whole
+pipeline: targets, the five models, the stiffness sweep, failure detection,
+tables and charts. Only the structure is checked — no timing assertions
+(benchmarks are not timed tests).
+"""
+
+import json
+
+import pytest
+
+from benchmarks.failures import KINDS
+from multimass.cli import main
+
+HEADLINE = ("speedup_single", "speedup_map", "scaling_2_workers", "peak_error_rad")   # issue 7
+ROW_KEYS = ("model", "method", "tolerance", "error", "wall_time_s", "n_rhs", "failure")  # issue 7
+MODELS = {"rigid_block", "S1_CIM", "S1_DD2", "lcp_block", "nscd", "S1 stiffness"}
+
+
+def test_bench_json_structure(tmp_path, capsys):
+    out = tmp_path / "bench"
+    assert main(["bench", "--smoke", "--out", str(out), "--json"]) == 0
+    res = json.loads(capsys.readouterr().out)
+    assert list(res)[:4] == list(HEADLINE)
+    for key in HEADLINE:
+        assert isinstance(res[key], float) and res[key] > 0
+    assert set(res["targets"]["pass"]) == set(HEADLINE)
+    rows = res["rows"]
+    assert {r["model"] for r in rows} == MODELS
+    for r in rows:
+        assert set(ROW_KEYS) <= set(r)
+        assert isinstance(r["failure"], list) and set(r["failure"]) <= set(KINDS)
+        assert r["wall_time_s"] >= 0 and r["n_rhs"] >= 0
+    methods = {r["method"] for r in rows}
+    for m in ("RK45", "DOP853", "Radau", "BDF", "LSODA", "compiled DOP853", "Newmark + NR",
+              "Moreau–Jean, rigid base", "paper-000 driver (DOP853)"):
+        assert m in methods
+    # the files the README section points to
+    for name in ("bench.json", "rows.csv", "failures.csv", "failures.md", "summary.md",
+                 "failure_map.png", "stiffness.png", "wp_rigid_block.png", "wp_S1_CIM.png",
+                 "wp_S1_DD2.png", "wp_lcp_block.png", "wp_nscd.png"):
+        assert (out / name).is_file(), name
+    assert json.loads((out / "bench.json").read_text())["charts"] == res["charts"]
+
+
+def test_bench_rejects_quick_with_smoke(capsys):
+    with pytest.raises(SystemExit):
+        main(["bench", "--quick", "--smoke", "--out", "x"])
