@@ -90,9 +90,9 @@ class PoissonLCP(ImpactModel):
         up = res.u_plus
         detail = f"LCP: old pivot {old}, new corner {new}; energy lost {res.energy_loss:.4g} J"
         if new == "separating":
-            return Transition(None, up[:n], float(up[-1]), "flight", None)
+            return Transition(None, up[:n], float(up[-1]), "flight", None, detail)
         if old == "closed" or abs(up[-1]) <= theta_dot_min:
             # full contact: keep each node's horizontal momentum (as paper 001, Eq 10)
             return Transition(0, up[:n] + np.asarray(structure.H) * up[-1], 0.0,
-                              "full_contact", None)
-        return Transition(-side_old, up[:n], float(up[-1]), "impact", None)
+                              "full_contact", None, detail)
+        return Transition(-side_old, up[:n], float(up[-1]), "impact", None, detail)

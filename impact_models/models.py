@@ -10,7 +10,7 @@ post-transition velocities (paper 001, Eqs 9–12).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -37,13 +37,16 @@ class Transition:
         "impact" (a new half-cycle) or "full_contact".
     restitution : float or None
         The coefficient applied (classical impacts only).
+    detail : str
+        What decided the transition (e.g. the LCP's contact states).
     """
 
-    phase: int
+    phase: int | None
     udot: np.ndarray
     thetadot: float
     kind: str
     restitution: float | None = None
+    detail: str = ""
 
 
 def next_phase_is_rocking(side_new: int, L_new: float, thetadot: float,

@@ -14,7 +14,8 @@ from .records import Record, read_at2, read_record, read_two_column
 from .units import G, parse_acceleration, to_mps2
 from .response import Event, Response
 from .simulate import DEFAULTS, Outcome, simulate, simulate_outcome
-from .traces import ChannelMetrics, Trace, compare_trace, read_trace
+from .trace_metrics import ChannelMetrics, compare_trace
+from .traces import Trace, read_trace
 from .scenes import Scene, choose
 
 __all__ = [

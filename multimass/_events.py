@@ -2,10 +2,6 @@
 
 from __future__ import annotations
 
-import math
-
-import numpy as np
-
 from impact_models.models import next_phase_is_rocking
 
 from . import kinematics as kin
@@ -69,7 +65,7 @@ def phase_events(run, delay: float) -> tuple[list[str], list]:
 
 def handle_event(run, name: str) -> None:
     """Apply the transition of the terminal event `name` at (run.t, run.y)."""
-    st, n = run.st, run.st.n
+    n = run.st.n
     u, th, ud, thd = run.mdl.split(run.y)
     if name in ("uplift_right", "uplift_left"):
         run.y[n], run.y[2 * n + 1] = 0.0, 0.0           # paper 001, Eq 8: θ̇⁺ = 0, u̇⁺ = u̇⁻
@@ -120,7 +116,7 @@ def _at_zero(run, u, ud, thd):
         if tr.phase is None:
             run.recorder.end_phase(run.t, run.y, side_old)
             run.events.append(Event("failed", run.t, side_old, side_old, thetadot_minus=float(thd),
-                                    detail="the LCP predicts a bounce (flight)"))
+                                    detail=f"the LCP predicts a bounce (flight); {tr.detail}"))
             run.status = "failed"
             run.message = ("the Poisson LCP predicts flight (the impacting corner bounces off); "
                            "the multi-mass engine has no flight phase: use eps_p = 0, or "
@@ -143,7 +139,7 @@ def _at_zero(run, u, ud, thd):
     run.events.append(Event(tr.kind, run.t, side_old, tr.phase, theta=0.0, thetadot_minus=float(thd),
                             thetadot_plus=float(tr.thetadot),
                             restitution=tr.restitution if tr.restitution is not None else r_used,
-                            energy_change=after - before))
+                            energy_change=after - before, detail=tr.detail))
     run.phase, run.y = tr.phase, y_new
     run.recorder.start_phase(tr.phase, run.t, y_new)
     if tr.phase and run.model.has_force:

@@ -69,7 +69,7 @@ _SQRT_PI = math.sqrt(math.pi)
 def rocking_rhs(model: Model, side: int, ag_fn, force: ActiveForce | None):
     """dy/dt of the rocking phase about pivot `side` (paper 001, Eqs 4–5)."""
     mdl, s = model, float(side)
-    n, m, H, K, C, mH, B, g = mdl.n, mdl.m, mdl.H, mdl.K, mdl.C, mdl.mH, mdl.B, mdl.g
+    n, m, H, K, C, B, g = mdl.n, mdl.m, mdl.H, mdl.K, mdl.C, mdl.B, mdl.g
     pivot_arm = s * B * m                    # M (±B 1)
     schur0 = mdl.J_p - mdl.HmH
     lever0 = s * B * mdl.m_t                 # ±(1ᵀ M B 1 + m0 B)

@@ -7,7 +7,6 @@ import math
 import numpy as np
 import pandas as pd
 
-from . import kinematics as kin
 from ._phase import ActiveForce, Model
 from .response import Response
 
@@ -129,7 +128,7 @@ class Recorder:
         return ag, F, acc, kinetic, grav, elastic
 
     def response(self, name, status, message, events, wall, options, n_rhs, t_end) -> Response:
-        st, n = self.st, self.st.n
+        n = self.st.n
         Y = np.array(self.rows_y)
         t = np.array(self.rows_t)
         order = np.argsort(t, kind="stable")

@@ -110,7 +110,7 @@ def plot_overlay(trace, name: str, responses: dict, structure, path, *, t_offset
         the unit the channel was written in).
     title : str, optional
     """
-    from .traces import align, channel_columns
+    from .trace_metrics import align, channel_columns
 
     column = channel_columns(trace, structure)[name]
     unit = trace.units[name]

@@ -5,7 +5,6 @@ contacts (paper 002, Eqs 35–58), written for numba.
 
 from __future__ import annotations
 
-import numpy as np
 from numba import njit
 
 __all__ = ["block_q", "beam_q", "delassus_block", "solve_single", "gauss_seidel"]

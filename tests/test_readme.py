@@ -1,6 +1,5 @@
 """The README's Python example runs as written (from the repository root)."""
 
-import os
 import re
 
 from tests.conftest import REPO

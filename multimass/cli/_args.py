@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import math
-
 from ..errors import InputError
 from ..excitations import CosinePulse, CosineWave, FreeRelease, Ricker, SineWave
 from ..records import read_record

@@ -102,7 +102,8 @@ def _excitation(args, structure, trace):
 def run(args) -> int:
     import multimass
     from impact_models import impact_model
-    from multimass.traces import channel_columns, compare_trace, read_trace
+    from multimass.trace_metrics import channel_columns, compare_trace
+    from multimass.traces import read_trace
 
     st = multimass.from_specimen(args.specimen)
     trace = read_trace(args.trace, g=st.g)

@@ -1,7 +1,7 @@
 """Compiled explicit Runge–Kutta steps, dense output, event roots and first step.
 
 These are the pieces of `._kernel.integrate_phase`, the compiled counterpart of
-one ``solve_ivp`` call of `multimass.simulate._Run.integrate`. They follow the
+one ``solve_ivp`` call of `multimass._run._Run.integrate`. They follow the
 algorithm of SciPy's explicit Runge–Kutta solvers so that, at the same `rtol`,
 `atol` and `max_step`, the kernel takes essentially the same steps and finds
 the same events:

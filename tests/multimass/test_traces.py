@@ -9,7 +9,7 @@ import pytest
 
 import multimass
 from multimass import FreeRelease, InputError, Trace, compare_trace, read_trace
-from multimass.traces import align
+from multimass.trace_metrics import align
 
 G = 9.81      # DESIGN.md: g = 9.81 m/s²
 DT = 1e-3     # simulate's default output_dt (s)
@@ -154,7 +154,7 @@ def test_units_are_converted_to_si(tmp_path):
 
 
 def test_node_and_sensor_names_map_to_columns(tmp_path, s1):
-    from multimass.traces import channel_columns
+    from multimass.trace_metrics import channel_columns
 
     path = tmp_path / "names.csv"
     path.write_text("T [s],THETA [rad],A_a2 [g],a1 [g],a_node4 [g]\n0,0,0,0,0\n1,0,0,0,0\n")

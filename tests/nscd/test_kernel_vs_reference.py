@@ -1,7 +1,6 @@
 """The compiled time loop against the readable NumPy reference step (same maths,
 independent code: whole-system matrices, numpy.roots, explicit W = Q B Q^T)."""
 
-import math
 
 import numpy as np
 import pytest
