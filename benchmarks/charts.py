@@ -103,8 +103,8 @@ def work_precision_chart(rows: list[dict], title: str, path) -> None:
     failed = sorted({f"{r['method']} @ {r['tolerance']:g}" for r in rows if r["status"] == "failed"})
     note = ("solver failed (not drawn): " + ", ".join(failed)) if failed else ""
     fig.suptitle(title, fontsize=12, y=0.995)
-    fig.text(0.5, 0.005, note[:220], ha="center", fontsize=7.5)
-    fig.subplots_adjust(top=0.87, bottom=0.07, left=0.09, right=0.98, hspace=0.08, wspace=0.05)
+    fig.text(0.5, 0.004, note[:220], ha="center", fontsize=7.5)
+    fig.subplots_adjust(top=0.87, bottom=0.085, left=0.09, right=0.98, hspace=0.08, wspace=0.05)
     fig.savefig(path, dpi=DPI)
 
 

@@ -42,14 +42,14 @@ def window_end(ref: RunResult, kinds, nominal: float, t_end: float) -> float:
 def compare(run: RunResult, ref: RunResult, kinds, t_cmp: float) -> dict:
     """The three errors of `run` against `ref` and the event counts (see the module docstring)."""
     out = dict(peak_error_rad=math.nan, event_time_error_s=math.nan, energy_error=math.nan,
-               n_events=None, n_events_ref=None, events_match=None)
+               n_events=None, n_events_ref=None, events_match=None, first_mismatch="")
     r_ev = [(k, t) for k, t in ref.events if k in kinds and t <= t_cmp]
     out["n_events_ref"] = len(r_ev)
     if run.status == "failed":
         return out
     x_ev = [(k, t) for k, t in run.events if k in kinds and t <= t_cmp]
     match = [k for k, _ in r_ev] == [k for k, _ in x_ev]
-    out.update(n_events=len(x_ev), events_match=match)
+    out.update(n_events=len(x_ev), events_match=match, first_mismatch=_first_mismatch(r_ev, x_ev))
     out["event_time_error_s"] = (max((abs(a[1] - b[1]) for a, b in zip(r_ev, x_ev)), default=0.0)
                                  if match else math.inf)
     n_pk = sum(1 for t in ref.peak_times if t <= t_cmp)
@@ -61,6 +61,18 @@ def compare(run: RunResult, ref: RunResult, kinds, t_cmp: float) -> dict:
     if math.isfinite(run.final_energy) and ref.energy_scale > 0:
         out["energy_error"] = abs(run.final_energy - ref.final_energy) / ref.energy_scale
     return out
+
+
+def _first_mismatch(r_ev, x_ev) -> str:
+    """Where two transition sequences first part: "t = …: reference impact, run full_contact"."""
+    for i in range(max(len(r_ev), len(x_ev))):
+        a = r_ev[i] if i < len(r_ev) else None
+        b = x_ev[i] if i < len(x_ev) else None
+        if a is None or b is None or a[0] != b[0]:
+            t = (a or b)[1]
+            return (f"transition {i + 1} at t = {t:.4g} s: reference {a[0] if a else 'none'}, "
+                    f"run {b[0] if b else 'none'}")
+    return ""
 
 
 def row_of(model: str, method: Method, level: float, run: RunResult, ref: RunResult,
