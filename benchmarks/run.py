@@ -123,7 +123,8 @@ def run_bench(cfg: Config, out: Path, progress=None) -> dict:
     pd.DataFrame(rows + stiff).drop(columns=["_extra_failures"], errors="ignore").to_csv(
         out / "rows.csv", index=False)
     pd.DataFrame(result["failures"]).to_csv(out / "failures.csv", index=False)
-    (out / "failures.md").write_text(markdown_table(result["failures"]))
+    (out / "failures.md").write_text("# Runs that fail (`multimass bench`, "
+                                     f"{cfg.name} run)\n\n" + markdown_table(result["failures"]))
     (out / "summary.md").write_text(summary_markdown(safe))
     return safe
 

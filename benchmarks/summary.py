@@ -47,7 +47,10 @@ def _targets(res: dict) -> list[str]:
               f"{_spread(mp['compiled_s']['2_workers'])} s on 2 workers, "
               f"{_spread(mp['compiled_s']['1_worker'])} s on 1, "
               f"{mp['compiled_s']['serial_executor']:.2f} s with the serial executor; same outcome "
-              f"as the map in {100 * base['same_outcome_as_map']:.1f} % of the timed cells."]
+              f"as the map in {100 * base['same_outcome_as_map']:.1f} % of the timed cells. "
+              f"Best times: speed-up {mp['best_of']['speedup_map']:.3g}, 2-worker scaling "
+              f"{mp['best_of']['scaling_2_workers']:.3g}; 1-min load average before each map "
+              + ", ".join(f"{x:.2f}" for x in mp["load_average_before_each_map"]) + "."]
     return lines
 
 
