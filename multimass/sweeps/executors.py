@@ -60,8 +60,8 @@ def _default_start_method() -> str:
     return "forkserver" if "forkserver" in methods else "spawn"
 
 
-def _preload_in_forkserver(module: str | None) -> None:
-    """Have the forkserver import multimass and `module` once, before it forks workers.
+def _preload_in_forkserver(*modules: str | None) -> None:
+    """Have the forkserver import multimass and `modules` once, before it forks workers.
 
     Each worker then starts with them imported: a fresh 2-worker pool's first
     sweep falls from ~2 s to ~0.05 s (benchmarks/sweep_overhead.py). Effective
@@ -71,7 +71,7 @@ def _preload_in_forkserver(module: str | None) -> None:
     from multiprocessing import forkserver
     current = list(getattr(getattr(forkserver, "_forkserver", None), "_preload_modules", None)
                    or ["__main__"])
-    wanted = current + [m for m in ("multimass", module) if m and m not in current]
+    wanted = current + [m for m in ("multimass", *modules) if m and m not in current]
     if wanted != current:
         forkserver.set_forkserver_preload(wanted)
 
@@ -85,6 +85,10 @@ class ProcessExecutor(Executor):
         Number of processes; default all cores (`available_workers`).
     start_method : {'forkserver', 'spawn', 'fork'}, optional
         How workers start. Default 'forkserver' (POSIX) or 'spawn' (Windows).
+    preload : sequence of str, optional
+        Modules the forkserver imports before forking workers (e.g.
+        ``"multimass.fast.preload"``, which loads the compiled kernels once so
+        workers do not each load them).
         'fork' starts in ~10 ms and shares already-compiled numba functions,
         but is unsafe once the calling process runs other threads (measured:
         after a numba ``parallel=True`` kernel with the OpenMP layer the
@@ -106,13 +110,15 @@ class ProcessExecutor(Executor):
 
     name = "process"
 
-    def __init__(self, workers: int | None = None, start_method: str | None = None):
+    def __init__(self, workers: int | None = None, start_method: str | None = None,
+                 preload=()):
         self._workers = validate_workers(workers) or available_workers()
         methods = multiprocessing.get_all_start_methods()
         if start_method is not None and start_method not in methods:
             raise InputError(f"`start_method` = {start_method!r}: not available here; "
                              f"choose one of {', '.join(map(repr, methods))} or None")
         self.start_method = start_method or _default_start_method()
+        self.preload = tuple(preload)
         self._pool: ProcessPoolExecutor | None = None
 
     @property
@@ -132,7 +138,7 @@ class ProcessExecutor(Executor):
                 "import it, or use executor='dask' (pickles by value) or "
                 "ProcessExecutor(start_method='fork')")
         if self.start_method == "forkserver":
-            _preload_in_forkserver(module)
+            _preload_in_forkserver(module, *self.preload)
 
     def _get_pool(self) -> ProcessPoolExecutor:
         if self._pool is None:

@@ -34,12 +34,19 @@ PULSES = {"sine": SineWave, "cosine": CosineWave}
 
 
 @contextmanager
-def executor_session(executor, workers):
-    """One executor for several `run_jobs` calls; closed after unless the caller owns it."""
+def executor_session(executor, workers, compiled: bool = False):
+    """One executor for several `run_jobs` calls; closed after unless the caller owns it.
+
+    With `compiled`, a process pool's forkserver loads the compiled kernels once
+    (`multimass.fast.preload`), so its workers start with them in memory.
+    """
     if isinstance(executor, Executor):
         yield executor
         return
-    ex = get_executor(executor, workers)
+    options = {}
+    if compiled and isinstance(executor, str) and executor.lower() == "process":
+        options["preload"] = ("multimass.fast.preload",)
+    ex = get_executor(executor, workers, **options)
     try:
         yield ex
     finally:
@@ -224,7 +231,7 @@ def overturning_map(block, pulse: str = "sine", omega_p=np.linspace(1, 10, 10),
 
     wall = time.perf_counter()
     pairs = [(w, a) for a in amp for w in omega_p]
-    with executor_session(executor, workers) as ex:
+    with executor_session(executor, workers, options.get("backend") == "compiled") as ex:
         results = run_jobs(map_cell, cells_for(pairs), executor=ex, progress=progress,
                            desc=f"{st.name} {pulse} map")
         rows = [_row(w, a, r, True) for (w, a), r in zip(pairs, results)]

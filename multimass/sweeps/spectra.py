@@ -86,7 +86,7 @@ class Spectrum:
 
 def _run(st, points, sweep_cols, executor, workers, progress, desc, kind, options):
     wall = time.perf_counter()
-    with executor_session(executor, workers) as ex:
+    with executor_session(executor, workers, options.get("backend") == "compiled") as ex:
         res = run_jobs(spectrum_point, points, executor=ex, progress=progress, desc=desc)
     table = pd.DataFrame(sweep_cols)
     table["theta_max"] = [r[0] for r in res]
