@@ -136,13 +136,17 @@ class _Run:
                else rocking_rhs(self.mdl, self.phase, self.ag, self.force))
         names, events = phase_events(self, QUIET_DELAY)
         t_eval = self.recorder.grid(self.t, t_stop)
-        sol = solve_ivp(rhs, (self.t, t_stop), self.y, t_eval=t_eval, events=events,
-                        **self.ivp)
+        try:
+            sol = solve_ivp(rhs, (self.t, t_stop), self.y, t_eval=t_eval, events=events,
+                            **self.ivp)
+        except ValueError as exc:      # e.g. LSODA's interpolant defeats the event root search
+            self.fail(self.t, f"solve_ivp ({self.ivp['method']}) raised in the segment starting "
+                              f"at t = {self.t:.6g} s: {exc}")
+            return
         self.n_rhs += sol.nfev
         if sol.status == -1:
-            self.status, self.message = "failed", f"solve_ivp failed at t = {sol.t[-1]:.6g} s: {sol.message}"
-            self.events.append(Event("failed", float(sol.t[-1]) if sol.t.size else self.t,
-                                     self.phase, self.phase, detail=sol.message))
+            self.fail(float(sol.t[-1]) if sol.t.size else self.t,
+                      f"solve_ivp failed at t = {sol.t[-1]:.6g} s: {sol.message}")
             return
         self.recorder.segment(sol, rhs, self.phase, self.force, names)
         if sol.status == 1:
@@ -157,6 +161,11 @@ class _Run:
     def _last(sol) -> np.ndarray:
         """State at the stop time of a segment (the grid always ends there)."""
         return np.asarray(sol.y)[:, -1].copy()
+
+    def fail(self, t: float, message: str) -> None:
+        """End the run with status "failed" and the solver's message (never data)."""
+        self.status, self.message = "failed", message
+        self.events.append(Event("failed", t, self.phase, self.phase, detail=message))
 
     # -- transitions ------------------------------------------------------------------
     def handle(self, name: str):

@@ -242,3 +242,13 @@ def test_solver_failure_is_reported_not_returned_as_data():
     assert resp.status == "failed"
     assert "solve_ivp" in resp.message
     assert resp.summary()["status"] == "failed"
+
+
+def test_lsoda_event_search_failure_is_a_failed_status():
+    # regression (found by the benchmarks): LSODA's interpolant defeats solve_ivp's event
+    # root search ("f(a) and f(b) must have different signs"); it must come back as status
+    # "failed" with the message, not as an exception or as data
+    resp = simulate("S1", FreeRelease(0.11), "CIM", 5.0, method="LSODA", rtol=1e-3, atol=1e-5,
+                    output_dt=None)
+    assert resp.status == "failed"
+    assert "LSODA" in resp.message and resp.events[-1].kind == "failed"
