@@ -275,10 +275,10 @@ def test_batches_are_strided_and_no_larger_than_batch_size():
 
 
 def test_default_batch_size_rule():
-    # closed form: ceil(n / (4·workers)), at least 1
-    assert default_batch_size(400, 2) == 50
-    assert default_batch_size(17, 2) == 3
-    assert default_batch_size(3, 8) == 1
+    # closed form: ceil(n / (16·workers)), at least 1
+    assert default_batch_size(400, 2) == 13
+    assert default_batch_size(10_000, 2) == 313
+    assert default_batch_size(17, 2) == 1
     assert default_batch_size(1, 1) == 1
 
 
