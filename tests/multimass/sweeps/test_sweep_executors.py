@@ -258,7 +258,7 @@ def test_users_own_executor_class_and_instance():
         [i * i for i in range(10)]
     ex = ReversedExecutor(workers=2)
     assert run_jobs(square, range(17), executor=ex) == [i * i for i in range(17)]
-    assert ex.tasks == 6          # ceil(17 / (4·2)) = 3 jobs per batch → 6 batches
+    assert ex.tasks == 17         # ceil(17 / (16·2)) = 1 job per batch → 17 batches
 
 
 class RecordingExecutor(ReversedExecutor):
