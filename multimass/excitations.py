@@ -231,7 +231,36 @@ class FreeRelease(Excitation):
 
 # ---------------------------------------------------------------------------- harmonic waves
 @dataclass(frozen=True)
-class SineWave(_Pulse):
+class _SingleWave(_Pulse):
+    """One period of ü_g = a0 f(ω t), zero outside 0 ≤ t ≤ 2π/ω (paper 004, Fig 2).
+
+    Subclasses choose f (`_np_f` for arrays, `_math_f` for scalars) and `kind`.
+    """
+
+    a0: float
+    omega: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "a0", _amplitude("a0", self.a0))
+        object.__setattr__(self, "omega", _positive("omega", self.omega, "rad/s"))
+
+    @property
+    def duration(self) -> float:
+        return TWO_PI / self.omega
+
+    def _shape(self, t):
+        return self.a0 * self._np_f(self.omega * t)  # paper 004, Fig 2
+
+    def _shape_scalar(self, t: float) -> float:
+        return self.a0 * self._math_f(self.omega * t)  # paper 004, Fig 2
+
+    def describe(self) -> dict:
+        return {"kind": self.kind, "a0": self.a0, "omega": self.omega,
+                "duration": self.duration}
+
+
+@dataclass(frozen=True)
+class SineWave(_SingleWave):
     """A single sine wave ü_g = a0 sin(ω t) for 0 ≤ t ≤ 2π/ω, zero otherwise.
 
     Paper 004, Section 2.1 and Fig 2. ü_g is continuous at both ends; its derivative
@@ -245,31 +274,12 @@ class SineWave(_Pulse):
         Angular frequency ω = 2π/t_b (rad/s, > 0).
     """
 
-    a0: float
-    omega: float
     kind = "sine_wave"
-
-    def __post_init__(self):
-        object.__setattr__(self, "a0", _amplitude("a0", self.a0))
-        object.__setattr__(self, "omega", _positive("omega", self.omega, "rad/s"))
-
-    @property
-    def duration(self) -> float:
-        return TWO_PI / self.omega
-
-    def _shape(self, t):
-        return self.a0 * np.sin(self.omega * t)  # paper 004, Fig 2
-
-    def _shape_scalar(self, t: float) -> float:
-        return self.a0 * math.sin(self.omega * t)  # paper 004, Fig 2
-
-    def describe(self) -> dict:
-        return {"kind": self.kind, "a0": self.a0, "omega": self.omega,
-                "duration": self.duration}
+    _np_f, _math_f = staticmethod(np.sin), staticmethod(math.sin)
 
 
 @dataclass(frozen=True)
-class CosineWave(_Pulse):
+class CosineWave(_SingleWave):
     """A single cosine wave ü_g = a0 cos(ω t) for 0 ≤ t ≤ 2π/ω, zero otherwise.
 
     Paper 004, Section 2.1 and Fig 2. ü_g jumps from 0 to a0 at t = 0 and from a0
@@ -283,27 +293,8 @@ class CosineWave(_Pulse):
         Angular frequency (rad/s, > 0).
     """
 
-    a0: float
-    omega: float
     kind = "cosine_wave"
-
-    def __post_init__(self):
-        object.__setattr__(self, "a0", _amplitude("a0", self.a0))
-        object.__setattr__(self, "omega", _positive("omega", self.omega, "rad/s"))
-
-    @property
-    def duration(self) -> float:
-        return TWO_PI / self.omega
-
-    def _shape(self, t):
-        return self.a0 * np.cos(self.omega * t)  # paper 004, Fig 2
-
-    def _shape_scalar(self, t: float) -> float:
-        return self.a0 * math.cos(self.omega * t)  # paper 004, Fig 2
-
-    def describe(self) -> dict:
-        return {"kind": self.kind, "a0": self.a0, "omega": self.omega,
-                "duration": self.duration}
+    _np_f, _math_f = staticmethod(np.cos), staticmethod(math.cos)
 
 
 @dataclass(frozen=True)
