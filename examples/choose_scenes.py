@@ -18,22 +18,9 @@ import time
 from pathlib import Path
 
 import multimass
-from multimass.scenes import Scene, ladder
+from multimass.scenes import Scene, format_answer, ladder
 
 SCENES = Path(__file__).resolve().parent / "scenes"
-
-
-def fmt(value, unit: str) -> str:
-    """Answers for the table: rad (with degrees), g, Hz, verdicts."""
-    if value is None:
-        return "–"
-    if unit == "verdict":
-        return "overturns" if value else "stands"
-    if unit == "Hz":
-        return " / ".join(f"{f:.3f}" for f in value) + " Hz"
-    if unit == "rad":
-        return f"{value:.5f} rad ({math.degrees(value):.2f}°)"
-    return f"{value / 9.81:.3f} g"
 
 
 def fmt_diff(choice) -> str:
@@ -99,8 +86,8 @@ def main(argv=None) -> int:
         q = scene.question.kind + (f" @{scene.question.sensor or 'node ' + str(scene.node)}"
                                    if scene.node else "")
         model = c.model if c.model == c.a_priori_model else f"{c.model} ({c.a_priori_model})"
-        row = [f"`{path.name}`", q, model, fmt(c.answer, c.unit), c.verified_against or "–",
-               fmt(c.verified_answer, c.unit), fmt_diff(c), verdict(c), rejected(c),
+        row = [f"`{path.name}`", q, model, format_answer(c.answer, c.unit), c.verified_against or "–",
+               format_answer(c.verified_answer, c.unit) if c.verified_answer is not None else "–", fmt_diff(c), verdict(c), rejected(c),
                f"{c.time_saved_s:.3f}"]
         if args.scipy_times:
             row.append(scipy_saving(scene, c))

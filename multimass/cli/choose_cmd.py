@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 import json
-import math
 from pathlib import Path
 
-__all__ = ["register", "format_answer"]
+__all__ = ["register"]
 
 
 def register(sub) -> None:
@@ -29,22 +28,13 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def format_answer(value, unit: str) -> str:
-    """An answer for display: radians also in degrees, m/s² also in g."""
-    if unit == "verdict":
-        return "overturns" if value else "does not overturn"
-    if unit == "Hz":
-        return ", ".join(f"{f:.3f}" for f in value) + " Hz"
-    if unit == "rad":
-        return f"{value:.5f} rad ({math.degrees(value):.3f}°)"
-    return f"{value:.4g} m/s² ({value / 9.81:.3f} g)"
-
-
 def _print(choice, scene) -> None:
     print(f"{scene.name} [{scene.source}]")
     print(f"  model: {choice.model} — {choice.label}" +
           ("" if choice.model == choice.a_priori_model else
            f" (a-priori choice: {choice.a_priori_model})"))
+    from multimass.scenes import format_answer
+
     print(f"  answer ({scene.question.kind}): {format_answer(choice.answer, choice.unit)}")
     if choice.verified_against is not None:
         tol = choice.tolerance

@@ -15,7 +15,7 @@ measures the difference.
 'sdof'
 """
 
-from .choose import Choice, Comparison, choose, estimate_cost
+from .choose import Choice, Comparison, choose, estimate_cost, format_answer
 from .criteria import Verdict, assess
 from .ladder import Rung, RungAnswer, ladder
 from .reduce import Reduced, modal_reduction, rigid_equivalent, sdof
@@ -35,6 +35,7 @@ __all__ = [
     "Verdict",
     "assess",
     "choose",
+    "format_answer",
     "estimate_cost",
     "ladder",
     "modal_reduction",

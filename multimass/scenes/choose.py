@@ -29,7 +29,7 @@ from .criteria import assess
 from .ladder import BACKENDS, Rung, RungAnswer, ladder
 from .scene import Scene, Tolerance
 
-__all__ = ["Choice", "Comparison", "choose", "estimate_cost"]
+__all__ = ["Choice", "Comparison", "choose", "estimate_cost", "format_answer"]
 
 
 @dataclass(frozen=True)
@@ -126,6 +126,17 @@ class Choice:
 
     def to_json(self, **kw) -> str:
         return json.dumps(self.to_dict(), **kw)
+
+
+def format_answer(value, unit: str) -> str:
+    """An answer for display: radians also in degrees, m/s² also in g."""
+    if unit == "verdict":
+        return "overturns" if value else "does not overturn"
+    if unit == "Hz":
+        return ", ".join(f"{f:.3f}" for f in value) + " Hz"
+    if unit == "rad":
+        return f"{value:.5f} rad ({math.degrees(value):.3f}°)"
+    return f"{value:.4g} m/s² ({value / 9.81:.3f} g)"
 
 
 def _jsonable(x):
