@@ -14,11 +14,17 @@ __all__ = ["Recorder"]
 
 
 class Recorder:
-    """Rows of (t, phase, force, y, transition loss so far) and per-half-cycle peaks."""
+    """Blocks of rows (t, y) sharing a phase, a force and the transition loss so far;
+    per-half-cycle peaks.
+
+    Rows are kept as whole blocks (one per segment, hold or transition), not one
+    Python object per sample: building the `Response` is then vectorised.
+    """
 
     def __init__(self, st, mdl: Model, output_dt, ag):
         self.st, self.mdl, self.dt, self.ag = st, mdl, output_dt, ag
-        self.rows_t, self.rows_y, self.rows_phase, self.rows_force, self.rows_loss = [], [], [], [], []
+        self.blocks: list[tuple[np.ndarray, np.ndarray, int, ActiveForce | None, float]] = []
+        self.last_t = None
         self.loss = 0.0
         self.peaks, self.peak_times = [], []
         self.cand = None          # (|θ|, t) of the current half-cycle
@@ -38,18 +44,21 @@ class Recorder:
         pts = pts[(pts > t0) & (pts < t1 - 1e-12 * max(1.0, abs(t1)))]
         return np.concatenate([pts, end])
 
+    def _block(self, t, Y, phase, force):
+        """Rows at times `t` (k,) with states `Y` (k, dim)."""
+        t = np.asarray(t, dtype=float).reshape(-1)
+        if t.size:
+            Y = np.array(Y, dtype=float).reshape(t.size, -1)
+            self.blocks.append((t, Y, phase, force, self.loss))
+            self.last_t = float(t[-1])
+
     def _row(self, t, y, phase, force):
-        self.rows_t.append(float(t))
-        self.rows_y.append(np.array(y, dtype=float))
-        self.rows_phase.append(phase)
-        self.rows_force.append(force)
-        self.rows_loss.append(self.loss)
+        self._block([t], [y], phase, force)
 
     def segment(self, sol, rhs, phase, force, names):
         """Store one solve_ivp segment and its θ̇ = 0 (peak) events."""
         if np.size(sol.t):
-            for t, y in zip(sol.t, np.asarray(sol.y).T):
-                self._row(t, y, phase, force)
+            self._block(sol.t, np.asarray(sol.y).T, phase, force)
         if phase and "peak" in names:
             k = names.index("peak")
             n = self.st.n
@@ -58,8 +67,8 @@ class Recorder:
 
     def hold(self, t0, t1, y):
         """A rigid body at rest: constant rows on the output grid in (t0, t1]."""
-        for t in self.grid(t0, t1, with_end=False):
-            self._row(t, y, 0, None)
+        t = self.grid(t0, t1, with_end=False)
+        self._block(t, np.broadcast_to(np.asarray(y, dtype=float), (t.size, len(y))), 0, None)
 
     def add_loss(self, loss: float):
         """Energy lost in an instantaneous transition (J)."""
@@ -86,7 +95,7 @@ class Recorder:
 
     def finish(self, t, y, phase):
         """Close the last half-cycle at the end of the run."""
-        if self.rows_t and self.rows_t[-1] == t and self.cand is None:
+        if self.last_t is not None and self.last_t == t and self.cand is None:
             return
         self.end_phase(t, y, phase)
 
@@ -129,20 +138,26 @@ class Recorder:
 
     def response(self, name, status, message, events, wall, options, n_rhs, t_end) -> Response:
         n = self.st.n
-        Y = np.array(self.rows_y)
-        t = np.array(self.rows_t)
+        sizes = [b[0].size for b in self.blocks]
+        t = np.concatenate([b[0] for b in self.blocks])
+        Y = np.concatenate([b[1] for b in self.blocks])
+        groups: dict = {}                  # (phase, id(force)) -> group number
+        kinds, codes = [], []              # (phase, force) per group; group per block
+        for _, _, p, f, _ in self.blocks:
+            g = groups.setdefault((int(p), id(f)), len(groups))
+            if g == len(kinds):
+                kinds.append((int(p), f))
+            codes.append(g)
+        code = np.repeat(codes, sizes)
+        phase = np.repeat([int(b[2]) for b in self.blocks], sizes)
+        loss = np.repeat([b[4] for b in self.blocks], sizes)
         order = np.argsort(t, kind="stable")
-        Y, t = Y[order], t[order]
-        phase = np.array(self.rows_phase)[order]
-        force = [self.rows_force[i] for i in order]
-        loss = np.array(self.rows_loss)[order]
+        Y, t, phase, loss, code = Y[order], t[order], phase[order], loss[order], code[order]
         ag, F, T, V, U = (np.zeros(t.size) for _ in range(5))
         A = np.zeros((t.size, n))
-        keys = [(int(p), id(f)) for p, f in zip(phase, force)]
-        for key in set(keys):
-            rows = np.array([k == key for k in keys])
-            f = force[int(np.argmax(rows))]
-            ag[rows], F[rows], A[rows], T[rows], V[rows], U[rows] = self._derived(key[0], f, t[rows], Y[rows])
+        for g, (p, f) in enumerate(kinds):
+            rows = code == g
+            ag[rows], F[rows], A[rows], T[rows], V[rows], U[rows] = self._derived(p, f, t[rows], Y[rows])
         D, Wg, WF = Y[:, -3], Y[:, -2], Y[:, -1]
         impact = WF + loss
         E = T + V + U

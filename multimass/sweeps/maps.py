@@ -258,9 +258,12 @@ def _row(w, a, result, grid):
 
 def _refine(rows, omega_p, rounds, cells_for, executor, progress) -> dict:
     """Bisect, in amplitude, every grid interval whose ends differ in overturning."""
+    columns: dict[float, list] = {}                   # rows by ω/p: one pass, not one per ω/p
+    for r in rows:
+        columns.setdefault(r["omega_p"], []).append(r)
     segments = []
     for w in omega_p:
-        col = sorted((r for r in rows if r["omega_p"] == float(w)), key=lambda r: r["amp"])
+        col = sorted(columns.get(float(w), ()), key=lambda r: r["amp"])
         for lo, hi in zip(col, col[1:]):
             if (lo["outcome"] == "overturned") != (hi["outcome"] == "overturned"):
                 segments.append([float(w), lo["amp"], hi["amp"], lo["outcome"], hi["outcome"]])
