@@ -17,7 +17,7 @@ Several sweeps on one pool (it starts once)::
         b = run_jobs(simulate_one, jobs_b, executor=ex)
 """
 
-from .engine import ExecutorError, JobError, default_batch_size, run_jobs
+from .engine import ExecutorError, JobError, batch_plan, run_jobs
 from .base import Executor, available_workers
 from .dask_executor import DaskExecutor
 from .executors import EXECUTORS, ProcessExecutor, SerialExecutor, get_executor
@@ -27,7 +27,7 @@ __all__ = [
     "run_jobs",
     "job_seeds",
     "get_executor",
-    "default_batch_size",
+    "batch_plan",
     "available_workers",
     "EXECUTORS",
     "Executor",

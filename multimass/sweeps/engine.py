@@ -1,6 +1,6 @@
 """The sweep driver: run a list of independent jobs in batches on an executor.
 
-`run_jobs` splits the jobs into strided batches, sends each batch to the
+`run_jobs` splits the jobs into batches (`batch_plan`), sends each batch to the
 executor as one task, shows a progress bar as batches finish and returns the
 results in job order. A job that raises stops the sweep with a `JobError`
 naming the job's index, its original exception chained.
@@ -22,16 +22,20 @@ from ..errors import InputError
 from .base import Executor
 from .executors import get_executor
 
-__all__ = ["run_jobs", "default_batch_size", "JobError", "ExecutorError"]
+__all__ = ["run_jobs", "batch_plan", "JobError", "ExecutorError"]
 
-#: Default batches per worker: enough to balance jobs of unequal cost and to
-#: move the progress bar, few enough that the per-task cost stays negligible
-#: (measured on a busy 2-core machine: ~0.2-0.5 ms per task for the process
-#: pool, ~5-9 ms for a local Dask cluster; benchmarks/sweep_overhead.py).
-#: 16 rather than 4: on the 100 x 100 B6M map (compiled, warm pools) the 2-worker
-#: speed-up rose from 1.4-1.8 (median 1.6) to 1.5-2.2 (median 1.9), the shorter
-#: tail of the last batches outweighing 24 more tasks per worker.
-BATCHES_PER_WORKER = 16
+#: Default plan, guided self-scheduling (Polychronopoulos & Kuck, IEEE Trans.
+#: Computers C-36(12), 1987) over strided stripes: the jobs are dealt into
+#: STRIPES_PER_WORKER · workers stripes (stripe k: jobs k, k + S, k + 2S, ...,
+#: each a sample of the whole grid, since neighbouring jobs often cost alike),
+#: and each batch takes 1/(GUIDED_DIVISOR · workers) of the stripes not yet
+#: sent, at least one. Large batches first keep the task count low (~27 for 2
+#: workers; per-task cost ~0.2-0.5 ms for the process pool, ~5-9 ms for a local
+#: Dask cluster, benchmarks/sweep_overhead.py); single stripes last keep the
+#: tail short: on the 100 x 100 B6M map the last batch is 78 cells (~40 ms)
+#: instead of 313 with 16 equal batches per worker.
+STRIPES_PER_WORKER = 64
+GUIDED_DIVISOR = 4
 #: Sweeps with more jobs than this show a progress bar by default (on a terminal).
 PROGRESS_MIN_JOBS = 50
 
@@ -85,37 +89,71 @@ class _Failure:
 
 
 class _Batch:
-    """Jobs ``start, start + step, start + 2·step, ...`` sent as one task.
+    """The jobs sent as one task (their positions stay with the driver).
 
-    Strided, not contiguous: neighbouring jobs of a grid often cost alike
-    (a region of an overturning map that overturns early), so striding gives
-    every batch a similar mix and the workers finish together. An opaque
-    object, so that Dask does not search the jobs for tasks or futures.
+    An opaque object, so that Dask does not search the jobs for tasks or futures.
     """
 
-    __slots__ = ("start", "step", "jobs")
+    __slots__ = ("jobs",)
 
-    def __init__(self, start: int, step: int, jobs: list):
-        self.start, self.step, self.jobs = start, step, jobs
+    def __init__(self, jobs: list):
+        self.jobs = jobs
 
     def __reduce__(self):
-        return _Batch, (self.start, self.step, self.jobs)
+        return _Batch, (self.jobs,)
 
 
 def _run_batch(func: Callable, batch: _Batch) -> list | _Failure:
-    """Apply `func` to each job of a batch; stop at the first job that raises."""
+    """Apply `func` to each job of a batch; stop at the first job that raises.
+
+    A `_Failure` carries the job's position within the batch.
+    """
     out = []
     for k, job in enumerate(batch.jobs):
         try:
             out.append(func(job))
         except Exception as exc:
-            return _Failure(batch.start + k * batch.step, exc, traceback.format_exc())
+            return _Failure(k, exc, traceback.format_exc())
     return out
 
 
-def default_batch_size(n_jobs: int, workers: int) -> int:
-    """Jobs per batch: ceil(n_jobs / (BATCHES_PER_WORKER · workers)), at least 1."""
-    return max(1, math.ceil(n_jobs / (BATCHES_PER_WORKER * workers)))
+def _strided(n_jobs: int, n_batches: int) -> list[range]:
+    return [range(k, n_jobs, n_batches) for k in range(n_batches)]
+
+
+def batch_plan(n_jobs: int, workers: int, batch_size: int | None = None) -> list[list[int]]:
+    """The positions of the jobs in each batch, in the order the batches are sent.
+
+    Parameters
+    ----------
+    n_jobs, workers : int
+    batch_size : int, optional
+        Most jobs per batch: ``B = ceil(n_jobs / batch_size)`` strided batches
+        of equal size (±1), batch k holding jobs k, k + B, k + 2B, ...
+        Default: guided self-scheduling over ``S = min(n_jobs,
+        STRIPES_PER_WORKER · workers)`` strided stripes, each batch taking
+        ``ceil(R / (GUIDED_DIVISOR · workers))`` of the R stripes left.
+
+    Returns
+    -------
+    list of list of int
+        Every position in ``range(n_jobs)`` exactly once.
+
+    Examples
+    --------
+    >>> from multimass.sweeps import batch_plan
+    >>> batch_plan(10, 1, batch_size=3)
+    [[0, 4, 8], [1, 5, 9], [2, 6], [3, 7]]
+    """
+    if batch_size is not None:
+        return [list(b) for b in _strided(n_jobs, math.ceil(n_jobs / batch_size))]
+    stripes = _strided(n_jobs, min(n_jobs, STRIPES_PER_WORKER * workers))
+    plan = []
+    while stripes:
+        take = math.ceil(len(stripes) / (GUIDED_DIVISOR * workers))
+        plan.append([i for stripe in stripes[:take] for i in stripe])
+        stripes = stripes[take:]
+    return plan
 
 
 def _validate_batch_size(batch_size: Any) -> int | None:
@@ -144,12 +182,12 @@ class _Bar(tqdm):
     monitor_interval = 0
 
 
-def _raise_job_error(fail: _Failure, n_jobs: int, executor: Executor):
+def _raise_job_error(fail: _Failure, index: int, n_jobs: int, executor: Executor):
     exc = fail.exc
     if fail.remote:  # the pickled exception lost its traceback: chain the worker's text
         exc.__cause__ = _RemoteTraceback(f'\n"""\n{fail.tb}"""')
-    raise JobError(f"job {fail.index} of {n_jobs} failed in the `{executor.name}` executor: "
-                   f"{type(exc).__name__}: {exc}", fail.index) from exc
+    raise JobError(f"job {index} of {n_jobs} failed in the `{executor.name}` executor: "
+                   f"{type(exc).__name__}: {exc}", index) from exc
 
 
 def run_jobs(func: Callable[[Any], Any], jobs: Iterable[Any], *,
@@ -177,9 +215,9 @@ def run_jobs(func: Callable[[Any], Any], jobs: Iterable[Any], *,
         Workers of an executor created here; default all cores (Dask: the
         cluster's worker threads).
     batch_size : int, optional
-        Most jobs per task; default `default_batch_size` (about sixteen batches
-        per worker). Batches are strided: with B batches, batch k holds jobs
-        k, k + B, k + 2B, ...
+        Most jobs per task, in strided batches: with B batches, batch k holds
+        jobs k, k + B, k + 2B, ... Default: guided self-scheduling, large
+        batches first and small ones last (see `batch_plan`).
     progress : bool, optional
         Show a tqdm bar on stderr, advanced per finished batch. Default:
         only if there are more than 50 jobs and stderr is a terminal.
@@ -218,17 +256,17 @@ def run_jobs(func: Callable[[Any], Any], jobs: Iterable[Any], *,
         if not jobs:
             return []
         ex.prepare(func)
-        size = batch_size or default_batch_size(len(jobs), ex.workers)
-        n_batches = math.ceil(len(jobs) / size)
-        batches = [_Batch(k, n_batches, jobs[k::n_batches]) for k in range(n_batches)]
-        return _drive(func, batches, len(jobs), ex, show, desc)
+        plan = batch_plan(len(jobs), ex.workers, batch_size)
+        return _drive(func, plan, jobs, ex, show, desc)
     finally:
         if owned:
             ex.close()
 
 
-def _drive(func, batches, n_jobs, ex: Executor, show: bool, desc: str | None) -> list:
-    """Run the batches on `ex`, fill the results in order, advance the bar."""
+def _drive(func, plan, jobs, ex: Executor, show: bool, desc: str | None) -> list:
+    """Run the batches of `plan` on `ex`, fill the results in order, advance the bar."""
+    n_jobs = len(jobs)
+    batches = [_Batch([jobs[i] for i in index]) for index in plan]
     results: list = [None] * n_jobs
     bar = _Bar(total=n_jobs, desc=desc, unit="job", file=sys.stderr, disable=not show)
     stream = None
@@ -236,14 +274,15 @@ def _drive(func, batches, n_jobs, ex: Executor, show: bool, desc: str | None) ->
     try:
         stream = iter(ex.map_unordered(partial(_run_batch, func), batches))
         for pos, out in stream:
+            index = plan[pos]
             if isinstance(out, _Failure):
-                _raise_job_error(out, n_jobs, ex)
-            batch = batches[pos]
-            size = len(batch.jobs)
+                _raise_job_error(out, index[out.index], n_jobs, ex)
+            size = len(index)
             if not isinstance(out, list) or len(out) != size:
                 raise ExecutorError(f"the `{ex.name}` executor returned {type(out).__name__} "
                                     f"for batch {pos}; expected a list of {size} results")
-            results[batch.start::batch.step] = out
+            for i, r in zip(index, out):
+                results[i] = r
             done += size
             bar.update(size)
     except (JobError, ExecutorError):

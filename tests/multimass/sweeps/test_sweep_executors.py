@@ -22,7 +22,7 @@ from multimass.sweeps import (
     JobError,
     ProcessExecutor,
     SerialExecutor,
-    default_batch_size,
+    batch_plan,
     get_executor,
     job_seeds,
     run_jobs,
@@ -258,7 +258,9 @@ def test_users_own_executor_class_and_instance():
         [i * i for i in range(10)]
     ex = ReversedExecutor(workers=2)
     assert run_jobs(square, range(17), executor=ex) == [i * i for i in range(17)]
-    assert ex.tasks == 17         # ceil(17 / (16·2)) = 1 job per batch → 17 batches
+    # guided plan: min(17, 64·2) = 17 stripes of one job; batches take ceil(R / (4·2))
+    # of the R left: 3, 2, 2, 2, then 8 single stripes → 12 tasks
+    assert ex.tasks == 12
 
 
 class RecordingExecutor(ReversedExecutor):
@@ -274,12 +276,29 @@ def test_batches_are_strided_and_no_larger_than_batch_size():
     assert ex.batches == [[0, 4, 8], [1, 5, 9], [2, 6], [3, 7]]
 
 
-def test_default_batch_size_rule():
-    # closed form: ceil(n / (16·workers)), at least 1
-    assert default_batch_size(400, 2) == 13
-    assert default_batch_size(10_000, 2) == 313
-    assert default_batch_size(17, 2) == 1
-    assert default_batch_size(1, 1) == 1
+@pytest.mark.parametrize("n_jobs, workers", [(1, 1), (17, 2), (400, 2), (10_000, 2), (999, 3)])
+def test_guided_plan_covers_every_job_once_large_batches_first(n_jobs, workers):
+    plan = batch_plan(n_jobs, workers)
+    assert sorted(i for b in plan for i in b) == list(range(n_jobs))
+    n_stripes = min(n_jobs, 64 * workers)                   # STRIPES_PER_WORKER · workers
+    stripes = [range(k, n_jobs, n_stripes) for k in range(n_stripes)]
+    left, at = n_stripes, 0
+    for batch in plan:                  # each batch: the next ceil(R / (4·workers)) stripes
+        take = -(-left // (4 * workers))
+        assert batch == [i for s in stripes[at:at + take] for i in s]
+        left, at = left - take, at + take
+    assert left == 0
+    sizes = [len(b) for b in plan]
+    assert sizes == sorted(sizes, reverse=True)
+
+
+def test_guided_plan_for_the_100x100_map_on_two_workers():
+    # hand count: 128 stripes of 78-79 jobs; first batch 16 stripes (the first 16
+    # stripes hold 79 jobs each), last batches one stripe (78 jobs) each
+    plan = batch_plan(10_000, 2)
+    assert len(plan[0]) == 16 * 79 and plan[0][:3] == [0, 128, 256]
+    assert [len(b) for b in plan[-8:]] == [78] * 8
+    assert len(plan) == 26
 
 
 def test_an_executor_that_loses_batches_is_caught():
