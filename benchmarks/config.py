@@ -2,7 +2,7 @@
 
 Every size (durations, tolerances, time steps, grids, repeats) lives here, so
 the modules that measure and chart never hard-code a budget. Measured on a
-shared 2-core machine: the full run takes ~8 min, the quick run ~2 min, the
+shared 2-core machine: the full run takes ~10 min, the quick run ~2 min, the
 smoke run (structure checks in the test suite) ~15 s.
 """
 
@@ -52,6 +52,9 @@ class Config:
         scaled to the grid); None: every cell.
     repeats : int
         Repeats of the target ratios (median and spread reported).
+    spin_steps : int
+        Length of each of the 32 pure-Python tasks that measure the machine's own
+        2-worker scaling after each map pair (1e6: ~0.08 s per task here).
     cold_compile : bool
         Time the numba compilation in a fresh process with an empty cache.
     min_time_s, max_repeat :
@@ -78,7 +81,8 @@ class Config:
     stiffness_rtol: float = 1e-6
     map_n: int = 100
     baseline_cells: int | None = 1000
-    repeats: int = 3
+    repeats: int = 5
+    spin_steps: int = 1_000_000
     cold_compile: bool = True
     min_time_s: float = 0.3
     max_repeat: int = 3
@@ -91,14 +95,14 @@ QUICK = Config(
     ref_atol=1e-13, column_t_end=3.0, block_t_end=2.0, lcp_t_end=2.0, nscd_t_end=2.0,
     newmark_dts=(1e-2, 1e-3, 1e-4), mj_dts=(1e-3, 1e-4, 1e-5), nscd_exponents=(2,),
     nscd_ref_dt=1e-6, stiffness_scales=(1.0, 100.0, 1e3), stiffness_t_end=0.5, map_n=30,
-    baseline_cells=None, repeats=2, cold_compile=False, min_time_s=0.1, max_repeat=2)
+    baseline_cells=None, repeats=2, spin_steps=300_000, cold_compile=False, min_time_s=0.1, max_repeat=2)
 
 SMOKE = Config(
     "smoke", rtols=(1e-4,), rtols_implicit=(1e-4,), ref_rtol=1e-9, ref_atol=1e-11,
     target_t_end=0.6, column_t_end=0.6, block_t_end=0.8, lcp_t_end=0.8, nscd_t_end=0.8,
     newmark_dts=(1e-3,), mj_dts=(1e-3,), nscd_exponents=(2,), nscd_ref_dt=1e-4,
-    stiffness_scales=(1.0, 10.0), stiffness_t_end=0.2, map_n=3, baseline_cells=None, repeats=1, cold_compile=False,
-    min_time_s=0.0, max_repeat=1)
+    stiffness_scales=(1.0, 10.0), stiffness_t_end=0.2, map_n=3, baseline_cells=None, repeats=1, spin_steps=1_000,
+    cold_compile=False, min_time_s=0.0, max_repeat=1)
 
 _PRESETS = {c.name: c for c in (FULL, QUICK, SMOKE)}
 

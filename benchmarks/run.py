@@ -69,7 +69,8 @@ def _targets(cfg: Config, say) -> dict:
     say("targets: S1 DD2 single run")
     single = single_speedup(cfg.repeats, cfg.target_t_end, cfg.ref_rtol, cfg.ref_atol)
     say("targets: B6M sine map")
-    mp = map_speedup(cfg.map_n, cfg.baseline_cells, cfg.repeats, progress=say)
+    mp = map_speedup(cfg.map_n, cfg.baseline_cells, cfg.repeats, progress=say,
+                     spin_steps=cfg.spin_steps)
     default = single["output_dt=1e-3 (default)"]
     values = {"speedup_single": default["speedup"]["median"],
               "peak_error_rad": default["peak_error_rad"]["compiled"],

@@ -51,6 +51,10 @@ def _targets(res: dict) -> list[str]:
               f"Best times: speed-up {mp['best_of']['speedup_map']:.3g}, 2-worker scaling "
               f"{mp['best_of']['scaling_2_workers']:.3g}; 1-min load average before each map "
               + ", ".join(f"{x:.2f}" for x in mp["load_average_before_each_map"]) + "."]
+    if "machine_scaling" in mp:
+        lines.append(f"- The machine's own 2-worker scaling (a pure-Python loop on the same pools, "
+                     f"after each map pair): {_spread(mp['machine_scaling'])}, what the machine allowed at "
+                     "that moment.")
     return lines
 
 

@@ -13,6 +13,11 @@
   pool on all cores (2 here), warm. The loop may be timed on a seeded random
   subsample of the cells and scaled to the grid (said in the output).
 * ``scaling_2_workers`` — the compiled map on a warm pool of 1 worker over 2.
+  The pools take turns in ABBA order (1, 2, 2, 1, ...), so a slow drift of the
+  machine's speed hits both alike. ``machine_scaling``: the same pools run a
+  pure-Python loop of fixed length (no I/O, no memory traffic), 1 worker over 2,
+  right after each map pair: the ceiling this machine allows at that moment, so
+  a low map scaling can be told apart from a busy or throttled machine.
 
 Each ratio is measured `repeats` times: median, min and max are reported, and
 for the map the ratio of the best (shortest) times and the 1-minute load
@@ -35,7 +40,7 @@ import time
 
 import numpy as np
 
-__all__ = ["compile_times", "single_speedup", "map_speedup", "map_axes", "spread", "TARGETS"]
+__all__ = ["compile_times", "single_speedup", "map_speedup", "map_axes", "spread", "spin", "TARGETS"]
 
 #: issue 7's thresholds
 TARGETS = {"speedup_single": 30.0, "peak_error_rad": 1e-6, "speedup_map": 50.0,
@@ -136,8 +141,25 @@ def _baseline(block, cells, t_free: float, restitution: str) -> tuple[float, lis
     return time.perf_counter() - t0, outcomes
 
 
+def spin(n: int) -> int:
+    """A pure-Python loop of `n` steps: CPU only, for the machine's own scaling."""
+    s = 0
+    for i in range(n):
+        s += i * i % 7
+    return s
+
+
+def _machine_scaling(pools: dict, tasks: int = 32, steps: int = 1_000_000) -> float:
+    """1-worker over 2-worker wall time of `tasks` spin tasks (~3 s on 1 worker here)."""
+    from multimass.sweeps import run_jobs
+
+    t = {w: _timed(lambda: run_jobs(spin, [steps] * tasks, executor=ex, batch_size=1,
+                                    progress=False))[0] for w, ex in pools.items()}
+    return t[1] / t[2]
+
+
 def map_speedup(n: int, baseline_cells: int | None, repeats: int, seed: int = 7,
-                progress=None) -> dict:
+                progress=None, spin_steps: int = 1_000_000) -> dict:
     """Compiled map (1 and 2 workers, warm pools) against the solve_ivp loop; see module doc."""
     import multimass
     from multimass.sweeps import ProcessExecutor
@@ -150,16 +172,18 @@ def map_speedup(n: int, baseline_cells: int | None, repeats: int, seed: int = 7,
     run_map = lambda ex: overturning_map(block, "sine", omega_p, amp, restitution=rest,  # noqa: E731
                                          t_free=t_free, executor=ex, progress=False)
     pools, times = {w: ProcessExecutor(workers=w) for w in (1, 2)}, {1: [], 2: []}
-    load = []
+    load, ceiling = [], []
     try:
         cold = {w: _timed(lambda: run_map(ex))[0] for w, ex in pools.items()}   # start + cache load
         say(f"map {n}x{n}: first map (pool start, cache load) {cold}")
-        for _ in range(repeats):
-            for w, ex in pools.items():
+        for r in range(repeats):
+            for w in ((1, 2) if r % 2 == 0 else (2, 1)):                     # ABBA
                 load.append(os.getloadavg()[0])
-                sec, m = _timed(lambda: run_map(ex))
+                sec, m = _timed(lambda: run_map(pools[w]))
                 times[w].append(sec)
-            say(f"map {n}x{n}: 1 worker {times[1][-1]:.2f} s, 2 workers {times[2][-1]:.2f} s")
+            ceiling.append(_machine_scaling(pools, steps=spin_steps))
+            say(f"map {n}x{n}: 1 worker {times[1][-1]:.2f} s, 2 workers {times[2][-1]:.2f} s, "
+                f"machine scaling {ceiling[-1]:.2f}")
         serial_sec, m_serial = _timed(lambda: run_map("serial"))
     finally:
         for ex in pools.values():
@@ -184,6 +208,7 @@ def map_speedup(n: int, baseline_cells: int | None, repeats: int, seed: int = 7,
         "speedup_map": spread([base_full / t for t in times[2]]),
         "speedup_map_1_worker": spread([base_full / t for t in times[1]]),
         "scaling_2_workers": spread([a / b for a, b in zip(times[1], times[2])]),
+        "machine_scaling": spread(ceiling),
         "best_of": {"speedup_map": base_full / min(times[2]),
                     "scaling_2_workers": min(times[1]) / min(times[2])},
         "load_average_before_each_map": load,

@@ -22,7 +22,7 @@ def register(sub) -> None:
                     "Newmark + Newton-Raphson, Moreau-Jean) at several tolerances or time steps "
                     "against tight references; detect where methods fail; measure the speed "
                     "targets. Writes bench.json, CSV/Markdown tables and PNG charts to --out. "
-                    "Full run ~8 min on 2 cores; --quick ~2 min.")
+                    "Full run ~10 min on 2 cores; --quick ~2 min.")
     size = p.add_mutually_exclusive_group()
     size.add_argument("--quick", action="store_true",
                       help="fewer tolerances, shorter runs, a 30x30 map (~2 min)")

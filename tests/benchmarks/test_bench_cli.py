@@ -42,6 +42,17 @@ def test_bench_json_structure(tmp_path, capsys):
                  "wp_S1_DD2.png", "wp_lcp_block.png", "wp_nscd.png"):
         assert (out / name).is_file(), name
     assert json.loads((out / "bench.json").read_text())["charts"] == res["charts"]
+    # the map's ratios, ABBA-timed, and the machine's own scaling beside them
+    mp = res["targets"]["map"]
+    assert len(mp["scaling_2_workers"]["values"]) == len(mp["machine_scaling"]["values"]) == 1
+    assert "machine's own 2-worker scaling" in (out / "summary.md").read_text()
+
+
+def test_spin_is_the_loop_it_says():
+    # closed form: i² mod 7 over one period of 7 is 0+1+4+2+2+4+1 = 14
+    from benchmarks.targets import spin
+
+    assert spin(700) == 1400 and spin(7) == 14 and spin(0) == 0
 
 
 def test_bench_rejects_quick_with_smoke(capsys):
