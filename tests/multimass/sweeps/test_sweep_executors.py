@@ -292,6 +292,14 @@ def test_guided_plan_covers_every_job_once_large_batches_first(n_jobs, workers):
     assert sizes == sorted(sizes, reverse=True)
 
 
+@pytest.mark.parametrize("args, field", [((10, 0), "workers"), ((-1, 2), "n_jobs"),
+                                         ((10.0, 2), "n_jobs"), ((10, True), "workers"),
+                                         ((10, 2, 0), "batch_size")])
+def test_batch_plan_rejects_bad_sizes(args, field):
+    with pytest.raises(InputError, match=f"`{field}`"):
+        batch_plan(*args)
+
+
 def test_guided_plan_for_the_100x100_map_on_two_workers():
     # hand count: 128 stripes of 78-79 jobs; first batch 16 stripes (the first 16
     # stripes hold 79 jobs each), last batches one stripe (78 jobs) each
