@@ -95,7 +95,7 @@ QUICK = Config(
     ref_atol=1e-13, column_t_end=3.0, block_t_end=2.0, lcp_t_end=2.0, nscd_t_end=2.0,
     newmark_dts=(1e-2, 1e-3, 1e-4), mj_dts=(1e-3, 1e-4, 1e-5), nscd_exponents=(2,),
     nscd_ref_dt=1e-6, stiffness_scales=(1.0, 100.0, 1e3), stiffness_t_end=0.5, map_n=30,
-    baseline_cells=None, repeats=2, spin_steps=300_000, cold_compile=False, min_time_s=0.1, max_repeat=2)
+    baseline_cells=None, repeats=2, cold_compile=False, min_time_s=0.1, max_repeat=2)
 
 SMOKE = Config(
     "smoke", rtols=(1e-4,), rtols_implicit=(1e-4,), ref_rtol=1e-9, ref_atol=1e-11,

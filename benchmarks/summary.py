@@ -14,6 +14,10 @@ def _fmt(x, spec=".3g") -> str:
     return "—" if x is None else format(x, spec)
 
 
+def _verdict(passed) -> str:
+    return "— (smaller case than the target's)" if passed is None else "yes" if passed else "NO"
+
+
 def _spread(d: dict) -> str:
     return f"{d['median']:.3g} [{d['min']:.3g}–{d['max']:.3g}]"
 
@@ -35,7 +39,7 @@ def _targets(res: dict) -> list[str]:
     for k, lab in _LABELS.items():
         op = "≤" if k == "peak_error_rad" else "≥"
         lines.append(f"| {lab} | {reps[k]} | {op} {t['thresholds'][k]:g} | "
-                     f"{'yes' if t['pass'][k] else 'NO'} |")
+                     f"{_verdict(t['pass'][k])} |")
     nodt = t["single"]["output_dt=None"]
     base = mp["baseline"]
     lines += ["", f"- {t['single']['case']}: solve_ivp {_spread(single['scipy_s'])} s, compiled "

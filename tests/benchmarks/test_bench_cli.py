@@ -26,6 +26,8 @@ def test_bench_json_structure(tmp_path, capsys):
     for key in HEADLINE:
         assert isinstance(res[key], float) and res[key] > 0
     assert set(res["targets"]["pass"]) == set(HEADLINE)
+    # the smoke case is smaller than issue 7's: measured, not judged
+    assert all(v is None for v in res["targets"]["pass"].values())
     rows = res["rows"]
     assert {r["model"] for r in rows} == MODELS
     for r in rows:
@@ -58,3 +60,13 @@ def test_spin_is_the_loop_it_says():
 def test_bench_rejects_quick_with_smoke(capsys):
     with pytest.raises(SystemExit):
         main(["bench", "--quick", "--smoke", "--out", "x"])
+
+
+def test_the_full_run_measures_the_target_cases():
+    # issue 7: S1 DD2 release for 10 s, the 100 x 100 B6M map
+    from benchmarks.config import preset
+    from benchmarks.targets import TARGET_CASE
+
+    full = preset("full")
+    assert TARGET_CASE == {"t_end": 10.0, "map_n": 100}
+    assert (full.target_t_end, full.map_n) == (TARGET_CASE["t_end"], TARGET_CASE["map_n"])
