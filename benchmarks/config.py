@@ -2,7 +2,7 @@
 
 Every size (durations, tolerances, time steps, grids, repeats) lives here, so
 the modules that measure and chart never hard-code a budget. Measured on a
-shared 2-core machine: the full run takes ~10 min, the quick run ~2 min, the
+shared 2-core machine: the full run takes ~10 min, the quick run ~2.5 min, the
 smoke run (structure checks in the test suite) ~15 s.
 """
 

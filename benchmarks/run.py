@@ -139,7 +139,7 @@ def run_bench(cfg: Config, out: Path, progress=None) -> dict:
 def main(argv=None) -> dict:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     size = p.add_mutually_exclusive_group()
-    size.add_argument("--quick", action="store_true", help="~1-2 min: fewer levels, 30x30 map")
+    size.add_argument("--quick", action="store_true", help="~2.5 min: fewer levels, 30x30 map (targets not judged)")
     size.add_argument("--smoke", action="store_true", help="seconds: structure only")
     p.add_argument("--out", type=Path, required=True)
     args = p.parse_args(argv)

@@ -22,10 +22,10 @@ def register(sub) -> None:
                     "Newmark + Newton-Raphson, Moreau-Jean) at several tolerances or time steps "
                     "against tight references; detect where methods fail; measure the speed "
                     "targets. Writes bench.json, CSV/Markdown tables and PNG charts to --out. "
-                    "Full run ~10 min on 2 cores; --quick ~2 min.")
+                    "Full run ~10 min on 2 cores; --quick ~2.5 min (targets not judged).")
     size = p.add_mutually_exclusive_group()
     size.add_argument("--quick", action="store_true",
-                      help="fewer tolerances, shorter runs, a 30x30 map (~2 min)")
+                      help="fewer tolerances, shorter runs, a 30x30 map (~2.5 min; targets shown, not judged)")
     size.add_argument("--smoke", action="store_true",
                       help="a tiny configuration that checks the pipeline (seconds; numbers meaningless)")
     p.add_argument("--out", type=Path, required=True, help="folder for the JSON, tables and charts")
