@@ -188,22 +188,28 @@ def _theta0(block, theta0):
     return math.radians(blk.reference.theta0_deg)
 
 
+def _study(kind, block, levels, ratio, run, label, progress, settings) -> Study:
+    """Run `run(level)` for each level (reported through `progress`) and compare the runs."""
+    runs = []
+    for level in levels:
+        runs.append(run(level))
+        if progress:
+            progress(f"{label(level)} done ({runs[-1].wall_time_s:.1f} s)")
+    return Study(kind, load_block(block).name, tuple(levels), tuple(runs),
+                 tuple(compare_runs(levels, runs, ratio)),
+                 {"E_Pa": runs[0].params["E_Pa"], **settings})
+
+
 def dt_study(block, dts=(1e-3, 1e-4, 1e-5, 1e-6), *, E=None, n_elements=6, t_end=4.0,
              theta0=None, progress=None, **kw) -> Study:
     """Time-step refinement (paper 002, Fig 10; dt from 1e-3 to 1e-6 s)."""
     th0 = _theta0(block, theta0)
     dts = sorted(dts, reverse=True)
-    runs = []
-    for dt in dts:
-        runs.append(simulate(block, theta0=th0, dt=dt, t_end=t_end, E=E,
-                             n_elements=n_elements, **kw))
-        if progress:
-            progress(f"dt = {dt:g} s done ({runs[-1].wall_time_s:.1f} s)")
-    ratio = dts[0] / dts[1] if len(dts) > 1 else None
-    return Study("dt", load_block(block).name, tuple(dts), tuple(runs),
-                 tuple(compare_runs(dts, runs, ratio)),
-                 {"E_Pa": runs[0].params["E_Pa"], "n_elements": n_elements, "t_end_s": t_end,
-                  "theta0_deg": math.degrees(th0)})
+    return _study("dt", block, dts, dts[0] / dts[1] if len(dts) > 1 else None,
+                  lambda dt: simulate(block, theta0=th0, dt=dt, t_end=t_end, E=E,
+                                      n_elements=n_elements, **kw),
+                  lambda dt: f"dt = {dt:g} s", progress,
+                  {"n_elements": n_elements, "t_end_s": t_end, "theta0_deg": math.degrees(th0)})
 
 
 def mesh_study(block, meshes=(3, 6, 12), *, dt=1e-5, E=None, t_end=4.0, theta0=None,
@@ -211,16 +217,11 @@ def mesh_study(block, meshes=(3, 6, 12), *, dt=1e-5, E=None, t_end=4.0, theta0=N
     """Mesh refinement (paper 002, Fig 11: 3, 6 and 12 elements)."""
     th0 = _theta0(block, theta0)
     meshes = sorted(meshes)
-    runs = []
-    for n in meshes:
-        runs.append(simulate(block, theta0=th0, dt=dt, t_end=t_end, E=E, n_elements=n, **kw))
-        if progress:
-            progress(f"{n} elements done ({runs[-1].wall_time_s:.1f} s)")
-    ratio = meshes[1] / meshes[0] if len(meshes) > 1 else None
-    return Study("mesh", load_block(block).name, tuple(meshes), tuple(runs),
-                 tuple(compare_runs(meshes, runs, ratio)),
-                 {"E_Pa": runs[0].params["E_Pa"], "dt_s": dt, "t_end_s": t_end,
-                  "theta0_deg": math.degrees(th0)})
+    return _study("mesh", block, meshes, meshes[1] / meshes[0] if len(meshes) > 1 else None,
+                  lambda n: simulate(block, theta0=th0, dt=dt, t_end=t_end, E=E, n_elements=n,
+                                     **kw),
+                  lambda n: f"{n} elements", progress,
+                  {"dt_s": dt, "t_end_s": t_end, "theta0_deg": math.degrees(th0)})
 
 
 @dataclass(frozen=True)

@@ -24,22 +24,23 @@ from .fe_beam import BeamModel, build_beam, static_deflection
 __all__ = ["System", "build_system", "flexible_modulus", "load_block", "load_beam", "csr"]
 
 
+def _load(value, cls, field: str, examples: str):
+    """A `cls` specimen from a specimen, a bundled name or a TOML path; `field` names it."""
+    spec = value if isinstance(value, cls) else specimens.load(value)
+    if not isinstance(spec, cls):
+        raise InputError(f"`{field}` = {value!r}: is a {spec.kind} specimen; give a {field} "
+                         f"(e.g. {examples})")
+    return spec
+
+
 def load_block(block) -> BlockSpecimen:
     """A `BlockSpecimen` from a specimen, a bundled name or a TOML path."""
-    spec = block if isinstance(block, BlockSpecimen) else specimens.load(block)
-    if not isinstance(spec, BlockSpecimen):
-        raise InputError(f"`block` = {block!r}: is a {spec.kind} specimen; give a block "
-                         "(e.g. B4M, B6M, B8M)")
-    return spec
+    return _load(block, BlockSpecimen, "block", "B4M, B6M, B8M")
 
 
 def load_beam(beam) -> BeamSpecimen:
     """A `BeamSpecimen` from a specimen, a bundled name or a TOML path."""
-    spec = beam if isinstance(beam, BeamSpecimen) else specimens.load(beam)
-    if not isinstance(spec, BeamSpecimen):
-        raise InputError(f"`beam` = {beam!r}: is a {spec.kind} specimen; give a beam "
-                         "(e.g. beam_mudric2024)")
-    return spec
+    return _load(beam, BeamSpecimen, "beam", "beam_mudric2024")
 
 
 def flexible_modulus(block, beam="beam_mudric2024", ratio: float = 2500.0) -> float:
