@@ -20,41 +20,22 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from scipy.integrate import solve_ivp  # noqa: E402
 
-from impact_models import housner_eta  # noqa: E402
 from multimass import Ricker, SineWave  # noqa: E402
 from multimass.flexible_oscillator import (FlexibleOscillator,  # noqa: E402
                                            simulate_oscillator)
-from multimass.poisson_block import PoissonBlock, simulate_block  # noqa: E402
+from multimass.poisson_block import PoissonBlock, housner_theta, simulate_block  # noqa: E402
 
 EPS = (0.0, 0.5, 1.0)
 STYLE = {0.0: dict(color="k", lw=1.4), 0.5: dict(color="tab:blue", lw=1.1),
          1.0: dict(color="tab:red", lw=0.9, ls="--")}
 
 
-def housner(block, ag, t_start, t_grid):
-    """Housner's model from rest at t_start, toolkit convention (θ > 0 on the right pivot).
-
-    θ̈ = −p²[sin(α sgnθ − θ) + (ag/g) cos(α sgnθ − θ)], θ̇⁺ = η_H θ̇⁻ (paper 004, Eqs 1–2, 9).
-    """
-    a, p, g, eta = block.alpha, block.p, block.g, housner_eta(block.alpha)
-    s, t, y = -np.sign(ag(t_start)), t_start, np.zeros(2)
-    out = np.zeros_like(t_grid)
-    while t < t_grid[-1]:
-        def rhs(t, y, s=s):
-            return [y[1], -p * p * (math.sin(a * s - y[0]) + ag(t) / g * math.cos(a * s - y[0]))]
-
-        def cross(t, y):
-            return y[0]
-        cross.terminal, cross.direction = True, -s
-        sol = solve_ivp(rhs, (t, t_grid[-1]), y, method="DOP853", rtol=1e-12, atol=1e-14,
-                        events=cross, dense_output=True)
-        sel = (t_grid >= t) & (t_grid <= sol.t[-1])
-        out[sel] = sol.sol(t_grid[sel])[0]
-        t, y = sol.t[-1], sol.y[:, -1].copy()
-        y[0], y[1], s = 0.0, eta * y[1], -s
-    return out
+def _save(fig, path: Path) -> Path:
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
 
 
 def sample(t, x, grid):
@@ -83,11 +64,7 @@ def figure_4(out: Path) -> Path:
     axes[0].legend(loc="upper right", fontsize=8)
     fig.suptitle("Paper 000, Fig 4: free rocking from φ0/α = 1/3, Poisson impacts (LCP)",
                  fontsize=10)
-    fig.tight_layout()
-    path = out / "fig4_free_rocking.png"
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return _save(fig, out / "fig4_free_rocking.png")
 
 
 def figure_5(out: Path) -> Path:
@@ -98,7 +75,7 @@ def figure_5(out: Path) -> Path:
     r = simulate_block(block, 0.0, t_end, ag=ag, dt_out=0.002)
     grid = np.arange(0.0, t_end, 0.002)
     t_up = math.asin(block.g * math.tan(block.alpha) / a_g) / w_g    # ag = g tan α
-    theta_h = housner(block, ag, t_up, grid)
+    theta_h = housner_theta(block, ag, t_up, 0.0, grid, side=-int(np.sign(ag(t_up))))
     phi_lcp = sample(r.t, r.phi, grid)
     diff = phi_lcp + theta_h                                         # φ = −θ
     print(f"Fig 5: max |φ_LCP − φ_Housner| / α = {np.abs(diff).max() / block.alpha:.2e} over "
@@ -118,11 +95,7 @@ def figure_5(out: Path) -> Path:
     ax2.set_ylabel("difference / α")
     ax2.set_xlabel("t (s)")
     ax2.ticklabel_format(axis="y", style="sci", scilimits=(0, 0))
-    fig.tight_layout()
-    path = out / "fig5_sine_pulse_vs_housner.png"
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return _save(fig, out / "fig5_sine_pulse_vs_housner.png")
 
 
 def figure_oscillator(out: Path) -> Path:
@@ -144,11 +117,7 @@ def figure_oscillator(out: Path) -> Path:
                  "a_g/g = 0.25, ω_g = 2π rad/s — illustrative properties", fontsize=9)
     ax2.set_ylabel("u (mm)")
     ax2.set_xlabel("t (s)")
-    fig.tight_layout()
-    path = out / "oscillator_ricker.png"
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return _save(fig, out / "oscillator_ricker.png")
 
 
 def main(argv=None):

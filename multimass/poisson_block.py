@@ -28,7 +28,7 @@ import numpy as np
 from .contact_dynamics import ContactResponse, simulate_contacts
 from .errors import InputError
 
-__all__ = ["PoissonBlock", "BlockResponse", "simulate_block"]
+__all__ = ["PoissonBlock", "BlockResponse", "simulate_block", "housner_theta"]
 
 
 def _positive(name: str, value) -> float:
@@ -248,3 +248,38 @@ def simulate_block(block: PoissonBlock, eps_p: float, t_end: float, *, phi0: flo
                             max_events=max_events, locked_dt=locked_dt,
                             breakpoints=getattr(ag, "breakpoints", ()))
     return BlockResponse(block, float(eps_p), raw)
+
+
+def housner_theta(block: PoissonBlock, ag, t_start: float, theta0: float, t_grid,
+                  eta: float | None = None, side: int | None = None) -> np.ndarray:
+    """θ(t) of the same block under Housner's classical model, the reference for Fig 5.
+
+    θ̈ = −p²[sin(α sgnθ − θ) + (ag/g) cos(α sgnθ − θ)], θ̇⁺ = η θ̇⁻ at θ = 0
+    (paper 004, Eqs 1–2; η defaults to η_H, Eq 9), in the toolkit's convention
+    (θ = −φ, θ > 0 on the right pivot), integrated with solve_ivp (DOP853, rtol
+    1e-12) independently of the LCP machinery. Starts at `t_start` from θ0 at rest
+    on the pivot `side` (default sgn θ0). Returns θ on `t_grid` (0 before t_start).
+    """
+    from scipy.integrate import solve_ivp
+
+    from impact_models import housner_eta
+
+    a, p, g = block.alpha, block.p, block.g
+    eta = housner_eta(a) if eta is None else eta
+    s = side if side is not None else np.sign(theta0)
+    t, y, out = t_start, np.array([theta0, 0.0]), np.zeros_like(t_grid)
+    t_end = t_grid[-1]
+    while t < t_end:
+        def rhs(t, y, s=s):                                    # paper 004, Eq 1
+            return [y[1], -p * p * (math.sin(a * s - y[0]) + ag(t) / g * math.cos(a * s - y[0]))]
+
+        def cross(t, y):
+            return y[0]
+        cross.terminal, cross.direction = True, -s
+        sol = solve_ivp(rhs, (t, t_end), y, method="DOP853", rtol=1e-12, atol=1e-14,
+                        events=cross, dense_output=True)
+        sel = (t_grid >= t) & (t_grid <= sol.t[-1])
+        out[sel] = sol.sol(t_grid[sel])[0]
+        t, y = sol.t[-1], sol.y[:, -1].copy()
+        y[0], y[1], s = 0.0, eta * y[1], -s                    # paper 004, Eq 2
+    return out

@@ -4,40 +4,12 @@ import math
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
 
 from impact_models import housner_eta
 import multimass
 from multimass import InputError
 from multimass import SineWave
-from multimass.poisson_block import PoissonBlock, _BlockModel, simulate_block
-
-
-def housner(block, ag, t_start, theta0, t_grid, eta, side=None):
-    """Housner's rocking block, an independent reference (paper 004, Eqs 1–2, 9).
-
-    θ̈ = −p²[sin(α sgnθ − θ) + (ag/g) cos(α sgnθ − θ)], θ̇⁺ = η θ̇⁻ at θ = 0, in the
-    toolkit's convention (θ > 0 on the right pivot). Starts at `t_start` from θ0
-    at rest on the pivot `side` (default sgn θ0). Returns θ on `t_grid`.
-    """
-    a, p, g = block.alpha, block.p, block.g
-    s = side if side is not None else np.sign(theta0)
-    t, y, out = t_start, np.array([theta0, 0.0]), np.zeros_like(t_grid)
-    t_end = t_grid[-1]
-    while t < t_end:
-        def rhs(t, y, s=s):
-            return [y[1], -p * p * (math.sin(a * s - y[0]) + ag(t) / g * math.cos(a * s - y[0]))]
-
-        def cross(t, y):
-            return y[0]
-        cross.terminal, cross.direction = True, -s
-        sol = solve_ivp(rhs, (t, t_end), y, method="DOP853", rtol=1e-12, atol=1e-14,
-                        events=cross, dense_output=True)
-        sel = (t_grid >= t) & (t_grid <= sol.t[-1])
-        out[sel] = sol.sol(t_grid[sel])[0]
-        t, y = sol.t[-1], sol.y[:, -1].copy()
-        y[0], y[1], s = 0.0, eta * y[1], -s
-    return out
+from multimass.poisson_block import PoissonBlock, _BlockModel, housner_theta, simulate_block
 
 
 def on_grid(resp, grid):
@@ -55,7 +27,7 @@ def test_free_rocking_with_plastic_impacts_is_housner(h_over_b, t_end):
     phi0 = block.alpha / 3
     r = simulate_block(block, 0.0, t_end, phi0=phi0, dt_out=0.01)
     grid = np.round(np.arange(0.0, t_end, 0.01), 12)
-    theta_h = housner(block, lambda t: 0.0, 0.0, -phi0, grid, housner_eta(block.alpha))
+    theta_h = housner_theta(block, lambda t: 0.0, 0.0, -phi0, grid, housner_eta(block.alpha))
     err = np.abs(on_grid(r, grid) + theta_h).max() / block.alpha     # φ = −θ
     assert err < 1e-6
     assert "flight" not in set(r.phase)
@@ -70,7 +42,7 @@ def test_sine_pulse_figure_5_agrees_with_housner():
     r = simulate_block(block, 0.0, 15.0, ag=ag, dt_out=0.01)
     t_up = math.asin(block.g * math.tan(block.alpha) / a_g) / w_g    # closed form: ag = g tan α
     grid = np.round(np.arange(0.0, 15.0, 0.01), 12)
-    theta_h = housner(block, ag, t_up, 0.0, grid, housner_eta(block.alpha), side=-1)
+    theta_h = housner_theta(block, ag, t_up, 0.0, grid, housner_eta(block.alpha), side=-1)
     err = np.abs(on_grid(r, grid) + theta_h).max() / block.alpha
     assert err < 1e-6
     assert np.abs(r.phi).max() / block.alpha > 0.5          # it does rock substantially
@@ -223,3 +195,26 @@ def test_agrees_with_the_engine_classical_impact(case):
     theta_lcp = r.theta[np.searchsorted(r.t, grid, side="right") - 1]
     assert np.abs(theta_engine).max() > 0.3 * block.alpha
     assert np.abs(theta_lcp - theta_engine).max() < 1e-6 * block.alpha
+
+
+@pytest.mark.parametrize("case", ["free", "sine"])
+def test_housner_reference_agrees_with_the_engine(case):
+    # housner_theta (the Fig 5 reference) against the multi-mass engine's rigid block,
+    # an independent implementation of the same model (paper 004, Eqs 1–2, 9)
+    st = multimass.rigid_block("B6M")
+    block = PoissonBlock(b=st.B, h=st.h0, mass=st.m0)
+    grid = np.arange(0.0, 1.9, 0.001)
+    if case == "free":
+        exc = multimass.FreeRelease(0.1)
+        theta_h = housner_theta(block, lambda t: 0.0, 0.0, 0.1, grid)
+    else:
+        exc = multimass.SineWave(0.3 * block.g, 3.0 * block.p)
+        t_up = math.asin(block.g * math.tan(block.alpha) / (0.3 * block.g)) / (3.0 * block.p)
+        theta_h = housner_theta(block, exc.acceleration, t_up, 0.0, grid, side=-1)
+    eng = multimass.simulate(st, exc, impact="CIM", restitution="housner", t_end=2.0,
+                             rtol=1e-10, atol=1e-12)
+    df = eng.series
+    keep = np.r_[np.diff(df.t) > 0, True]
+    theta_engine = np.interp(grid, df.t[keep], df.theta[keep])
+    assert np.abs(theta_engine).max() > 0.3 * block.alpha
+    assert np.abs(theta_h - theta_engine).max() < 1e-6 * block.alpha
