@@ -16,6 +16,7 @@ import math
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.ticker import NullFormatter
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
@@ -105,7 +106,18 @@ def work_precision_chart(rows: list[dict], title: str, path) -> None:
     fig.suptitle(title, fontsize=12, y=0.995)
     fig.text(0.5, 0.004, note[:220], ha="center", fontsize=7.5)
     fig.subplots_adjust(top=0.87, bottom=0.085, left=0.09, right=0.98, hspace=0.08, wspace=0.05)
+    for ax in axes.flat:
+        _major_labels_only(ax)
     fig.savefig(path, dpi=DPI)
+
+
+def _major_labels_only(ax) -> None:
+    """No minor tick labels on a log axis that shows a power of ten: on a 1.5-decade axis
+    matplotlib labels the minor ticks too, and they ran into each other."""
+    for axis, (lo, hi) in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+        lo, hi = sorted((lo, hi))
+        if axis.get_scale() == "log" and lo > 0 and math.floor(math.log10(hi)) >= math.ceil(math.log10(lo)):
+            axis.set_minor_formatter(NullFormatter())
 
 
 def _worst(kinds: list[str]) -> str:
