@@ -200,12 +200,12 @@ def _count_rhs():
 
 
 def lcp_block_case(cfg: Config) -> Case:
-    """Paper 000's block (B6M's b, h, m) under SineWave(0.3 g, 3p), ε_P = 0."""
+    """Paper 000's block (B6M's b, h, m) under SineWave(amplitude=0.3 g, omega=3p), ε_P = 0."""
     from multimass.poisson_block import PoissonBlock, simulate_block
 
     st, t_end = multimass.rigid_block("B6M"), cfg.lcp_t_end
     block = PoissonBlock(b=st.B, h=st.h0, mass=st.m0, g=st.g)
-    exc = SineWave(0.3 * block.g, 3.0 * block.p)
+    exc = SineWave(amplitude=0.3 * block.g, omega=3.0 * block.p)
 
     def driver(rtol, atol=None):
         def once():

@@ -41,7 +41,7 @@ def _best(fn, repeat):
 def _runs(repeat):
     st = multimass.rigid_block("B6M")
     eta, alpha, p = housner_eta(st.alpha_cg), st.alpha_cg, st.p
-    pulse = SineWave(1.5 * alpha * st.g, 4 * p)
+    pulse = SineWave(amplitude=1.5 * alpha * st.g, omega=4 * p)
     cases = {
         "free release 11.268°, 3 s": dict(ag=lambda t: 0.0, theta0=math.radians(11.268)),
         "sine pulse ω=4p a0=1.5αg, 3 s": dict(ag=pulse),
@@ -64,7 +64,7 @@ def _map(n, repeat):
     def sweep(engine):
         stats = {"overturned": 0, "rest": 0, "completed": 0, "failed": 0, "steps": 0}
         for w, a in grid:
-            exc = SineWave(a * alpha * st.g, w * p)
+            exc = SineWave(amplitude=a * alpha * st.g, omega=w * p)
             res = newmark_block(st, exc, exc.duration + 5.0, dt=1e-3, restitution=eta,
                                 rest_after=exc.duration, engine=engine)
             stats[res.status] += 1

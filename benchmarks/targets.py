@@ -135,7 +135,7 @@ def _baseline(block, cells, t_free: float, restitution: str) -> tuple[float, lis
     outcomes = []
     t0 = time.perf_counter()
     for w, a in cells:
-        exc = SineWave(a * block.alpha_cg * block.g, w * block.p)
+        exc = SineWave(amplitude=a * block.alpha_cg * block.g, omega=w * block.p)
         r = simulate(block, exc, "CIM", t_end=exc.duration + t_free, stop_when_safe=True,
                      restitution=restitution)
         outcomes.append("overturned" if r.status == "overturned" else

@@ -70,7 +70,7 @@ def figure_4(out: Path) -> Path:
 def figure_5(out: Path) -> Path:
     block = PoissonBlock.from_slenderness(7.0, width=1.0)
     a_g, w_g = 0.45 * block.g, 5.75 * block.p
-    ag = SineWave(a_g, w_g)
+    ag = SineWave(amplitude=a_g, omega=w_g)
     t_end = 15.0
     r = simulate_block(block, 0.0, t_end, ag=ag, dt_out=0.002)
     grid = np.arange(0.0, t_end, 0.002)
@@ -101,7 +101,7 @@ def figure_5(out: Path) -> Path:
 def figure_oscillator(out: Path) -> Path:
     osc = FlexibleOscillator.from_frequency(2.0, m=1000.0, m_c=200.0, m_b=300.0, h=2.0,
                                             b=0.3, zeta=0.02)
-    ag = Ricker(0.25 * osc.g, 2 * math.pi * 1.0)
+    ag = Ricker(amplitude=0.25 * osc.g, omega=2 * math.pi * 1.0)
     fig, (ax, ax2) = plt.subplots(2, 1, figsize=(9, 5), sharex=True)
     for eps in EPS:
         r = simulate_oscillator(osc, eps, 6.0, ag=ag, dt_out=0.002)

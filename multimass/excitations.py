@@ -10,6 +10,12 @@ send it to worker processes. The common contract (`Excitation`):
   (the start and the end of a pulse), so an integrator can stop and restart there;
 * ``describe()``: a JSON-ready dict (``kind`` and the parameters in SI units).
 
+Pulses take keyword arguments only, with the same names everywhere —
+``SineWave(amplitude=0.4 * G, omega=15.0)``, ``CosinePulse(amplitude=..., omega=...)``,
+``Ricker(amplitude=..., omega=...)`` — so an amplitude and a frequency can never be
+swapped silently (both are plain numbers in SI units: m/s² and rad/s).
+`pulse` builds one by its command-line name.
+
 Amplitudes are magnitudes (≥ 0). A pulse of the opposite sign is not accepted: for the
 symmetric structures of this toolkit the response to −ü_g is the mirror image
 (θ → −θ, u → −u) of the response to +ü_g, so overturning maps need only a ≥ 0.
@@ -27,7 +33,8 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["Excitation", "FreeRelease", "SineWave", "CosineWave", "CosinePulse", "Ricker"]
+__all__ = ["Excitation", "FreeRelease", "SineWave", "CosineWave", "CosinePulse", "Ricker",
+           "PULSE_NAMES", "pulse"]
 
 TWO_PI = 2.0 * math.pi
 
@@ -115,8 +122,30 @@ class Excitation(ABC):
         """A JSON-ready description: ``kind`` and the parameters in SI units."""
 
 
+# names of earlier releases and of the papers' symbols -> the keyword to use now
+_RENAMED = {"a0": "amplitude", "a_p": "amplitude", "a_g": "amplitude", "omega_p": "omega",
+            "omega_g": "omega", "w": "omega"}
+
+
 class _Pulse(Excitation):
-    """A pulse f(t) on the window 0 ≤ t ≤ duration, zero outside it."""
+    """A pulse f(t) on the window 0 ≤ t ≤ duration, zero outside it.
+
+    Constructed with keyword arguments only (``amplitude=``, ``omega=``, ...):
+    a positional call or an old keyword raises `InputError` naming the fix.
+    """
+
+    def __new__(cls, *args, **kwargs):
+        if args:
+            raise InputError(
+                f"{cls.__name__}{tuple(args)!r}: give the pulse by keyword, e.g. "
+                f"{cls.__name__}(amplitude=0.4 * multimass.G, omega=15.0) (amplitude in m/s², "
+                "omega in rad/s); positional arguments are refused so that an amplitude and "
+                "a frequency cannot be swapped")
+        for old, new in _RENAMED.items():
+            if old in kwargs:
+                raise InputError(f"{cls.__name__}: unknown keyword `{old}`; write `{new}=` "
+                                 f"(amplitude in m/s², omega in rad/s)")
+        return super().__new__(cls)
 
     @abstractmethod
     def _shape(self, t):
@@ -230,18 +259,18 @@ class FreeRelease(Excitation):
 
 
 # ---------------------------------------------------------------------------- harmonic waves
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class _SingleWave(_Pulse):
     """One period of ü_g = a0 f(ω t), zero outside 0 ≤ t ≤ 2π/ω (paper 004, Fig 2).
 
     Subclasses choose f (`_np_f` for arrays, `_math_f` for scalars) and `kind`.
     """
 
-    a0: float
+    amplitude: float
     omega: float
 
     def __post_init__(self):
-        object.__setattr__(self, "a0", _amplitude("a0", self.a0))
+        object.__setattr__(self, "amplitude", _amplitude("amplitude", self.amplitude))
         object.__setattr__(self, "omega", _positive("omega", self.omega, "rad/s"))
 
     @property
@@ -249,27 +278,28 @@ class _SingleWave(_Pulse):
         return TWO_PI / self.omega
 
     def _shape(self, t):
-        return self.a0 * self._np_f(self.omega * t)  # paper 004, Fig 2
+        return self.amplitude * self._np_f(self.omega * t)  # paper 004, Fig 2
 
     def _shape_scalar(self, t: float) -> float:
-        return self.a0 * self._math_f(self.omega * t)  # paper 004, Fig 2
+        return self.amplitude * self._math_f(self.omega * t)  # paper 004, Fig 2
 
     def describe(self) -> dict:
-        return {"kind": self.kind, "a0": self.a0, "omega": self.omega,
+        return {"kind": self.kind, "amplitude": self.amplitude, "omega": self.omega,
                 "duration": self.duration}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class SineWave(_SingleWave):
     """A single sine wave ü_g = a0 sin(ω t) for 0 ≤ t ≤ 2π/ω, zero otherwise.
 
     Paper 004, Section 2.1 and Fig 2. ü_g is continuous at both ends; its derivative
-    jumps there (breakpoints 0 and 2π/ω).
+    jumps there (breakpoints 0 and 2π/ω). Keyword arguments only:
+    ``SineWave(amplitude=0.4 * G, omega=15.0)``.
 
     Parameters
     ----------
-    a0 : float
-        Amplitude (m/s², ≥ 0).
+    amplitude : float
+        Amplitude a0 (m/s², ≥ 0).
     omega : float
         Angular frequency ω = 2π/t_b (rad/s, > 0).
     """
@@ -278,17 +308,18 @@ class SineWave(_SingleWave):
     _np_f, _math_f = staticmethod(np.sin), staticmethod(math.sin)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class CosineWave(_SingleWave):
     """A single cosine wave ü_g = a0 cos(ω t) for 0 ≤ t ≤ 2π/ω, zero otherwise.
 
     Paper 004, Section 2.1 and Fig 2. ü_g jumps from 0 to a0 at t = 0 and from a0
     to 0 at t = 2π/ω (breakpoints); at those two instants it takes the value a0.
+    Keyword arguments only: ``CosineWave(amplitude=..., omega=...)``.
 
     Parameters
     ----------
-    a0 : float
-        Amplitude (m/s², ≥ 0).
+    amplitude : float
+        Amplitude a0 (m/s², ≥ 0).
     omega : float
         Angular frequency (rad/s, > 0).
     """
@@ -297,7 +328,7 @@ class CosineWave(_SingleWave):
     _np_f, _math_f = staticmethod(np.cos), staticmethod(math.cos)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class CosinePulse(_Pulse):
     """Paper 001's "phased and vertically translated cosine pulse" (Section 4.4).
 
@@ -310,23 +341,24 @@ class CosinePulse(_Pulse):
     acceleration pulse peaking at A would leave the table moving, and with
     paper 001's A = 0.4 g, barely above S1's g tan α_cg = 0.36 g, it would hardly
     rock the specimen, unlike the paper's Figs 9–10.) ü_g jumps at both ends
-    (breakpoints).
+    (breakpoints). Keyword arguments only:
+    ``CosinePulse(amplitude=0.4 * G, omega=15.0)``.
 
     Parameters
     ----------
-    omega : float
-        Angular frequency (rad/s, > 0); the pulse lasts 2π/ω.
     amplitude : float
         Acceleration amplitude A (m/s², ≥ 0).
+    omega : float
+        Angular frequency (rad/s, > 0); the pulse lasts 2π/ω.
     """
 
-    omega: float
     amplitude: float
+    omega: float
     kind = "cosine_pulse"
 
     def __post_init__(self):
-        object.__setattr__(self, "omega", _positive("omega", self.omega, "rad/s"))
         object.__setattr__(self, "amplitude", _amplitude("amplitude", self.amplitude))
+        object.__setattr__(self, "omega", _positive("omega", self.omega, "rad/s"))
 
     @property
     def duration(self) -> float:
@@ -344,7 +376,7 @@ class CosinePulse(_Pulse):
         return self.amplitude / self.omega**2 * (1.0 - np.cos(self.omega * t))
 
     def describe(self) -> dict:
-        return {"kind": self.kind, "omega": self.omega, "amplitude": self.amplitude,
+        return {"kind": self.kind, "amplitude": self.amplitude, "omega": self.omega,
                 "duration": self.duration}
 
 
@@ -354,36 +386,36 @@ class CosinePulse(_Pulse):
 RICKER_X0 = 8.327
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Ricker(_Pulse):
     """A symmetric Ricker wavelet, centred at t0 and truncated to [0, 2 t0].
 
     ü_g = a_p (1 − ω_p² (t − t0)²/2) exp(−ω_p² (t − t0)²/4), the form used in the
     rocking literature (Vassiliou & Makris; paper 000, Section 4, Fig 6, with
-    a_g and ω_g).
+    a_g and ω_g). Keyword arguments only: ``Ricker(amplitude=..., omega=...)``.
 
     Parameters
     ----------
-    a_p : float
-        Peak acceleration at t = t0 (m/s², ≥ 0).
-    omega_p : float
-        Characteristic angular frequency (rad/s, > 0).
+    amplitude : float
+        Peak acceleration a_p at t = t0 (m/s², ≥ 0).
+    omega : float
+        Characteristic angular frequency ω_p (rad/s, > 0).
     t0 : float, optional
         Centre of the wavelet (s, > 0). Default: t0 = 8.327/ω_p, so that
         |ü_g(0)| = |ü_g(2 t0)| < 1e-6 a_p (≈ 0.997e-6 a_p): the jumps at the
         truncation points 0 and 2 t0 are negligible. duration = 2 t0.
     """
 
-    a_p: float
-    omega_p: float
+    amplitude: float
+    omega: float
     t0: float | None = None
     kind = "ricker"
 
     def __post_init__(self):
-        object.__setattr__(self, "a_p", _amplitude("a_p", self.a_p))
-        object.__setattr__(self, "omega_p", _positive("omega_p", self.omega_p, "rad/s"))
+        object.__setattr__(self, "amplitude", _amplitude("amplitude", self.amplitude))
+        object.__setattr__(self, "omega", _positive("omega", self.omega, "rad/s"))
         if self.t0 is None:
-            object.__setattr__(self, "t0", RICKER_X0 / self.omega_p)
+            object.__setattr__(self, "t0", RICKER_X0 / self.omega)
         else:
             object.__setattr__(self, "t0", _positive("t0", self.t0, "the centre time in s"))
 
@@ -392,13 +424,49 @@ class Ricker(_Pulse):
         return 2.0 * self.t0
 
     def _shape(self, t):
-        x2 = (self.omega_p * (t - self.t0)) ** 2
-        return self.a_p * (1.0 - 0.5 * x2) * np.exp(-0.25 * x2)  # Ricker wavelet
+        x2 = (self.omega * (t - self.t0)) ** 2
+        return self.amplitude * (1.0 - 0.5 * x2) * np.exp(-0.25 * x2)  # Ricker wavelet
 
     def _shape_scalar(self, t: float) -> float:
-        x2 = (self.omega_p * (t - self.t0)) ** 2
-        return self.a_p * (1.0 - 0.5 * x2) * math.exp(-0.25 * x2)  # Ricker wavelet
+        x2 = (self.omega * (t - self.t0)) ** 2
+        return self.amplitude * (1.0 - 0.5 * x2) * math.exp(-0.25 * x2)  # Ricker wavelet
 
     def describe(self) -> dict:
-        return {"kind": self.kind, "a_p": self.a_p, "omega_p": self.omega_p, "t0": self.t0,
-                "duration": self.duration}
+        return {"kind": self.kind, "amplitude": self.amplitude, "omega": self.omega,
+                "t0": self.t0, "duration": self.duration}
+
+
+# ---------------------------------------------------------------------------- by name
+#: Pulse names of the command line and of sweeps, for `pulse`.
+PULSE_NAMES = ("sine", "cosine", "ricker")
+
+
+def pulse(name: str, *, amplitude: float, omega: float, structure_kind: str = "column") -> Excitation:
+    """A pulse by its command-line name.
+
+    Parameters
+    ----------
+    name : {"sine", "cosine", "ricker"}
+        "cosine" is paper 001's `CosinePulse` for a column and paper 004's
+        `CosineWave` for a block (the same ground acceleration, A cos ω t over
+        one period; the two papers name it differently).
+    amplitude : float
+        m/s².
+    omega : float
+        rad/s.
+    structure_kind : {"column", "block"}, optional
+        Chooses the cosine's name (see above).
+
+    Raises
+    ------
+    InputError
+        For an unknown name or an invalid amplitude or frequency.
+    """
+    if name == "sine":
+        return SineWave(amplitude=amplitude, omega=omega)
+    if name == "cosine":
+        cls = CosinePulse if structure_kind == "column" else CosineWave
+        return cls(amplitude=amplitude, omega=omega)
+    if name == "ricker":
+        return Ricker(amplitude=amplitude, omega=omega)
+    raise InputError(f"`pulse` = {name!r}: use one of {', '.join(PULSE_NAMES)}")

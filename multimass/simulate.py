@@ -77,7 +77,7 @@ def _initial_state(st: Structure, excitation) -> tuple[int, np.ndarray]:
 def _check_excitation(excitation):
     if excitation is None or not callable(excitation):
         raise InputError(f"`excitation` = {excitation!r}: give an excitation, e.g. "
-                         "FreeRelease(theta0=0.1) or SineWave(a0, omega)")
+                         "FreeRelease(theta0=0.1) or SineWave(amplitude=a0, omega=omega)")
     duration = float(getattr(excitation, "duration", math.inf))
     acc = getattr(excitation, "acceleration", excitation)
     return acc, duration, tuple(float(b) for b in getattr(excitation, "breakpoints", ()))

@@ -3,15 +3,15 @@
 from __future__ import annotations
 
 from ..errors import InputError
-from ..excitations import CosinePulse, CosineWave, FreeRelease, Ricker, SineWave
+from ..excitations import PULSE_NAMES, FreeRelease, pulse
 from ..records import read_record
 from ..simulate import DEFAULTS
 from ..units import parse_acceleration
 
 __all__ = ["add_excitation_args", "excitation_from_args", "add_impact_args", "impact_kwargs",
-           "add_solver_args", "solver_kwargs", "PULSES", "pulse"]
+           "add_solver_args", "solver_kwargs", "PULSES"]
 
-PULSES = ("sine", "cosine", "ricker")
+PULSES = PULSE_NAMES
 
 
 def add_excitation_args(p, *, release=True) -> None:
@@ -32,17 +32,6 @@ def add_excitation_args(p, *, release=True) -> None:
     g.add_argument("--scale", type=float, default=1.0, help="scale factor of the record")
 
 
-def pulse(kind: str, omega: float, amp: float, structure_kind: str):
-    """A pulse excitation by CLI name (see `add_excitation_args`)."""
-    if kind == "sine":
-        return SineWave(amp, omega)
-    if kind == "cosine":      # paper 001 calls it a cosine pulse, paper 004 a cosine wave
-        return CosinePulse(omega, amp) if structure_kind == "column" else CosineWave(amp, omega)
-    if kind == "ricker":
-        return Ricker(amp, omega)
-    raise InputError(f"`--pulse` = {kind!r}: use one of {', '.join(PULSES)}")
-
-
 def excitation_from_args(args, structure):
     """The excitation the arguments describe; exactly one kind must be given."""
     kinds = [k for k, v in (("--release", getattr(args, "release", None) is not None
@@ -58,7 +47,7 @@ def excitation_from_args(args, structure):
             raise InputError("`--pulse` needs --omega (rad/s) and --amp (e.g. 0.4g)")
         amp = parse_acceleration(args.amp, "g", argument="--amp")
         kind = getattr(getattr(structure, "specimen", None), "kind", "column")
-        return pulse(args.pulse, args.omega, amp, kind)
+        return pulse(args.pulse, amplitude=amp, omega=args.omega, structure_kind=kind)
     return read_record(args.record, units=args.units, scale=args.scale)
 
 

@@ -56,14 +56,14 @@ def encode(excitation) -> tuple[int, np.ndarray, np.ndarray]:
     if tp is FreeRelease:
         return mx.EXC_NONE, _params(), _NO_SAMPLES
     if tp is SineWave:
-        return mx.EXC_SINE, _params(excitation.a0, excitation.omega, excitation.duration), _NO_SAMPLES
+        return mx.EXC_SINE, _params(excitation.amplitude, excitation.omega, excitation.duration), _NO_SAMPLES
     if tp is CosineWave:
-        return mx.EXC_COSINE, _params(excitation.a0, excitation.omega, excitation.duration), _NO_SAMPLES
+        return mx.EXC_COSINE, _params(excitation.amplitude, excitation.omega, excitation.duration), _NO_SAMPLES
     if tp is CosinePulse:
         return (mx.EXC_COSINE, _params(excitation.amplitude, excitation.omega, excitation.duration),
                 _NO_SAMPLES)
     if tp is Ricker:
-        return (mx.EXC_RICKER, _params(excitation.a_p, excitation.omega_p, excitation.t0,
+        return (mx.EXC_RICKER, _params(excitation.amplitude, excitation.omega, excitation.t0,
                                        excitation.duration), _NO_SAMPLES)
     if tp is Record:
         time = excitation.time

@@ -93,15 +93,15 @@ def _excitation(data, w: str, folder: Path):
                     low_open=True, what="a circular frequency in rad/s")
     amp = _amplitude(w, data)
     if kind == "sine_wave":
-        return SineWave(amp, omega)
+        return SineWave(amplitude=amp, omega=omega)
     if kind == "cosine_wave":
-        return CosineWave(amp, omega)
+        return CosineWave(amplitude=amp, omega=omega)
     if kind == "cosine_pulse":
-        return CosinePulse(omega, amp)
+        return CosinePulse(omega=omega, amplitude=amp)
     t0 = data.get("t0_s")
     if t0 is not None:
         t0 = _number(w, "excitation.t0_s", t0, low=0.0, low_open=True, what="the centre in s")
-    return Ricker(amp, omega, t0)
+    return Ricker(amplitude=amp, omega=omega, t0=t0)
 
 
 def _question(data, w: str) -> Question:

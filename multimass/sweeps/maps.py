@@ -70,7 +70,7 @@ class _Cell(NamedTuple):
 def map_cell(cell: _Cell) -> tuple:
     """Simulate one cell: (outcome, overturn time or nan, max|θ|/α, impacts, rhs evaluations)."""
     st = cell.structure
-    exc = PULSES[cell.pulse](cell.a0, cell.omega)
+    exc = PULSES[cell.pulse](amplitude=cell.a0, omega=cell.omega)
     resp = simulate_outcome(st, exc, t_end=exc.duration + cell.t_free, stop_when_safe=True,
                             **cell.options)
     if resp.status == "failed":

@@ -15,7 +15,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
-from ..excitations import CosinePulse, CosineWave, Ricker, SineWave
+from ..excitations import pulse as make_pulse
 from ..records import Record
 from ..simulate import simulate_outcome
 from ..structure import Structure, from_specimen
@@ -25,16 +25,6 @@ from .ranges import check_values
 from .seeding import job_seeds
 
 __all__ = ["Spectrum", "pulse_spectrum", "record_spectrum", "spectrum_point"]
-
-
-def _pulse(kind: str, omega: float, amp: float, structure_kind: str):
-    if kind == "sine":
-        return SineWave(amp, omega)
-    if kind == "cosine":      # paper 001's cosine pulse is paper 004's cosine wave
-        return CosinePulse(omega, amp) if structure_kind == "column" else CosineWave(amp, omega)
-    if kind == "ricker":
-        return Ricker(amp, omega)
-    raise InputError(f"`pulse` = {kind!r}: use 'sine', 'cosine' or 'ricker'")
 
 
 @dataclass(frozen=True)
@@ -133,7 +123,7 @@ def pulse_spectrum(structure, pulse: str = "cosine", omega=15.0, amp=0.4 * 9.81,
     options = dict(impact=impact) | default_backend(sim_options)
     points = []
     for (w, a, _), s in zip(grid, seeds):
-        exc = _pulse(pulse, w, a, kind)
+        exc = make_pulse(pulse, amplitude=a, omega=w, structure_kind=kind)
         points.append(_Point(st, exc, exc.duration + t_free, s, options))
     cols = {"omega": [g[0] for g in grid], "amp": [g[1] for g in grid],
             "repeat": [g[2] for g in grid], "seed": list(seeds)}

@@ -119,7 +119,7 @@ def test_full_modal_reduction_moves_like_the_column():
 
 def test_recovery_with_identity_reproduces_the_simulated_accelerations():
     st = multimass.column("S2")
-    r = multimass.simulate(st, multimass.CosinePulse(15.0, 0.4 * G), impact="DD2", t_end=1.0,
+    r = multimass.simulate(st, multimass.CosinePulse(omega=15.0, amplitude=0.4 * G), impact="DD2", t_end=1.0,
                            output_dt=1e-3)
     got = node_accelerations(Reduced(st, np.eye(st.n), st), r.series, range(1, 6))
     ref = r.series[[f"a{i}" for i in range(1, 6)]].to_numpy()     # paper 001, Eq 7 (recorder)
@@ -131,7 +131,7 @@ def test_rigid_equivalent_accelerations_follow_eq_7():
     θ̈ checked against the derivative of the recorded θ̇ inside rocking phases."""
     st = multimass.column("S1")
     red = rigid_equivalent(st)
-    exc = multimass.CosinePulse(10.0, 0.6 * G)
+    exc = multimass.CosinePulse(omega=10.0, amplitude=0.6 * G)
     r = multimass.simulate(red.structure, exc, impact="CIM", t_end=1.5, output_dt=2e-4)
     df = r.series
     a = node_accelerations(red, df, [5])[:, 0]
@@ -191,7 +191,7 @@ def test_linear_modal_response_matches_an_ode_solution():
     a0, a1 = st.rayleigh
     zeta = a0 / (2 * w) + a1 * w / 2
     L = Phi.T @ st.m
-    exc = multimass.CosinePulse(15.0, 0.4 * G)
+    exc = multimass.CosinePulse(omega=15.0, amplitude=0.4 * G)
     t, ag, qdd = linear_modal_response(st, exc, w[:1], zeta[:1], L[:1])
 
     def rhs(tt, y):  # q̈ + 2ζω q̇ + ω² q = −L ü_g
@@ -265,7 +265,7 @@ def test_very_flexible_column_rejects_the_rigid_equivalent_a_priori():
 
 def test_weak_pulse_neither_uplifts_rigid_is_exact():
     # 0.2 g < g tan α_cg = 0.36 g for S1 (paper 001, Table 1) and its linear amplification
-    sc = Scene("weak", "S1", multimass.CosinePulse(15.0, 0.2 * G), Question("peak_rotation"),
+    sc = Scene("weak", "S1", multimass.CosinePulse(omega=15.0, amplitude=0.2 * G), Question("peak_rotation"),
                Tolerance(0.05))
     c = choose(sc, verify=True)
     assert max(c.criteria["uplift_demand"]) < 1.0
@@ -297,7 +297,7 @@ def test_flexible_beam_rigid_block_not_adequate():
 
 
 def test_forced_block_has_one_rung():
-    sc = Scene("b", "B3L", multimass.SineWave(0.836 * G, 30.0), Question("overturning"), None)
+    sc = Scene("b", "B3L", multimass.SineWave(amplitude=0.836 * G, omega=30.0), Question("overturning"), None)
     c = choose(sc, verify=True)
     assert c.ladder == ("rigid-block",) and c.verified_against is None
     assert c.answer is True                 # paper 004 map: ω/p = 3, a0/(αg) = 2 overturns
@@ -318,7 +318,7 @@ def test_choose_without_verify_estimates_and_json_keys():
 
 
 def test_peak_acceleration_needs_the_coupled_modes():
-    sc = Scene("a", "S1", multimass.CosinePulse(15.0, 0.4 * G), Question("peak_acceleration",
+    sc = Scene("a", "S1", multimass.CosinePulse(omega=15.0, amplitude=0.4 * G), Question("peak_acceleration",
                sensor="A2"), Tolerance(0.10), t_end=1.5)
     verdicts, ind, _ = assess(sc, ladder(sc))
     passes = {v.rung: v.passes for v in verdicts}

@@ -94,7 +94,7 @@ def test_trace_starting_later_is_aligned_on_its_first_sample(tmp_path, dd2_relea
 
 def test_forced_test_with_a_pulse(tmp_path, capsys):
     # paper 001 Section 4.4 / Fig 9: S1, cosine pulse ω = 15 rad/s, A = 0.4 g, DD2
-    resp = multimass.simulate("S1", multimass.CosinePulse(15.0, 0.4 * G), impact="DD2", t_end=0.5)
+    resp = multimass.simulate("S1", multimass.CosinePulse(omega=15.0, amplitude=0.4 * G), impact="DD2", t_end=0.5)
     trace = write_trace(tmp_path / "pulse.csv", resp)
     assert main(["compare", "S1", str(trace), "--pulse", "cosine", "--omega", "15",
                  "--amp", "0.4g", "--json"]) == 0

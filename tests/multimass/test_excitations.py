@@ -1,5 +1,6 @@
 """Ground excitations: closed forms, breakpoints, validation, pickling (multimass.excitations)."""
 
+import dataclasses
 import json
 import math
 import pickle
@@ -24,9 +25,9 @@ def _window(t, f):
 
 
 @pytest.mark.parametrize("exc, closed_form", [
-    (SineWave(A, W), lambda t: A * math.sin(W * t)),                   # paper 004, Fig 2
-    (CosineWave(A, W), lambda t: A * math.cos(W * t)),                 # paper 004, Fig 2
-    (CosinePulse(W, A), lambda t: A * math.cos(W * t)),    # paper 001, Sec 4.4 (decided: table displacement (A/ω²)(1 − cos ωt))
+    (SineWave(amplitude=A, omega=W), lambda t: A * math.sin(W * t)),                   # paper 004, Fig 2
+    (CosineWave(amplitude=A, omega=W), lambda t: A * math.cos(W * t)),                 # paper 004, Fig 2
+    (CosinePulse(omega=W, amplitude=A), lambda t: A * math.cos(W * t)),    # paper 001, Sec 4.4 (decided: table displacement (A/ω²)(1 − cos ωt))
 ])
 def test_harmonic_pulses_match_closed_forms(exc, closed_form):
     assert exc.duration == pytest.approx(T, rel=1e-15)
@@ -41,22 +42,22 @@ def test_harmonic_pulses_match_closed_forms(exc, closed_form):
 
 def test_special_values_of_the_waves():
     # closed form: sin 0 = 0, sin(π/2) = 1; cos 0 = cos 2π = 1; the pulse peaks at A at π/ω
-    assert SineWave(A, W)(T / 4) == pytest.approx(A, rel=1e-14)
-    assert SineWave(A, W)(T) == pytest.approx(0.0, abs=1e-12)
-    assert CosineWave(A, W)(0.0) == A
-    assert CosineWave(A, W)(T) == pytest.approx(A, rel=1e-14)   # jumps to 0 just after T
-    assert CosineWave(A, W)(T * (1 + 1e-12)) == 0.0
-    assert CosinePulse(W, A)(T / 2) == pytest.approx(-A, rel=1e-14)
-    assert CosinePulse(W, A)(0.0) == A
+    assert SineWave(amplitude=A, omega=W)(T / 4) == pytest.approx(A, rel=1e-14)
+    assert SineWave(amplitude=A, omega=W)(T) == pytest.approx(0.0, abs=1e-12)
+    assert CosineWave(amplitude=A, omega=W)(0.0) == A
+    assert CosineWave(amplitude=A, omega=W)(T) == pytest.approx(A, rel=1e-14)   # jumps to 0 just after T
+    assert CosineWave(amplitude=A, omega=W)(T * (1 + 1e-12)) == 0.0
+    assert CosinePulse(omega=W, amplitude=A)(T / 2) == pytest.approx(-A, rel=1e-14)
+    assert CosinePulse(omega=W, amplitude=A)(0.0) == A
     # the table displacement it comes from starts and ends at rest at zero
-    d = CosinePulse(W, A).displacement
+    d = CosinePulse(omega=W, amplitude=A).displacement
     assert d(0.0) == 0.0 and d(T) == pytest.approx(0.0, abs=1e-15)
     assert d(T / 2) == pytest.approx(2 * A / W**2, rel=1e-14)
 
 
 def test_ricker_closed_form_and_default_t0():
     a_p, w_p = 0.16 * 9.81, 1.95 * 2.0   # paper 000, Fig 6: a_g/g = 0.16 (ω_g chosen here)
-    r = Ricker(a_p, w_p)
+    r = Ricker(amplitude=a_p, omega=w_p)
 
     def closed(t):  # Vassiliou & Makris: a_p (1 − ω²τ²/2) exp(−ω²τ²/4), τ = t − t0
         x2 = (w_p * (t - r.t0)) ** 2
@@ -79,21 +80,21 @@ def test_ricker_closed_form_and_default_t0():
 
 def test_ricker_default_t0_is_tight():
     # the default is not needlessly long: 1 % earlier the tail exceeds 1e-6 a_p
-    r = Ricker(1.0, 10.0)
+    r = Ricker(amplitude=1.0, omega=10.0)
     x = 0.99 * r.t0 * 10.0
     assert abs(1 - x * x / 2) * math.exp(-x * x / 4) > 1e-6  # closed form of the tail
 
 
 def test_ricker_explicit_t0():
-    r = Ricker(2.0, 5.0, t0=1.0)
+    r = Ricker(amplitude=2.0, omega=5.0, t0=1.0)
     assert r.t0 == 1.0 and r.duration == 2.0
     assert r(1.0) == 2.0
     x2 = 25.0  # closed form at t = 0: (ω_p t0)² = 25
     assert r(0.0) == pytest.approx(2.0 * (1 - x2 / 2) * math.exp(-x2 / 4), rel=1e-14)
 
 
-@pytest.mark.parametrize("exc", [SineWave(A, W), CosineWave(A, W), CosinePulse(W, A),
-                                 Ricker(A, W)])
+@pytest.mark.parametrize("exc", [SineWave(amplitude=A, omega=W), CosineWave(amplitude=A, omega=W), CosinePulse(omega=W, amplitude=A),
+                                 Ricker(amplitude=A, omega=W)])
 def test_breakpoints_are_start_and_end(exc):
     assert exc.breakpoints == (0.0, exc.duration)
     assert all(0.0 <= b <= exc.duration for b in exc.breakpoints)
@@ -142,18 +143,18 @@ def test_free_release_on_rigid_block():
     (lambda: FreeRelease(0.0, float("inf")), "u0"),
     (lambda: FreeRelease(0.0, [0.0, float("nan")]), r"u0\[1\]"),
     (lambda: FreeRelease(0.0, [[0.0]]), "u0"),
-    (lambda: SineWave(-1.0, W), "a0"),
-    (lambda: SineWave(float("nan"), W), "a0"),
-    (lambda: SineWave(A, 0.0), "omega"),
-    (lambda: CosineWave(A, -2.0), "omega"),
-    (lambda: CosineWave(float("inf"), W), "a0"),
-    (lambda: CosinePulse(W, -A), "amplitude"),
-    (lambda: CosinePulse(float("inf"), A), "omega"),
-    (lambda: Ricker(-A, W), "a_p"),
-    (lambda: Ricker(A, 0.0), "omega_p"),
-    (lambda: Ricker(A, W, t0=0.0), "t0"),
-    (lambda: SineWave("0.4g", W), "a0"),
-    (lambda: SineWave(True, W), "a0"),
+    (lambda: SineWave(amplitude=-1.0, omega=W), "amplitude"),
+    (lambda: SineWave(amplitude=float("nan"), omega=W), "amplitude"),
+    (lambda: SineWave(amplitude=A, omega=0.0), "omega"),
+    (lambda: CosineWave(amplitude=A, omega=-2.0), "omega"),
+    (lambda: CosineWave(amplitude=float("inf"), omega=W), "amplitude"),
+    (lambda: CosinePulse(omega=W, amplitude=-A), "amplitude"),
+    (lambda: CosinePulse(omega=float("inf"), amplitude=A), "omega"),
+    (lambda: Ricker(amplitude=-A, omega=W), "amplitude"),
+    (lambda: Ricker(amplitude=A, omega=0.0), "omega"),
+    (lambda: Ricker(amplitude=A, omega=W, t0=0.0), "t0"),
+    (lambda: SineWave(amplitude="0.4g", omega=W), "amplitude"),
+    (lambda: SineWave(amplitude=True, omega=W), "amplitude"),
 ])
 def test_bad_parameters_name_the_argument(make, field):
     with pytest.raises(InputError, match=rf"`{field}`"):
@@ -161,17 +162,17 @@ def test_bad_parameters_name_the_argument(make, field):
 
 
 def test_negative_amplitude_says_how_to_reverse():
-    with pytest.raises(InputError, match=r"`a0` = -1.0.*>= 0.*To reverse the pulse, pass 1"):
-        SineWave(-1.0, W)
+    with pytest.raises(InputError, match=r"`amplitude` = -1.0.*>= 0.*To reverse the pulse, pass 1"):
+        SineWave(amplitude=-1.0, omega=W)
 
 
 def test_zero_amplitude_is_allowed():
-    assert SineWave(0.0, W)(T / 4) == 0.0
+    assert SineWave(amplitude=0.0, omega=W)(T / 4) == 0.0
 
 
 @pytest.mark.parametrize("exc", [FreeRelease(0.1, 0.002), FreeRelease(-0.05, [0.001, 0.002]),
-                                 SineWave(A, W), CosineWave(A, W), CosinePulse(W, A),
-                                 Ricker(A, W), Ricker(A, W, t0=2.0)])
+                                 SineWave(amplitude=A, omega=W), CosineWave(amplitude=A, omega=W), CosinePulse(omega=W, amplitude=A),
+                                 Ricker(amplitude=A, omega=W), Ricker(amplitude=A, omega=W, t0=2.0)])
 def test_pickle_round_trip_and_describe(exc):
     back = pickle.loads(pickle.dumps(exc))
     assert back == exc and hash(back) == hash(exc)
@@ -183,19 +184,60 @@ def test_pickle_round_trip_and_describe(exc):
 
 
 def test_describe_parameters_in_si():
-    assert SineWave(A, W).describe() == {"kind": "sine_wave", "a0": A, "omega": W, "duration": T}
-    assert CosinePulse(W, A).describe()["amplitude"] == A
-    assert Ricker(1.0, 2.0, t0=3.0).describe()["t0"] == 3.0
+    assert SineWave(amplitude=A, omega=W).describe() == {"kind": "sine_wave", "amplitude": A, "omega": W, "duration": T}
+    assert CosinePulse(omega=W, amplitude=A).describe()["amplitude"] == A
+    assert Ricker(amplitude=1.0, omega=2.0, t0=3.0).describe()["t0"] == 3.0
 
 
 def test_excitations_are_frozen():
     with pytest.raises(AttributeError):
-        SineWave(A, W).a0 = 1.0
+        SineWave(amplitude=A, omega=W).amplitude = 1.0
 
 
 def test_numpy_scalars_and_0d_arrays_return_floats():
-    s = SineWave(A, W)
+    s = SineWave(amplitude=A, omega=W)
     assert isinstance(s(np.float64(0.1)), float)
     assert isinstance(s(np.float32(0.1)), float)
     assert isinstance(s(np.array(0.1)), float)
     assert s(np.int64(0)) == 0.0
+
+
+# issue 12: `CosinePulse(0.4*G, 15)` used to be read as ω = 3.9 rad/s, A = 15 m/s² (S1 overturned
+# instead of rocking to 0.025 rad); pulses now take keyword arguments only, named alike.
+@pytest.mark.parametrize("cls", [SineWave, CosineWave, CosinePulse, Ricker])
+def test_pulses_refuse_positional_arguments(cls):
+    with pytest.raises(InputError, match=rf"{cls.__name__}\(3.924, 15\).*by keyword.*amplitude=.*omega="):
+        cls(3.924, 15)
+
+
+@pytest.mark.parametrize("cls, old", [(SineWave, "a0"), (Ricker, "a_p"), (Ricker, "omega_p")])
+def test_pulses_name_the_keyword_to_use_for_an_old_one(cls, old):
+    with pytest.raises(InputError, match=rf"unknown keyword `{old}`; write `(amplitude|omega)=`"):
+        cls(**{old: 1.0, "omega": 2.0} if old != "omega_p" else {old: 1.0, "amplitude": 2.0})
+
+
+@pytest.mark.parametrize("cls", [SineWave, CosineWave, CosinePulse, Ricker])
+def test_pulses_share_their_keywords(cls):
+    exc = cls(amplitude=A, omega=W)
+    assert (exc.amplitude, exc.omega) == (A, W)
+    assert exc.describe()["amplitude"] == A and exc.describe()["omega"] == W
+    assert dataclasses.replace(exc, amplitude=2 * A).amplitude == 2 * A
+
+
+def test_cosine_pulse_by_keyword_rocks_s1_as_paper_001():
+    # paper 001 Section 4.4, Fig 9: S1 under the 0.4 g cosine pulse of ω = 15 rad/s rocks to
+    # ~0.025 rad (Fig 9a); the swapped pulse (ω = 3.9 rad/s, 15 m/s²) overturned it.
+    r = multimass.simulate("S1", CosinePulse(amplitude=0.4 * multimass.G, omega=15.0), "DD2",
+                           4.0, backend="compiled", output_dt=None)
+    assert r.status == "completed" and 0.015 < r.theta_max < 0.035
+
+
+def test_pulse_by_name():
+    from multimass.excitations import pulse
+
+    assert pulse("sine", amplitude=A, omega=W) == SineWave(amplitude=A, omega=W)
+    assert pulse("cosine", amplitude=A, omega=W) == CosinePulse(amplitude=A, omega=W)
+    assert pulse("cosine", amplitude=A, omega=W, structure_kind="block") == CosineWave(amplitude=A, omega=W)
+    assert pulse("ricker", amplitude=A, omega=W) == Ricker(amplitude=A, omega=W)
+    with pytest.raises(InputError, match="`pulse` = 'square'"):
+        pulse("square", amplitude=A, omega=W)

@@ -69,7 +69,7 @@ def test_compiled_rhs_equals_reference(name):
     # closed form: the same equations (paper 001, Eqs 3–5 and 14); only round-off differs
     st = multimass.from_specimen(name)
     m, H, K, C, mp = _arrays(st)
-    exc = SineWave(3.0, 10.0)
+    exc = SineWave(amplitude=3.0, omega=10.0)
     kind, par, smp = encode(exc)
     rng = np.random.default_rng(7)
     out = np.empty(2 * st.n + 5)
@@ -95,8 +95,8 @@ def test_compiled_rhs_equals_reference(name):
 def test_ground_motion_equals_excitations():
     rng = np.random.default_rng(3)
     rec = Record.from_arrays(np.arange(0.5, 2.0, 0.02), rng.normal(size=75), units="g")
-    for exc in (FreeRelease(0.1), SineWave(2.0, 12.0), CosineWave(1.5, 8.0),
-                CosinePulse(15.0, 3.9), Ricker(4.0, 9.0), rec):
+    for exc in (FreeRelease(0.1), SineWave(amplitude=2.0, omega=12.0), CosineWave(amplitude=1.5, omega=8.0),
+                CosinePulse(omega=15.0, amplitude=3.9), Ricker(amplitude=4.0, omega=9.0), rec):
         kind, par, smp = encode(exc)
         for t in np.concatenate([rng.uniform(-0.5, 2.5, 200), [0.0, exc.duration, 0.5, 1.98]]):
             assert mx.ground_acc(float(t), kind, par, smp) == pytest.approx(
@@ -109,7 +109,7 @@ def test_compiled_event_functions_equal_reference(name):
     from multimass.fast.path import FastPath
 
     st = multimass.from_specimen(name)
-    exc = SineWave(4.0, 10.0)
+    exc = SineWave(amplitude=4.0, omega=10.0)
     model = DiracDelta(FixedRestitution(0.9))
     fast = FastPath.of(st, model, exc, "DOP853", 1e-9)
     rng = np.random.default_rng(11)
@@ -191,7 +191,7 @@ def test_columns_free_release(name, impact):
 @pytest.mark.parametrize("impact", ["CIM", "DD2"])
 def test_columns_pulse(name, impact):
     # paper 001, Section 4.4: the cosine pulse of ω = 15 rad/s (here 0.6 g, rocking for sure)
-    a, b = _both(name, CosinePulse(15.0, 0.6 * 9.81), impact, 1.2, output_dt=None)
+    a, b = _both(name, CosinePulse(omega=15.0, amplitude=0.6 * 9.81), impact, 1.2, output_dt=None)
     assert a.n_impacts >= 1
     _same(a, b, f"{name} {impact} pulse")
 
@@ -206,7 +206,7 @@ def test_blocks_free_release_and_pulse(name, impact, restitution):
     _same(a, b, f"{name} {impact} release")
     a_th = 9.81 * math.tan(blk.alpha_cg)
     for amp in (1.5, 3.0):                      # rocks, and (3 g tan α) overturns some blocks
-        exc = SineWave(amp * a_th, 15.0)
+        exc = SineWave(amplitude=amp * a_th, omega=15.0)
         a, b = _both(blk, exc, impact, exc.duration + 1.5, restitution=restitution, output_dt=None)
         _same(a, b, f"{name} {impact} sine {amp}")
 
@@ -214,7 +214,7 @@ def test_blocks_free_release_and_pulse(name, impact, restitution):
 def test_block_ricker_record_and_series():
     blk = multimass.rigid_block("B4M")
     a_th = 9.81 * math.tan(blk.alpha_cg)
-    a, b = _both(blk, Ricker(2.0 * a_th, 20.0), "CIM", 1.5, restitution="housner")
+    a, b = _both(blk, Ricker(amplitude=2.0 * a_th, omega=20.0), "CIM", 1.5, restitution="housner")
     _same(a, b, "Ricker")
     rng = np.random.default_rng(5)
     rec = Record.from_arrays(np.arange(0.0, 1.0, 0.01), 1.5 * a_th * rng.normal(size=100),
@@ -228,7 +228,7 @@ def test_block_ricker_record_and_series():
 
 
 def test_column_series_and_ledger_match():
-    a, b = _both("S1", CosinePulse(15.0, 0.6 * 9.81), "DD2", 0.8, output_dt=2e-3)
+    a, b = _both("S1", CosinePulse(omega=15.0, amplitude=0.6 * 9.81), "DD2", 0.8, output_dt=2e-3)
     _same(a, b, "S1 series")
     assert a.series.shape == b.series.shape
     for col in ("theta", "u5", "thetadot"):

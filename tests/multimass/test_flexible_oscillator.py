@@ -151,7 +151,7 @@ def test_impacts_bounce_only_with_positive_eps(osc):
 
 
 def test_ricker_pulse_response_and_ledger(osc):
-    ag = Ricker(0.25 * osc.g, 2 * math.pi * 1.0)
+    ag = Ricker(amplitude=0.25 * osc.g, omega=2 * math.pi * 1.0)
     r = simulate_oscillator(osc, 0.3, 6.0, ag=ag)
     assert r.status == "completed"
     assert {"rock_left", "rock_right"} <= set(r.phase)

@@ -185,7 +185,7 @@ def test_trapezoidal_rule_is_time_reversible():
 def test_no_rocking_at_the_uplift_threshold():
     sp, _, alpha, _, p2 = _block("B6M")
     a_up = G * sp.b / sp.h                              # paper 004, Eq 1 at θ = 0: g tan α
-    res = newmark_block(multimass.rigid_block("B6M"), SineWave((1 - 1e-9) * a_up, 2 * math.sqrt(p2)),
+    res = newmark_block(multimass.rigid_block("B6M"), SineWave(amplitude=(1 - 1e-9) * a_up, omega=2 * math.sqrt(p2)),
                         2.0, restitution=housner_eta(alpha))
     assert res.events == () and res.status == "completed"
     assert np.all(res.theta == 0.0) and res.peaks.size == 0
@@ -209,7 +209,7 @@ def test_rocking_just_above_threshold_starts_at_the_exact_instant():
 def test_large_sine_pulse_overturns_at_the_reference_time():
     _, _, alpha, _, p2 = _block("B6M")
     a0, omega = 3 * alpha * G, math.sqrt(p2)          # a0/(α g) = 3, ω/p = 1
-    exc = SineWave(a0, omega)
+    exc = SineWave(amplitude=a0, omega=omega)
     t_u = math.asin(G * 0.045 / 0.2025 / a0) / omega
     _, _, t_over = _reference("B6M", exc, t_u, -1, 2.0, housner_eta(alpha))
     errs = []
@@ -227,8 +227,8 @@ def test_large_sine_pulse_overturns_at_the_reference_time():
 def test_impacts_and_peaks_agree_with_event_driven_reference():
     _, _, alpha, _, p2 = _block("B6M")
     eta = housner_eta(alpha)
-    exc = SineWave(1.5 * alpha * G, 4 * math.sqrt(p2))
-    t_u = math.asin(G * 0.045 / 0.2025 / exc.a0) / exc.omega
+    exc = SineWave(amplitude=1.5 * alpha * G, omega=4 * math.sqrt(p2))
+    t_u = math.asin(G * 0.045 / 0.2025 / exc.amplitude) / exc.omega
     impacts, peaks, _ = _reference("B6M", exc, t_u, -1, 1.0, eta)
     res = newmark_block(multimass.rigid_block("B6M"), exc, 1.0, dt=2.5e-4, restitution=eta)
     got = [ev for ev in res.events if ev.kind == "impact"]
@@ -256,7 +256,7 @@ def test_mirrored_excitation_gives_mirrored_response():
 
 def test_numba_kernel_matches_python_reference():
     _, _, alpha, _, p2 = _block("B6M")
-    exc = SineWave(2.0 * alpha * G, 6 * math.sqrt(p2))   # 5 impacts, no overturning
+    exc = SineWave(amplitude=2.0 * alpha * G, omega=6 * math.sqrt(p2))   # 5 impacts, no overturning
     runs = [newmark_block(multimass.rigid_block("B6M"), exc, 1.5, restitution=housner_eta(alpha),
                           engine=e) for e in ("python", "numba")]
     py, nb = runs
@@ -273,7 +273,7 @@ def test_scalar_only_callable_and_vectorised_excitation_agree():
     _, _, alpha, _, p2 = _block("B6M")
     a0, omega = 2.5 * alpha * G, 5 * math.sqrt(p2)
     a = newmark_block(multimass.rigid_block("B6M"), _sine(a0, omega), 1.0, restitution=0.93)
-    b = newmark_block(multimass.rigid_block("B6M"), SineWave(a0, omega), 1.0, restitution=0.93)
+    b = newmark_block(multimass.rigid_block("B6M"), SineWave(amplitude=a0, omega=omega), 1.0, restitution=0.93)
     np.testing.assert_allclose(a.theta, b.theta, atol=1e-13)
     assert [ev.kind for ev in a.events] == [ev.kind for ev in b.events]
 
@@ -296,7 +296,7 @@ def test_restitution_callable_gets_velocity_and_new_side():
 # ---------------------------------------------------------------------------- early stop
 def test_rest_after_stops_early_and_matches_the_full_run():
     _, _, alpha, _, p2 = _block("B6M")
-    exc = SineWave(1.5 * alpha * G, 4 * math.sqrt(p2))
+    exc = SineWave(amplitude=1.5 * alpha * G, omega=4 * math.sqrt(p2))
     full = newmark_block(multimass.rigid_block("B6M"), exc, 3.0, restitution=housner_eta(alpha))
     early = newmark_block(multimass.rigid_block("B6M"), exc, 3.0, restitution=housner_eta(alpha),
                           rest_after=exc.duration)
@@ -320,7 +320,7 @@ def test_free_release_with_rest_after_zero_stops_at_once():
 def test_block_beyond_alpha_at_pulse_end_is_not_declared_safe():
     # regression: past θ = α the energy test alone (E < mgR(1 − cos α)) would say "rest"
     _, _, alpha, _, p2 = _block("B6M")
-    exc = SineWave(1.5 * alpha * G, math.sqrt(p2))
+    exc = SineWave(amplitude=1.5 * alpha * G, omega=math.sqrt(p2))
     res = newmark_block(multimass.rigid_block("B6M"), exc, 3.0, restitution=housner_eta(alpha),
                         rest_after=exc.duration)
     assert res.status == "overturned" and res.overturn_time > exc.duration

@@ -38,7 +38,7 @@ def test_sine_pulse_figure_5_agrees_with_housner():
     # paper 000, Fig 5: H/b = 7, 2b = 1 m, a_g/g = 0.45, ω_g/p = 5.75, ε_P = 0
     block = PoissonBlock.from_slenderness(7.0, width=1.0)
     a_g, w_g = 0.45 * block.g, 5.75 * block.p
-    ag = SineWave(a_g, w_g)
+    ag = SineWave(amplitude=a_g, omega=w_g)
     r = simulate_block(block, 0.0, 15.0, ag=ag, dt_out=0.01)
     t_up = math.asin(block.g * math.tan(block.alpha) / a_g) / w_g    # closed form: ag = g tan α
     grid = np.round(np.arange(0.0, 15.0, 0.01), 12)
@@ -123,7 +123,7 @@ def test_energy_ledger_closes(h_over_b, eps):
 
 def test_forced_ledger_closes_and_pulse_can_overturn():
     block = PoissonBlock.from_slenderness(4.0, width=0.4)
-    ag = SineWave(1.2 * block.g, 2.0 * block.p)
+    ag = SineWave(amplitude=1.2 * block.g, omega=2.0 * block.p)
     r = simulate_block(block, 0.0, 10.0, ag=ag)
     assert r.status == "overturned"
     ref = np.abs(r.raw.ground_work).max()
@@ -183,7 +183,7 @@ def test_agrees_with_the_engine_classical_impact(case):
     if case == "free":
         exc, kw = multimass.FreeRelease(0.1), dict(phi0=-0.1)      # θ0 = 0.1 ⇒ φ0 = −0.1
     else:
-        exc = multimass.SineWave(0.3 * block.g, 3.0 * block.p)
+        exc = multimass.SineWave(amplitude=0.3 * block.g, omega=3.0 * block.p)
         kw = dict(ag=exc)
     eng = multimass.simulate(st, exc, impact="CIM", restitution="housner", t_end=2.0,
                              rtol=1e-10, atol=1e-12)
@@ -208,7 +208,7 @@ def test_housner_reference_agrees_with_the_engine(case):
         exc = multimass.FreeRelease(0.1)
         theta_h = housner_theta(block, lambda t: 0.0, 0.0, 0.1, grid)
     else:
-        exc = multimass.SineWave(0.3 * block.g, 3.0 * block.p)
+        exc = multimass.SineWave(amplitude=0.3 * block.g, omega=3.0 * block.p)
         t_up = math.asin(block.g * math.tan(block.alpha) / (0.3 * block.g)) / (3.0 * block.p)
         theta_h = housner_theta(block, exc.acceleration, t_up, 0.0, grid, side=-1)
     eng = multimass.simulate(st, exc, impact="CIM", restitution="housner", t_end=2.0,

@@ -116,7 +116,7 @@ def test_E_over_Ebar_is_the_L_over_2500_modulus(tmp_path):
 
 
 def test_python_construction_matches_toml(tmp_path):
-    s = Scene("py", "S1", multimass.CosinePulse(15.0, 0.4 * G), Question("peak_rotation"),
+    s = Scene("py", "S1", multimass.CosinePulse(omega=15.0, amplitude=0.4 * G), Question("peak_rotation"),
               Tolerance(0.05))
     t = Scene.from_toml(scene_with(tmp_path))
     assert s.describe()["excitation"] == t.describe()["excitation"]

@@ -84,7 +84,7 @@ def test_energy_ledger_closes_free(name, impact):
 @pytest.mark.parametrize("name", ["S1", "S2", "S3"])
 @pytest.mark.parametrize("impact", ["CIM", "DD2"])
 def test_energy_ledger_closes_forced(name, impact):
-    resp = simulate(name, CosinePulse(15.0, 0.6 * 9.81), impact, 2.5)
+    resp = simulate(name, CosinePulse(omega=15.0, amplitude=0.6 * 9.81), impact, 2.5)
     assert resp.status in ("completed", "overturned")
     assert resp.n_impacts >= 1
     assert resp.energy_balance_error <= 1e-5
@@ -92,8 +92,8 @@ def test_energy_ledger_closes_forced(name, impact):
 
 
 def test_energy_error_falls_with_tolerance():
-    loose = simulate("S1", CosinePulse(15.0, 0.6 * 9.81), "DD2", 1.5, rtol=1e-6, atol=1e-8)
-    tight = simulate("S1", CosinePulse(15.0, 0.6 * 9.81), "DD2", 1.5, rtol=1e-10, atol=1e-12)
+    loose = simulate("S1", CosinePulse(omega=15.0, amplitude=0.6 * 9.81), "DD2", 1.5, rtol=1e-6, atol=1e-8)
+    tight = simulate("S1", CosinePulse(omega=15.0, amplitude=0.6 * 9.81), "DD2", 1.5, rtol=1e-10, atol=1e-12)
     assert tight.energy_balance_error <= 1e-8
     assert tight.energy_balance_error < loose.energy_balance_error
 
@@ -144,7 +144,7 @@ class TestPaper001Section43:
 
 def test_pulse_and_el_centro_complete(ground_motions):
     # paper 001, Section 4.4: ω = 15 rad/s, A = 0.4 g pulse; El Centro scaled by A_sc = 1.1
-    pulse = simulate("S1", CosinePulse(15.0, 0.4 * 9.81), "DD2", 3.0)
+    pulse = simulate("S1", CosinePulse(omega=15.0, amplitude=0.4 * 9.81), "DD2", 3.0)
     assert pulse.status == "completed" and pulse.n_impacts >= 2
     rec = read_two_column(ground_motions / "elcentro_1940_NS.dat", units="g", scale=1.1)
     quake = simulate("S1", rec, "DD2", 12.0, output_dt=None)
@@ -153,7 +153,7 @@ def test_pulse_and_el_centro_complete(ground_motions):
 
 
 def test_large_pulse_overturns():
-    resp = simulate("S1", CosinePulse(4.0, 1.0 * 9.81), "DD2", 6.0, output_dt=None)
+    resp = simulate("S1", CosinePulse(omega=4.0, amplitude=1.0 * 9.81), "DD2", 6.0, output_dt=None)
     assert resp.status == "overturned"
     ev = resp.events[-1]
     assert ev.kind == "overturn" and abs(ev.theta) >= math.pi / 2 - 1e-6
@@ -163,7 +163,7 @@ def test_large_pulse_overturns():
 def test_positive_ground_acceleration_rocks_to_the_left_first():
     # paper 001, Eq 5: +ü_g H^T M 1 cos θ on the left-hand side drives θ̈ < 0 (paper 004, Eqs 1–2)
     blk = multimass.rigid_block("B6M")
-    resp = simulate(blk, SineWave(2.0 * 9.81 * math.tan(blk.alpha_cg), 10.0), "CIM", 1.0)
+    resp = simulate(blk, SineWave(amplitude=2.0 * 9.81 * math.tan(blk.alpha_cg), omega=10.0), "CIM", 1.0)
     up = next(e for e in resp.events if e.kind == "uplift")
     assert up.phase_after == -1
 
@@ -201,7 +201,7 @@ def test_node_accelerations_follow_eq_7():
     from multimass.eom import rocking_accelerations, total_accelerations
 
     st = multimass.column("S1")
-    resp = simulate(st, CosinePulse(15.0, 0.6 * 9.81), "CIM", 1.0)
+    resp = simulate(st, CosinePulse(omega=15.0, amplitude=0.6 * 9.81), "CIM", 1.0)
     df = resp.series
     row = df[df.phase != 0].iloc[len(df[df.phase != 0]) // 2]
     u = row[[f"u{i}" for i in range(1, 6)]].to_numpy(float)

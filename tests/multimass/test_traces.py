@@ -51,7 +51,7 @@ def release(s1):
 @pytest.fixture(scope="module")
 def pulse(s1):
     # paper 001 Section 4.4, Fig 9: S1 under the cosine pulse ω = 15 rad/s, A = 0.4 g
-    return multimass.simulate(s1, multimass.CosinePulse(15.0, 0.4 * G), impact="DD2", t_end=1.0)
+    return multimass.simulate(s1, multimass.CosinePulse(omega=15.0, amplitude=0.4 * G), impact="DD2", t_end=1.0)
 
 
 # ---------------------------------------------------------------------------- identical trace

@@ -29,8 +29,8 @@ def test_first_peak_from_paper_002_initial_angles(name, integrator):
 def test_rocking_starts_only_above_g_tan_alpha():
     blk = multimass.rigid_block("B6M")
     a_th = blk.g * math.tan(blk.alpha_cg)                             # paper 004, Section 2
-    below = simulate(blk, SineWave(0.999 * a_th, 20.0), "CIM", 1.0)
-    above = simulate(blk, SineWave(1.001 * a_th, 20.0), "CIM", 1.0)
+    below = simulate(blk, SineWave(amplitude=0.999 * a_th, omega=20.0), "CIM", 1.0)
+    above = simulate(blk, SineWave(amplitude=1.001 * a_th, omega=20.0), "CIM", 1.0)
     assert not any(e.kind == "uplift" for e in below.events)
     assert any(e.kind == "uplift" for e in above.events)
 
