@@ -8,7 +8,8 @@
 
 from .analysis import ModalAnalysis, PhaseModes, analyse, default_shape_nodes
 from .errors import ModalError
-from .foss import StateSpaceModes, foss, frequency_and_damping, state_matrix
+from .foss import (StateSpaceModes, foss, frequency_and_damping, pair_frequency_and_damping,
+                   state_matrix)
 from .linearise import LinearSystem, full_contact, linearise, rocking
 from .mac import mac
 
@@ -25,6 +26,7 @@ __all__ = [
     "full_contact",
     "linearise",
     "mac",
+    "pair_frequency_and_damping",
     "rocking",
     "state_matrix",
 ]

@@ -83,14 +83,12 @@ def test_rocking_mode_is_nearly_rigid(s1):
 
 
 def test_normalisation(s1):
-    vt = s1.elastic_shapes()
-    np.testing.assert_allclose(np.linalg.norm(vt, axis=0), 1.0, rtol=1e-12)
-    big = vt[np.argmax(np.abs(vt), axis=0), np.arange(vt.shape[1])]
-    assert np.all(big > 0)
-    vc = s1.compound_shapes(complex_=True)
+    # modal.shapes, rule 1: unit Euclidean norm of the elastic part over the shape nodes
+    for vt in (s1.full_contact_shapes(), s1.elastic_shapes()):
+        np.testing.assert_allclose(np.linalg.norm(vt, axis=0), 1.0, rtol=1e-12)
     vt_c = s1.elastic_shapes(complex_=True)
     np.testing.assert_allclose(np.linalg.norm(vt_c, axis=0), 1.0, rtol=1e-12)
-    assert vc.dtype.kind == "c"
+    assert s1.compound_shapes(complex_=True).dtype.kind == "c"
 
 
 def test_complex_and_real_shapes_are_close(s1):
@@ -118,3 +116,44 @@ def test_one_node_structure_has_one_vibration_mode(tmp_path):
 def test_bad_shape_nodes():
     with pytest.raises(ModalError, match="shape_nodes"):
         modal.analyse("S1", shape_nodes=[0, 2])
+
+
+def test_mac_measured_phase_is_checked(s1):
+    with pytest.raises(ModalError, match="`phase` = 'uplifted'"):
+        s1.mac_measured(s1.compound_shapes(), phase="uplifted")
+
+
+# --- heavy damping: an uplifted mode becomes overdamped ------------------------------------------
+
+@pytest.fixture(scope="module")
+def zeta09(tmp_path_factory):
+    p = column_toml(tmp_path_factory.mktemp("z09"), [0.06, 0.49, 0.93, 1.43, 1.93],
+                    [77.3, 6.2, 88.2, 8.2, 46.2], name="z09",
+                    **{"zeta_1 = 0.005": "zeta_1 = 0.9", "zeta_2 = 0.015": "zeta_2 = 0.9"})
+    return modal.analyse(p)
+
+
+def test_heavy_damping_is_classified_not_an_error(zeta09):
+    s = zeta09.structure
+    fc, rk = zeta09.full_contact.to_pandas(), zeta09.rocking.to_pandas()
+    # full contact is Rayleigh: ζ_j = a0/(2ω_j) + a1 ω_j/2 with ζ_1 = ζ_2 = 0.9 (the file)
+    a0, a1 = s.rayleigh
+    w = zeta09.full_contact.undamped_omega
+    np.testing.assert_allclose(fc["damping"], a0 / (2 * w) + a1 * w / 2, rtol=1e-9)
+    assert list(fc["kind"]) == ["underdamped"] * 2 + ["overdamped"] * 3
+    # uplift adds coupling and stiffness: the first mode is overdamped while rocking
+    assert rk["kind"][0] == "overdamped" and rk["damping"][0] > 1
+    assert list(rk["mode"]) == [1, 2, 3, 4, 5]
+    lam = zeta09.rocking_eigenvalues
+    assert lam[0] > 0 > lam[1] and lam[0] == pytest.approx(s.p_l, rel=1e-3)   # Eq 6
+    # damping this heavy mixes uplifted modes 1 and 2: flagged, not hidden
+    assert np.all(rk["participation"][:2] < 0.9) and np.all(rk["participation"][2:] > 0.98)
+    from modal.report import markdown, summary
+    md = markdown(zeta09, summary(zeta09))
+    assert "**Mixed modes:**" in md and "uplifted mode 1 (45 %)" in md
+    # every overdamped couple solves the quadratic eigenproblem of Eqs 19–21
+    from modal import rocking
+    sys = rocking(s)
+    for l in zeta09.rocking.overdamped_eigenvalues.ravel():
+        Q = l**2 * sys.M + l * sys.C + sys.K
+        assert np.linalg.svd(Q, compute_uv=False)[-1] <= 1e-12 * np.linalg.norm(Q)
