@@ -52,8 +52,15 @@ def _u_names(n: int) -> tuple[str, ...]:
     return tuple(f"u{i + 1}" for i in range(n))
 
 
+def _check_structure(structure) -> None:
+    if not isinstance(structure, Structure):
+        raise ModalError(f"`structure` is a {type(structure).__name__}: give a multimass "
+                         "Structure, e.g. multimass.column('S1') or multimass.column('my.toml')")
+
+
 def full_contact(structure: Structure) -> LinearSystem:
     """The full-contact system, paper 001 Eq 3: M ü + C u̇ + K u = −M 1 ü_g."""
+    _check_structure(structure)
     if structure.n == 0:
         raise ModalError(f"structure {structure.name!r} has no elastic nodes: a rigid "
                          "body has no full-contact vibration modes")
@@ -80,7 +87,8 @@ def rocking(structure: Structure, side: int = +1) -> LinearSystem:
         M_L = [[M, M H], [Hᵀ M, J_p]], C_L = [[C, 0], [0, 0]],
         K_L = [[K, −g M 1], [−g 1ᵀ M, −g (Hᵀ M 1 + m0 h0)]].
     """
-    if side not in (1, -1):
+    _check_structure(structure)
+    if isinstance(side, bool) or side not in (1, -1):
         raise ModalError(f"`side` = {side!r}: use +1 (right pivot) or -1 (left pivot)")
     s, n, g = structure, structure.n, structure.g
     MH = s.m * s.H

@@ -10,7 +10,13 @@ __all__ = ["mac"]
 
 
 def _as_shapes(phi, name: str) -> np.ndarray:
-    a = np.asarray(phi)
+    try:
+        a = np.asarray(phi)
+    except ValueError:          # ragged nested lists
+        raise ModalError(f"`{name}` is ragged: give shapes as an (n_locations, n_modes) array, "
+                         "every mode with the same locations") from None
+    if a.dtype.kind not in "iufc":
+        raise ModalError(f"`{name}` holds {a.dtype} values: give real or complex numbers")
     if a.ndim == 1:
         a = a[:, None]
     if a.ndim != 2 or a.shape[0] == 0 or a.shape[1] == 0:
