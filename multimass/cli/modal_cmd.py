@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 from ..errors import InputError
@@ -30,16 +31,49 @@ def register(sub) -> None:
 
 
 def _nodes(text: str | None):
+    """Parse ``--shape-nodes 2,3,4``: integers separated by commas, nothing else."""
     if text is None:
         return None
-    try:
-        return tuple(int(x) for x in text.split(",") if x.strip())
-    except ValueError:
-        raise InputError(f"`--shape-nodes` = {text!r}: give comma-separated node numbers, e.g. 2,3,4,5") from None
+    items = [x.strip() for x in text.split(",")]
+    if not all(re.fullmatch(r"[0-9]+", x) for x in items):
+        raise InputError(f"`--shape-nodes` = {text!r}: give comma-separated integer node numbers, "
+                         "e.g. 2,3,4,5")
+    return tuple(int(x) for x in items)
+
+
+def _ranges(modes) -> str:
+    """1, 3, 4, 5 -> "1, 3–5"."""
+    out, run = [], []
+    for j in list(modes) + [None]:
+        if run and (j is None or j != run[-1] + 1):
+            out.append(str(run[0]) if len(run) == 1 else f"{run[0]}–{run[-1]}")
+            run = []
+        if j is not None:
+            run.append(j)
+    return ", ".join(out)
+
+
+def _first_modes(phase: dict, k: int = 3) -> str:
+    """Frequencies of modes 1..k by mode number; an overdamped one is marked."""
+    freq = dict(zip(phase["mode"], phase["freq_hz"]))
+    od = dict(zip(phase["overdamped"]["mode"], phase["overdamped"]["freq_hz"]))
+    return ", ".join(f"{freq[j]:.2f}" if j in freq else f"{od[j]:.2f} (overdamped)"
+                     for j in range(1, k + 1) if j in freq or j in od)
+
+
+def _line(info: dict) -> str:
+    text = (f"{info['specimen']}: full contact {_first_modes(info['full_contact'])} Hz; "
+            f"uplifted {_first_modes(info['rocking'])} Hz; "
+            f"rocking ±{info['rocking']['rocking_eigenvalues'][0]:.4f} rad/s")
+    od = [f"{name} {_ranges(info[key]['overdamped']['mode'])}"
+          for name, key in (("full contact", "full_contact"), ("uplifted", "rocking"))
+          if info[key]["overdamped"]["mode"]]
+    return text + (f"; overdamped modes: {'; '.join(od)}" if od else "")
 
 
 def run(args) -> int:
     import modal
+    from modal.validate import validate_shape_nodes, validate_structure
     from modal.measured import read_measured_shapes
     from modal.report import summary, write_report
 
@@ -50,7 +84,11 @@ def run(args) -> int:
     out = args.out if args.out is not None or args.json else Path("modal_report")
     results = []
     for name in args.specimens:
-        analysis = modal.analyse(name, _nodes(args.shape_nodes))
+        structure = validate_structure(name)
+        default = modal.default_shape_nodes(structure.n)
+        nodes = validate_shape_nodes(_nodes(args.shape_nodes), structure.n, default, "--shape-nodes",
+                                     "--shape-nodes " + ",".join(map(str, default[:3])))
+        analysis = modal.analyse(structure, nodes)
         if out is not None:
             info = write_report(analysis, out, measured, figures=not args.no_figures)
         else:
@@ -60,9 +98,6 @@ def run(args) -> int:
         print(json.dumps(results, indent=2))
     else:
         for info in results:
-            fu = ", ".join(f"{f:.2f}" for f in info["rocking"]["freq_hz"][:3])
-            fn = ", ".join(f"{f:.2f}" for f in info["full_contact"]["freq_hz"][:3])
-            print(f"{info['specimen']}: full contact {fn} Hz; uplifted {fu} Hz; "
-                  f"rocking ±{info['rocking']['rocking_eigenvalues'][0]:.4f} rad/s")
+            print(_line(info))
         print(f"reports written to {out}/")
     return 0

@@ -107,3 +107,69 @@ def test_measured_nodes_outside_the_model(tmp_path):
     p.write_text("node,m1\n2,0.1\n9,0.3\n")
     with pytest.raises(modal.ModalError, match="outside"):
         summary(modal.analyse("S1"), read_measured_shapes(p))
+
+
+# --- figures: what they draw is what the JSON says; nothing hidden or clipped ------------------
+
+@pytest.fixture(scope="module", params=["S1", "S2", "S3"])
+def analysis(request):
+    return modal.analyse(request.param)
+
+
+def test_shape_figure_draws_the_json_numbers(analysis):
+    from modal.plots import shapes_figure
+
+    info = summary(analysis)
+    sh = info["shapes"]
+    fig = shapes_figure(analysis)
+    for j, ax in enumerate(fig.axes[:3]):
+        lines = {ln.get_label(): ln for ln in ax.get_lines()}
+        for label, key in (("full contact v_n", "full_contact"), ("uplifted elastic v_t", "elastic"),
+                           ("uplifted compound v_c", "compound")):
+            np.testing.assert_array_equal(lines[label].get_xdata(), sh[key][j])
+            np.testing.assert_array_equal(lines[label].get_ydata(), sh["heights_m"])
+    # the height axis starts at the base and shows it
+    assert fig.axes[0].get_ylim()[0] == 0.0
+    assert any(np.all(np.asarray(ln.get_ydata()) == 0.0) for ln in fig.axes[0].get_lines())
+
+
+def _centre_px(ax, x, y):
+    return ax.transData.transform((x, y))
+
+
+def _distance_to_box(point, box):
+    dx = max(box.x0 - point[0], 0.0, point[0] - box.x1)
+    dy = max(box.y0 - point[1], 0.0, point[1] - box.y1)
+    return np.hypot(dx, dy)
+
+
+def test_eigenvalue_zoom_labels_hide_nothing(analysis):
+    from modal.plots import eigenvalue_figure
+
+    fig = eigenvalue_figure(analysis)
+    fig.draw_without_rendering()
+    zoom = fig.axes[1]
+    texts = [t for t in zoom.texts]
+    assert len(texts) == 4                                   # n1, n2, u1, u2
+    boxes = [t.get_window_extent() for t in texts]
+    frame = zoom.get_window_extent()
+    for i, b in enumerate(boxes):
+        assert frame.contains(b.x0, b.y0) and frame.contains(b.x1, b.y1), texts[i].get_text()
+        for other in boxes[i + 1:]:
+            assert not b.overlaps(other)
+    # ±p_l and the rocking pair: no label within a marker's radius (s = 140 pt², dpi 100)
+    radius = np.sqrt(140) / 2 * fig.dpi / 72
+    p = analysis.structure.p_l
+    for x in (p, -p, *analysis.rocking_eigenvalues):
+        c = _centre_px(zoom, x, 0.0)
+        assert all(_distance_to_box(c, b) > radius for b in boxes)
+    # every plotted eigenvalue of modes 1–2 lies outside every label
+    for pm in (analysis.full_contact, analysis.rocking):
+        for lam in pm.vibration_eigenvalues[pm.mode <= 2]:
+            for y in (lam.imag, -lam.imag):
+                c = _centre_px(zoom, lam.real, y)
+                assert all(_distance_to_box(c, b) > 3 for b in boxes)
+    # the legend is outside both panels
+    assert not zoom.get_legend() and len(fig.legends) == 1
+    legend = fig.legends[0].get_window_extent()
+    assert not any(legend.overlaps(ax.get_window_extent()) for ax in fig.axes)

@@ -2,8 +2,13 @@
 
 import json
 
+import numpy as np
 import pytest
+import scipy.linalg as sla
 
+from tests.conftest import column_toml
+
+import multimass
 from multimass.cli import main
 
 
@@ -42,9 +47,56 @@ def test_modal_user_file(tmp_path, capsys):
 @pytest.mark.parametrize("argv, fragment", [
     (["modal", "S7", "--json"], "no such bundled specimen"),
     (["modal", "S1", "--shape-nodes", "a,b", "--json"], "--shape-nodes"),
+    (["modal", "S1", "--shape-nodes", "2.5", "--json"], "`--shape-nodes` = '2.5'"),
+    (["modal", "S1", "--shape-nodes", "2,,3", "--json"], "integer node numbers"),
+    (["modal", "S1", "--shape-nodes", "2,\u00b3", "--json"], "integer node numbers"),
+    (["modal", "nowhere/col.toml", "--json"], "nowhere/col.toml"),
+    (["modal", "S1", "--shape-nodes", "0,2", "--json"], "`--shape-nodes` = (0, 2): node(s) [0]"),
     (["modal", "S1", "S2", "--measured", "x.csv", "--json"], "--measured"),
+    (["modal", "B6M", "--json"], "'B6M' is a rigid block"),
 ])
 def test_bad_input_exits_2_with_one_line(argv, fragment, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert fragment in err and err.count("\n") == 1
+
+
+def _forty_nodes(tmp_path):
+    heights = [round(0.05 * (i + 1), 4) for i in range(40)]
+    return column_toml(tmp_path, heights, [20.0] * 40, name="col40")
+
+
+def test_forty_node_column_gets_its_full_report(tmp_path, capsys):
+    # the reviewer's case: Rayleigh damping overdamps the high modes of a fine mesh
+    path = _forty_nodes(tmp_path)
+    out = tmp_path / "report"
+    assert main(["modal", str(path), "--out", str(out)]) == 0
+    line = capsys.readouterr().out
+    for name in ("col40_modal.md", "col40_modal.json", "col40_eigenvalues.png", "col40_shapes.png"):
+        assert (out / name).is_file(), name
+    # which modes are overdamped, from the closed form ζ_j = a0/(2ω_j) + a1 ω_j/2 (full contact)
+    s = multimass.column(path)
+    w = np.sqrt(sla.eigh(s.K, s.M, eigvals_only=True))
+    a0, a1 = s.rayleigh
+    over = [int(j) for j in np.flatnonzero(a0 / (2 * w) + a1 * w / 2 > 1) + 1]
+    data = json.loads((out / "col40_modal.json").read_text())
+    assert data["full_contact"]["overdamped"]["mode"] == over and len(over) >= 20
+    assert sorted(data["full_contact"]["mode"] + over) == list(range(1, 41))
+    assert all(z >= 1 for z in data["rocking"]["overdamped"]["damping"])
+    assert len(data["rocking"]["rocking_eigenvalues"]) == 2
+    md = (out / "col40_modal.md").read_text()
+    assert "## Overdamped modes" in md and f"| full contact | {over[0]} |" in md
+    assert "First 10 of 40 modes" in md and "| n10 |" in md and "| n11 |" not in md
+    assert "overdamped modes: full contact" in line
+
+
+def test_heavily_damped_column_lists_overdamped_uplifted_modes(tmp_path, capsys):
+    path = column_toml(tmp_path, [0.06, 0.49, 0.93, 1.43, 1.93], [77.3, 6.2, 88.2, 8.2, 46.2],
+                       name="z09",
+                       **{"zeta_1 = 0.005": "zeta_1 = 0.9", "zeta_2 = 0.015": "zeta_2 = 0.9"})
+    assert main(["modal", str(path), "--out", str(tmp_path), "--no-figures"]) == 0
+    line = capsys.readouterr().out.splitlines()[0]
+    assert "(overdamped)" in line and "uplifted 1, 3–5" in line
+    data = json.loads((tmp_path / "z09_modal.json").read_text())
+    assert data["rocking"]["overdamped"]["mode"] == [1, 3, 4, 5]
+    assert data["rocking"]["mode"] == [2]
