@@ -13,7 +13,7 @@ from .excitations import (CosinePulse, CosineWave, Excitation, FreeRelease, Rick
 from .records import Record, read_at2, read_record, read_two_column
 from .units import G, parse_acceleration, to_mps2
 from .response import Event, Response
-from .simulate import DEFAULTS, Outcome, simulate, simulate_outcome
+from .simulate import DEFAULTS, Outcome, estimate, simulate, simulate_outcome
 from .trace_metrics import ChannelMetrics, compare_trace
 from .traces import Trace, read_trace
 from .scenes import Scene, choose
@@ -43,6 +43,7 @@ __all__ = [
     "DEFAULTS",
     "simulate",
     "simulate_outcome",
+    "estimate",
     "Outcome",
     "Trace",
     "ChannelMetrics",

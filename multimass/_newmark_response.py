@@ -32,15 +32,23 @@ def _restitution(st, model, rng):
     return r
 
 
-def simulate_newmark(st, model, excitation, t_end, *, dt, seed, theta_dot_min, overturn_angle,
-                     stop_when_safe, options) -> Response:
-    """Rigid block by Newmark + Newton–Raphson (paper 004, Eqs 3–8) as a `Response`."""
+def check_newmark(st, model) -> None:
+    """Raise InputError unless paper 004's Newmark integrator applies (rigid block, classical)."""
     if st.n != 0:
         raise InputError(f"`integrator` = 'newmark' integrates rigid blocks only; {st.name!r} has "
                          f"{st.n} elastic nodes: use integrator='solve_ivp'")
     if not isinstance(model, Classical):
         raise InputError(f"`integrator` = 'newmark' implements classical impacts (paper 004); "
                          f"impact {getattr(model, 'name', model)!r} needs integrator='solve_ivp'")
+
+
+def simulate_newmark(st, model, excitation, t_end, *, dt, seed, theta_dot_min, overturn_angle,
+                     stop_when_safe, options, floor: float = 0.0) -> Response:
+    """Rigid block by Newmark + Newton–Raphson (paper 004, Eqs 3–8) as a `Response`.
+
+    `floor` is the smallest energy scale of the ledger (`multimass.checks.energy_floor`).
+    """
+    check_newmark(st, model)
     theta0 = float(getattr(excitation, "theta0", 0.0) or 0.0)
     duration = float(getattr(excitation, "duration", math.inf))
     ag = getattr(excitation, "acceleration", excitation)
@@ -49,10 +57,10 @@ def simulate_newmark(st, model, excitation, t_end, *, dt, seed, theta_dot_min, o
                         theta0=theta0, overturn_angle=overturn_angle, thetadot_min=theta_dot_min,
                         rest_after=duration if stop_when_safe and math.isfinite(duration) else None)
     wall = time.perf_counter() - wall
-    return _to_response(st, res, ag, wall, options, t_end)
+    return _to_response(st, res, ag, wall, options, t_end, floor)
 
 
-def _to_response(st, res, ag_fn, wall, options, t_end) -> Response:
+def _to_response(st, res, ag_fn, wall, options, t_end, floor) -> Response:
     t, th, thd = res.t, res.theta, res.thetadot
     events = [Event("release", 0.0, int(np.sign(th[0])), int(np.sign(th[0])), theta=float(th[0]))]
     side = int(np.sign(th[0]))
@@ -82,7 +90,7 @@ def _to_response(st, res, ag_fn, wall, options, t_end) -> Response:
             losses[t >= e.time] -= e.energy_change
     E = T + V
     balance = E + losses - Wg - E[0]
-    ref = max(abs(E[0]), float(np.max(np.abs(Wg))), 1e-300)
+    ref = max(abs(E[0]), float(np.max(np.abs(Wg))), floor, 1e-300)
     series = pd.DataFrame({"t": t, "phase": phase, "theta": th, "thetadot": thd, "F_i": 0.0,
                            "ag": ag, "kinetic": T, "gravitational": V, "elastic": 0.0,
                            "damping": 0.0, "impact": losses, "ground_work": Wg,

@@ -136,7 +136,9 @@ class Recorder:
         grav = g * (height * (c - 1.0) + lever * sn)
         return ag, F, acc, kinetic, grav, elastic
 
-    def response(self, name, status, message, events, wall, options, n_rhs, t_end) -> Response:
+    def response(self, name, status, message, events, wall, options, n_rhs, t_end,
+                 floor: float = 0.0) -> Response:
+        """The `Response`; `floor` is the smallest energy scale (`multimass.checks.energy_floor`)."""
         n = self.st.n
         sizes = [b[0].size for b in self.blocks]
         t = np.concatenate([b[0] for b in self.blocks])
@@ -162,7 +164,7 @@ class Recorder:
         impact = WF + loss
         E = T + V + U
         balance = E + D + impact - Wg - E[0]
-        ref = max(abs(E[0]), float(np.max(np.abs(Wg))), 1e-300)
+        ref = max(abs(E[0]), float(np.max(np.abs(Wg))), floor, 1e-300)
         data = {"t": t, "phase": phase, "theta": Y[:, n], "thetadot": Y[:, 2 * n + 1]}
         for i in range(n):
             data[f"u{i + 1}"] = Y[:, i]

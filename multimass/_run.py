@@ -26,12 +26,25 @@ __all__ = ["_Run", "QUIET_DELAY"]
 QUIET_DELAY = 1e-9     # s: events are held quiet this long after a restart
 
 
+def _reporting(rhs, progress, every: int = 2000):
+    """`rhs` that tells `progress` the time every `every` calls (long segments show progress)."""
+    count = [0]
+
+    def wrapped(t, y):
+        count[0] += 1
+        if count[0] % every == 0:
+            progress(t)
+        return rhs(t, y)
+
+    return wrapped
+
+
 class _Run:
     """State of one simulation while it runs (phase, force, draws, log)."""
 
     def __init__(self, st, model, ag_fn, duration, bps, t_end, phase, y, seed, ivp,
                  theta_dot_min, output_dt, overturn_angle, chatter_window, chatter_count,
-                 stop_at_rest, stop_when_safe):
+                 stop_at_rest, stop_when_safe, energy_floor=0.0):
         self.st, self.mdl, self.model = st, Model.of(st), model
         self.ag, self.duration, self.t_end = ag_fn, duration, t_end
         ends = [b for b in bps if 0.0 < b < t_end] + ([duration] if 0 < duration < t_end else [])
@@ -52,6 +65,9 @@ class _Run:
         self.status, self.message, self.n_rhs = "completed", "", 0
         self.recorder = Recorder(st, self.mdl, output_dt, ag_fn)
         self.recorder.start_phase(phase, 0.0, y)
+        self.energy_floor = float(energy_floor)
+        self.e0 = self.energy(phase, y)            # the ledger starts from the given state
+        self.progress = None                       # a callback progress(t), see `loop`
         if phase and model.has_force:
             self.r_pending = self.draw(-phase)
 
@@ -62,7 +78,9 @@ class _Run:
         return float(self.model.restitution.value(ctx))
 
     # -- main loop -----------------------------------------------------------
-    def loop(self):
+    def loop(self, progress=None):
+        """Integrate to t_end (or the end of the run); `progress(t)` is told the time."""
+        self.progress = progress
         while self.t < self.t_end and self.status == "completed":
             t_stop = next(b for b in self.breakpoints if b > self.t)
             if self.phase == 0 and self.st.n == 0:
@@ -75,7 +93,16 @@ class _Run:
                                          theta=float(self.y[self.st.n]),
                                          detail="excitation over; too little energy to overturn"))
                 break
+            if progress is not None:
+                progress(self.t)
         self.recorder.finish(self.t, self.y, self.phase)
+
+    def end_balance_error(self) -> float:
+        """|ledger balance| at the end of the run over its energy scale (`multimass.checks`)."""
+        E = self.energy(self.phase, self.y)
+        D, Wg, WF = (float(x) for x in self.y[-3:])
+        balance = E + D + WF + self.recorder.loss - Wg - self.e0
+        return abs(balance) / max(abs(self.e0), abs(Wg), abs(E), self.energy_floor, 1e-300)
 
     def is_safe(self) -> bool:
         """After the excitation, can this rigid body still overturn? (`stop_when_safe`)"""
@@ -134,6 +161,8 @@ class _Run:
 
         rhs = (full_contact_rhs(self.mdl, self.ag) if self.phase == 0
                else rocking_rhs(self.mdl, self.phase, self.ag, self.force))
+        if self.progress is not None:
+            rhs = _reporting(rhs, self.progress)
         names, events = phase_events(self, QUIET_DELAY)
         t_eval = self.recorder.grid(self.t, t_stop)
         try:
@@ -147,6 +176,10 @@ class _Run:
         if sol.status == -1:
             self.fail(float(sol.t[-1]) if sol.t.size else self.t,
                       f"solve_ivp failed at t = {sol.t[-1]:.6g} s: {sol.message}")
+            return
+        if not np.all(np.isfinite(sol.y)):
+            self.fail(self.t, f"solve_ivp ({self.ivp['method']}) produced a non-finite state in "
+                              f"the segment starting at t = {self.t:.6g} s")
             return
         self.recorder.segment(sol, rhs, self.phase, self.force, names)
         if sol.status == 1:

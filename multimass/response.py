@@ -11,7 +11,6 @@ import pandas as pd
 
 __all__ = ["Event", "Response"]
 
-STATUSES = ("completed", "overturned", "failed")
 
 
 @dataclass(frozen=True)
@@ -55,7 +54,9 @@ class Response:
     Attributes
     ----------
     structure_name : str
-    status : {"completed", "overturned", "failed"}
+    status : {"completed", "overturned", "inaccurate", "failed"}
+        The physical `outcome`, or "inaccurate" when the run finished but an
+        accuracy check failed (see `multimass.checks`; `warnings` says which).
     message : str
         The solver's message when it failed, else a short summary.
     series : pandas.DataFrame
@@ -80,6 +81,13 @@ class Response:
         Solver and model options used.
     n_rhs : int
         Right-hand-side evaluations.
+    t_end : float
+    outcome : {"completed", "overturned", "failed"}
+        How the run ended physically, whatever its checks say.
+    warnings : tuple of str
+        One line per failed check or caveat: what, how much, what to do.
+    checks : dict
+        name -> {"value", "limit", "passed"}, e.g. "energy_balance".
     """
 
     structure_name: str
@@ -95,6 +103,9 @@ class Response:
     options: dict = field(default_factory=dict)
     n_rhs: int = 0
     t_end: float = 0.0
+    outcome: str = ""
+    warnings: tuple[str, ...] = ()
+    checks: dict = field(default_factory=dict)
 
     @property
     def n_impacts(self) -> int:
@@ -113,6 +124,7 @@ class Response:
 
     @property
     def overturned(self) -> bool:
+        """True if the run overturned and its checks passed (status "overturned")."""
         return self.status == "overturned"
 
     def events_frame(self) -> pd.DataFrame:
@@ -138,7 +150,10 @@ class Response:
         return {
             "structure": self.structure_name,
             "status": self.status,
+            "outcome": self.outcome or self.status,
             "message": self.message,
+            "warnings": list(self.warnings),
+            "checks": self.checks,
             "n_impacts": self.n_impacts,
             "n_full_contact": self.n_full_contact,
             "n_uplifts": sum(e.kind == "uplift" for e in self.events),

@@ -168,6 +168,10 @@ class FastPath:
             run.message = f"compiled {self.method} failed at t = {t:.6g} s: {_FAIL_MESSAGE}"
             run.events.append(Event("failed", t_fail, run.phase, run.phase, detail=_FAIL_MESSAGE))
             return
+        if not (np.all(np.isfinite(samples)) and np.all(np.isfinite(y))):
+            run.fail(run.t, f"compiled {self.method} produced a non-finite state in the segment "
+                            f"starting at t = {run.t:.6g} s")
+            return
         t_events, y_events = [_NONE] * len(names), [_NONE] * len(names)
         if run.phase:           # θ̇ = 0, the one non-terminal event (index 2 while rocking)
             t_events[_PEAK], y_events[_PEAK] = nt_t, nt_y

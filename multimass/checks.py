@@ -1,0 +1,78 @@
+"""Accuracy checks of a finished run, and the status they decide.
+
+A run ends with a physical *outcome* — "completed" (reached t_end, or came to rest),
+"overturned", or "failed" (the solver could not go on). Its *status* is that outcome
+unless an accuracy check failed, in which case the status is "inaccurate": the run
+finished, but its numbers are not to be trusted, and `warnings` says why and what to
+do. A result never passes as normal when its checks fail.
+
+The energy ledger (kinetic + gravitational + elastic energy, cumulative damping and
+impact losses, work of the ground) must close: its largest balance error, relative to
+the run's energy scale, must not exceed ``energy_tol`` (default 1e-3, the limit at which
+`multimass bench` reports "energy drift"). At the default tolerances the bundled
+specimens close to ≤ 2e-8 (README, Energy ledger).
+
+The energy scale is the largest of the initial energy, the largest work of the
+ground and `energy_floor`: energies below the floor are below what the solver's
+absolute tolerance resolves, so a run whose energies are all round-off (a pulse of
+1e9 rad/s that the structure cannot follow) is not judged on the ratio of two
+round-off errors.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+__all__ = ["STATUSES", "OUTCOMES", "energy_floor", "energy_check", "judge"]
+
+#: What a run's status can be.
+STATUSES = ("completed", "overturned", "inaccurate", "failed")
+#: What a run's physical outcome can be.
+OUTCOMES = ("completed", "overturned", "failed")
+
+
+def energy_floor(structure, atol: float) -> float:
+    """The work of the restoring moment m_t g B over an angle of `atol` (J).
+
+    Energy differences below it are below the solver's absolute tolerance on θ.
+    """
+    return float(atol) * structure.m_t * structure.g * structure.B
+
+
+def energy_check(error: float, limit: float) -> dict:
+    """The energy-ledger check: ``{"value", "limit", "passed"}``."""
+    return {"value": float(error), "limit": float(limit), "passed": bool(error <= limit)}
+
+
+def _energy_warning(check: dict) -> str:
+    return (f"energy ledger does not close: balance error {check['value']:.3g} of the energy "
+            f"scale (limit {check['limit']:.3g}); the solution is not accurate — tighten "
+            "rtol/atol (e.g. rtol=1e-10, atol=1e-12) or shorten max_step")
+
+
+def judge(result, energy_tol: float):
+    """`result` (a Response or an Outcome) with its checks, status, outcome and warnings.
+
+    Parameters
+    ----------
+    result : Response or Outcome
+        With ``status`` set to the physical outcome and ``energy_balance_error``.
+    energy_tol : float
+        Largest accepted energy balance error (share of the energy scale).
+
+    Returns
+    -------
+    The same type, with ``outcome`` (the physical end), ``checks``, ``warnings``
+    and ``status`` ("inaccurate" if a check failed and the run did not fail).
+    """
+    outcome = result.status
+    checks = dict(result.checks)
+    warnings = list(result.warnings)
+    if outcome != "failed":
+        checks["energy_balance"] = energy_check(result.energy_balance_error, energy_tol)
+        if not checks["energy_balance"]["passed"]:
+            warnings.append(_energy_warning(checks["energy_balance"]))
+    failed = any(not c["passed"] for c in checks.values())
+    status = "inaccurate" if failed and outcome != "failed" else outcome
+    return dataclasses.replace(result, status=status, outcome=outcome, checks=checks,
+                               warnings=tuple(warnings))

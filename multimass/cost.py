@@ -1,0 +1,108 @@
+"""How much one `simulate` run will cost, estimated from its inputs before it starts.
+
+Explicit Runge–Kutta methods (DOP853, RK45, RK23; solve_ivp or the compiled path) take
+steps no longer than c/ρ, where ρ is the spectral radius of the structure's linear
+state matrix [[0, I], [−M⁻¹K, −M⁻¹C]] (its stiffest, or most heavily damped, mode) and c
+the extent of the method's stability region; and no longer than ``max_step``. Measured
+on this machine kind (2026-11-23; S1–S3 released from 0.1 rad, DD2, 2 s, E_s × 1, 20 and
+2000, compiled path): DOP853 took t_end ρ/3.4 … t_end ρ/6.4 steps of 12 right-hand
+sides, RK45 t_end ρ/1.7 … /2.8 steps of 6, RK23 (accuracy-limited at rtol 1e-8)
+t_end ρ/0.2 … /2.5 steps of 3. A right-hand side cost 0.3–0.6 µs compiled and
+44–62 µs through solve_ivp. The implicit methods (Radau, BDF, LSODA) are not limited
+by ρ: S1 over 1 s took 31 631 (Radau), 9 342 (BDF) and 10 061 (LSODA) right-hand sides,
+0.6–3.2 s. Paper 004's Newmark integrator costs ~1.3 µs per Newton iteration, a few
+per step of ``dt``.
+
+The constants below take the slow end of each range, so a run is never estimated
+cheaper than it is by more than the spread of the measurements.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .progress import RunCost
+
+__all__ = ["spectral_radius", "simulation_cost"]
+
+# method -> (stability extent c, right-hand sides per step), see the module docstring
+_EXPLICIT = {"DOP853": (3.4, 12), "RK45": (1.7, 6), "RK23": (0.2, 3)}
+_RHS_SECONDS = {"compiled": 0.6e-6, "scipy": 60e-6}      # per right-hand side, N ≈ 5
+_IMPLICIT_RHS_SECONDS = 200e-6                             # solve_ivp Radau/BDF/LSODA
+_NEWMARK_STEP_SECONDS = 5e-6                               # a few Newton iterations
+_IMPLICIT_STEPS_PER_CAP = 3.0                              # steps per max_step (≤ 5 ms)
+_ACCURACY_STEP = 5e-3                                      # s, a smooth motion's step
+
+
+def spectral_radius(structure) -> float:
+    """Largest |λ| of the full-contact state matrix (rad/s); 0 for a rigid body.
+
+    The rocking phase couples θ to u but leaves the stiffest modes nearly
+    unchanged (S1: 280.7 Hz in full contact, 281.0 Hz uplifted), so the
+    full-contact value sets the explicit step of both phases.
+    """
+    n = int(structure.n)
+    if n == 0:
+        return 0.0
+    minv = 1.0 / np.asarray(structure.m, dtype=float)
+    A = np.zeros((2 * n, 2 * n))
+    A[:n, n:] = np.eye(n)
+    A[n:, :n] = -minv[:, None] * np.asarray(structure.K, dtype=float)
+    A[n:, n:] = -minv[:, None] * np.asarray(structure.C, dtype=float)
+    lam = np.linalg.eigvals(A)
+    return float(np.max(np.abs(lam))) if np.all(np.isfinite(lam)) else math.inf
+
+
+def _explicit_steps(t_end, rho, method, max_step) -> tuple[float, int, str]:
+    c, per_step = _EXPLICIT[method]
+    stiff = t_end * rho / c
+    # without a cap, smooth rocking still takes steps of a few ms (B6M: 4.8 ms at rtol 1e-8)
+    cap = min(max_step, _ACCURACY_STEP)
+    capped = t_end / cap
+    if stiff >= capped:
+        basis = (f"{method} steps ≤ {c / rho:.2g} s, set by the stiffest mode of the structure "
+                 f"(|λ| = {rho:.3g} rad/s, {rho / (2 * math.pi):.3g} Hz)")
+        return stiff, per_step, basis
+    return capped, per_step, f"steps of ≤ {cap:g} s over t_end = {t_end:g} s"
+
+
+def simulation_cost(structure, t_end: float, *, method: str, max_step: float,
+                    output_dt: float | None, backend: str, integrator: str,
+                    dt: float | None = None) -> RunCost:
+    """Estimated steps, wall time and output memory of one `simulate` run.
+
+    Parameters
+    ----------
+    structure : Structure
+    t_end : float
+        End time (s).
+    method, max_step, output_dt, backend, integrator, dt :
+        As in `multimass.simulate` (a `method` that is an OdeSolver class counts
+        as implicit).
+
+    Returns
+    -------
+    RunCost
+    """
+    n = int(structure.n)
+    size = 1.0 + (n / 20.0) ** 2                 # matrix-vector work grows with N²
+    if integrator == "newmark":
+        steps = t_end / dt
+        seconds = steps * _NEWMARK_STEP_SECONDS
+        basis = f"Newmark steps of dt = {dt:g} s over t_end = {t_end:g} s"
+    elif isinstance(method, str) and method in _EXPLICIT:
+        rho = spectral_radius(structure)
+        steps, per_step, basis = _explicit_steps(t_end, rho, method, max_step)
+        seconds = steps * per_step * _RHS_SECONDS[backend] * size
+    else:
+        cap = min(max_step, _ACCURACY_STEP)
+        steps = _IMPLICIT_STEPS_PER_CAP * t_end / cap
+        seconds = steps * (2 * n + 5) * _IMPLICIT_RHS_SECONDS * size
+        basis = f"implicit steps of ~{cap / _IMPLICIT_STEPS_PER_CAP:.2g} s over t_end = {t_end:g} s"
+    rows = 0.0 if output_dt is None else t_end / output_dt
+    memory = rows * 8.0 * (6 * n + 19)           # states + the series' columns, float64
+    if rows:
+        basis += f"; {rows:.3g} output samples (t_end / output_dt)"
+    return RunCost(steps=steps, seconds=seconds, memory=memory, basis=basis)

@@ -1,0 +1,96 @@
+"""The cost estimate of a run (multimass.cost) and the progress helpers (multimass.progress)."""
+
+import math
+
+import numpy as np
+import pytest
+
+import multimass
+from multimass import FreeRelease, InputError, estimate, simulate
+from multimass.cost import simulation_cost, spectral_radius
+from multimass.progress import Progress, RunCost, format_bytes, format_duration
+
+
+def test_spectral_radius_against_the_foss_eigenvalues():
+    # an independent implementation of the same state matrix: modal's Foss solver (Eq 24)
+    from modal.foss import foss
+    from modal.linearise import full_contact
+
+    for name in ("S1", "S2", "S3"):
+        st = multimass.column(name)
+        ref = np.abs(foss(full_contact(st)).eigenvalues).max()
+        assert spectral_radius(st) == pytest.approx(ref, rel=1e-10)
+    assert spectral_radius(multimass.rigid_block("B6M")) == 0.0
+
+
+def test_a_single_degree_of_freedom_in_closed_form():
+    # one node, Rayleigh damping ζ: |λ| = ω for ζ < 1 (λ = −ζω ± iω√(1−ζ²))
+    class Sdof:
+        n, m, K = 1, np.array([2.0]), np.array([[800.0]])
+        C = np.array([[2 * 0.05 * math.sqrt(800.0 * 2.0)]])
+
+    assert spectral_radius(Sdof) == pytest.approx(20.0, rel=1e-12)
+
+
+@pytest.mark.parametrize("scale", [1.0, 100.0])
+def test_steps_follow_the_stiffest_mode(scale):
+    # the estimate's steps against what the compiled DOP853 path really took (12 RHS a step):
+    # never below the real count, never more than 3× above (the spread of the calibration)
+    st = multimass.column("S1", E_s=200e9 * scale)
+    r = simulate(st, FreeRelease(0.1), "DD2", 1.0, backend="compiled", output_dt=None)
+    cost = simulation_cost(st, 1.0, method="DOP853", max_step=5e-3, output_dt=None,
+                           backend="compiled", integrator="solve_ivp")
+    ratio = cost.steps / (r.n_rhs / 12)
+    assert 0.9 <= ratio <= 3.0, ratio
+    assert "stiffest mode" in cost.basis
+
+
+def test_memory_counts_the_output_grid():
+    st = multimass.column("S1")
+    cost = simulation_cost(st, 10.0, method="DOP853", max_step=5e-3, output_dt=1e-3,
+                           backend="scipy", integrator="solve_ivp")
+    assert cost.memory == pytest.approx(1e4 * 8 * (6 * 5 + 19))
+    assert "1e+04 output samples" in cost.basis
+
+
+def test_newmark_cost_is_its_steps():
+    st = multimass.rigid_block("B6M")
+    cost = simulation_cost(st, 2.0, method="DOP853", max_step=5e-3, output_dt=None,
+                           backend="scipy", integrator="newmark", dt=1e-3)
+    assert cost.steps == pytest.approx(2000.0)
+
+
+def test_run_cost_check_names_both_problems():
+    cost = RunCost(steps=1e12, seconds=1e9, memory=1e15, basis="steps of 1 ms")
+    with pytest.raises(InputError) as err:
+        cost.check("a run", "do less", max_seconds=3600.0, max_memory=1e9)
+    msg = str(err.value)
+    assert msg.startswith("a run: estimated 32 years") and "909 TiB" in msg  # 1e15 B / 2**40
+    assert "(steps of 1 ms); do less" in msg and "max_hours" in msg
+    assert RunCost(1.0, 1.0, 1.0, "").check("ok", "", max_seconds=2.0, max_memory=2.0)
+
+
+def test_formats():
+    assert format_duration(42.0) == "42 s" and format_duration(720.0) == "12 min"
+    assert format_duration(3.4 * 3600) == "3.4 h" and format_duration(math.inf) == "forever"
+    assert format_bytes(100) == "100 B" and format_bytes(7.3 * 2**40) == "7.3 TiB"
+
+
+def test_progress_is_automatic_from_the_estimate(capsys):
+    with Progress(10.0, "quick", estimate=0.1) as bar:
+        bar.update(5.0)
+        assert not bar.shown
+    with Progress(10.0, "slow", estimate=30.0) as bar:
+        assert bar.shown
+        bar.update(5.0)
+        bar.update(50.0)               # beyond the end: clipped
+        assert bar._bar.n == 10.0
+    assert "slow: estimated 30 s" in capsys.readouterr().err
+
+
+def test_estimate_of_a_long_record_run_shows_progress():
+    # issue 12: record runs took 49 s with nothing on screen; S1 for 40 s through solve_ivp
+    cost = estimate("S1", FreeRelease(0.1), "DD2", 40.0)
+    from multimass.progress import PROGRESS_AFTER_S
+
+    assert cost.seconds > PROGRESS_AFTER_S
