@@ -13,12 +13,30 @@ others accelerate apart (the acceleration-level Signorini condition), so
 bouncing and flight happen exactly when the impact LCP and the force signs
 say so.
 
+A run that starts on the ground starts from the given state: a touching
+contact (|g_N| ≤ ``gap_tol``) that separates (ġ_N > 0) is open; one that
+approaches (ġ_N < 0), or a closed one that slips (ġ_T ≠ 0, which sticking
+stops), makes an impact at t0, resolved by the Poisson LCPs like any other;
+only contacts with ġ_N ≈ 0 are closed or opened by the force signs.
+
+A run the solvers cannot continue (no consistent set of closed contacts, a
+failed integration or LCP) ends with status "failed" and its message; the
+history up to there is returned.
+
 Housekeeping: at each phase start the state is projected back onto the closed
 contacts' constraints (integration drift), an impact is applied at g_N = 0,
 and an accumulation of impacts (approach speed below ``zeno_velocity``) ends
 with all touching contacts kept closed ("zeno_rest"). In a phase with no free
 coordinate (a block in full contact) nothing is integrated: the contact forces
 are scanned in time for the first sign change.
+
+The energy ledger starts from the given state (q0, v0): its first sample is
+that state, and every change of the state outside the equations of motion is
+booked — impacts and "zeno_rest" in ``impact_loss``, drift projections in
+``projection_loss`` — so a loss never hides. The run reports its checks
+(`multimass._contact_checks`): the ledger's balance error, the housekeeping
+energy, and the friction demand |λ_T|/λ_N of the sticking contacts against a
+friction coefficient ``mu`` when one is given.
 
 A model supplies ``n``, ``k``, ``mass(q)``, ``forces(t, q, v)``,
 ``contacts(q, v) -> (g, W_N, W_T, ŵ_N, ŵ_T)``, ``energy(q, v)`` (kinetic +
@@ -28,18 +46,23 @@ optionally ``events`` (extra terminal events ``f(t, q, v)``, e.g. overturning).
 
 from __future__ import annotations
 
-import itertools
+import math
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
+from scipy.optimize import brentq, minimize_scalar
 
+from impact_models.lemke import LCPError
 from impact_models.poisson import PoissonImpact, poisson_impact
 
+from ._contact_checks import (FrictionDemand, _number, _options, _state, friction_ratio,
+                              impact_ratio, run_checks, tangential_groups, validate_mu)
+from ._contact_phase import (_constraint_matrix, _events, _grid, _Phase, _project, _project_q,
+                             _select)
 from .errors import InputError, SolverError
 
-__all__ = ["ContactEvent", "ContactResponse", "simulate_contacts"]
+__all__ = ["ContactEvent", "ContactResponse", "FrictionDemand", "simulate_contacts"]
 
 
 @dataclass(frozen=True)
@@ -61,21 +84,36 @@ class ContactEvent:
 
 @dataclass(frozen=True, eq=False)
 class ContactResponse:
-    """Sampled response and energy ledger of `simulate_contacts`.
+    """Sampled response, energy ledger and checks of `simulate_contacts`.
 
     Attributes
     ----------
     t : ndarray, shape (m,)
-        Sample times (event times appear twice: before and after).
+        Sample times; the first sample is the given initial state, and event
+        times (and t0) appear twice: before and after.
     q, v : ndarray, shape (m, n)
     closed : ndarray of int, shape (m,)
         Bit mask of the closed contacts (bit i = contact i).
-    energy, ground_work, damping, impact_loss : ndarray, shape (m,)
+    energy, ground_work, damping, impact_loss, projection_loss : ndarray, shape (m,)
         Mechanical energy T + V, cumulative work of the ground excitation,
-        cumulative damping dissipation and impact losses (J).
+        cumulative damping dissipation, impact losses (Poisson impacts and
+        "zeno_rest") and the energy removed by drift projections (J).
     events : tuple of ContactEvent
-    status : {"completed", "overturned", "max_events"}
+    status : str
+        ``outcome`` when every check passed, else ``"inaccurate"``; "failed"
+        when the solvers could not go on (the history up to there is kept).
     message : str
+    outcome : {"completed", "overturned", "max_events", "failed"} or a model event name
+        How the run ended, whatever the checks say.
+    checks : dict
+        name → {"value": float, "limit": float, "passed": bool}:
+        ``energy_balance``, ``projection`` and, with ``mu``, ``friction_smooth``
+        and ``friction_impact`` (`multimass._contact_checks`).
+    warnings : tuple of str
+        One line per failed check: what, value, limit, what to do.
+    friction : FrictionDemand
+        Largest friction demand |λ_T|/λ_N over the smooth phases and the
+        impacts, with their times (always reported, `mu` or not).
     """
 
     t: np.ndarray
@@ -86,175 +124,25 @@ class ContactResponse:
     ground_work: np.ndarray
     damping: np.ndarray
     impact_loss: np.ndarray
+    projection_loss: np.ndarray
     events: tuple[ContactEvent, ...]
     status: str
     message: str
+    outcome: str
+    checks: dict
+    warnings: tuple[str, ...]
+    friction: FrictionDemand
 
     @property
     def ledger_error(self) -> np.ndarray:
-        """E(t) − E(0) − W_ground + D + impact losses: zero if the ledger closes (J)."""
-        return self.energy - self.energy[0] - self.ground_work + self.damping + self.impact_loss
+        """E(t) − E(t0) − W_ground + D + impact and projection losses: zero if the ledger
+        closes (J); E(t0) is the energy of the given initial state."""
+        return (self.energy - self.energy[0] - self.ground_work + self.damping
+                + self.impact_loss + self.projection_loss)
 
     @property
     def impacts(self) -> tuple[ContactEvent, ...]:
         return tuple(e for e in self.events if e.impact is not None)
-
-
-def _independent(cols: list[np.ndarray], start: np.ndarray, rtol: float = 1e-9) -> list[int]:
-    """Indices of `cols` that raise the rank of [start, chosen...] (greedy)."""
-    keep, basis = [], start
-    for i, c in enumerate(cols):
-        trial = np.column_stack([basis, c]) if basis.size else c[:, None]
-        if trial.shape[1] > trial.shape[0]:
-            break
-        s = np.linalg.svd(trial, compute_uv=False)
-        if s[-1] > rtol * s[0]:
-            keep.append(i)
-            basis = trial
-    return keep
-
-
-def _constraint_matrix(WN, WT, S):
-    """[W_N,S | independent W_T,S] and the indices of the tangential columns kept."""
-    n = WN.shape[0]
-    N = WN[:, list(S)] if S else np.zeros((n, 0))
-    tk = [S[i] for i in _independent([WT[:, j] for j in S], N)] if S else []
-    return np.column_stack([N, WT[:, tk]]) if S else N, tk
-
-
-class _Phase:
-    """Dynamics of one phase (fixed set S of closed contacts)."""
-
-    def __init__(self, model, S: tuple[int, ...], q, v):
-        self.model, self.S = model, S
-        _, WN, WT, _, _ = model.contacts(q, v)
-        _, self.tk = _constraint_matrix(WN, WT, S)
-
-    def solve(self, t, q, v):
-        """Accelerations, normal contact forces of S and all normal accelerations."""
-        m = self.model
-        M, h = m.mass(q), m.forces(t, q, v)
-        g, WN, WT, wN, wT = m.contacts(q, v)
-        S = list(self.S)
-        W = np.column_stack([WN[:, S], WT[:, self.tk]])
-        what = np.concatenate([wN[S], wT[self.tk]])
-        if W.shape[1]:
-            Mi = np.linalg.solve(M, np.column_stack([h, W]))
-            G = W.T @ Mi[:, 1:]
-            lam = np.linalg.solve(G, -(W.T @ Mi[:, 0]) - what)
-            a = Mi[:, 0] + Mi[:, 1:] @ lam
-        else:
-            a, lam = np.linalg.solve(M, h), np.zeros(0)
-        return a, lam[:len(S)], WN.T @ a + wN, g
-
-    def force_map(self, q, v):
-        """(L, c) with λ_N,S(t) = L h(t) + c at a fixed state (for locked phases)."""
-        m = self.model
-        M = m.mass(q)
-        _, WN, WT, wN, wT = m.contacts(q, v)
-        S = list(self.S)
-        W = np.column_stack([WN[:, S], WT[:, self.tk]])
-        MiW = np.linalg.solve(M, W)
-        Gi = np.linalg.inv(W.T @ MiW)
-        L = -(Gi @ MiW.T)
-        c = -(Gi @ np.concatenate([wN[S], wT[self.tk]]))
-        return L[:len(S)], c[:len(S)]
-
-    def rhs(self, t, y):
-        n = self.model.n
-        q, v = y[:n], y[n:2 * n]
-        a = self.solve(t, q, v)[0]
-        pg, pd = self.model.powers(t, q, v)
-        return np.concatenate([v, a, [pg, pd]])
-
-
-def _project_q(model, K, q, v) -> np.ndarray:
-    """One Newton step of q onto g_N,K = 0 (minimal in the M metric)."""
-    if not K:
-        return q
-    K = list(K)
-    g, WN, _, _, _ = model.contacts(q, v)
-    N = WN[:, K]
-    MiN = np.linalg.solve(model.mass(q), N)
-    return q - MiN @ np.linalg.solve(N.T @ MiN, g[K])
-
-
-def _project(model, S, q, v) -> np.ndarray:
-    """Remove integration drift: q onto g_N,S = 0, then q̇ onto Wᵀq̇ = 0."""
-    if not S:
-        return np.concatenate([q, v])
-    q = _project_q(model, S, q, v)
-    M = model.mass(q)
-    g, WN, WT, _, _ = model.contacts(q, v)
-    W, _ = _constraint_matrix(WN, WT, tuple(S))
-    MiW = np.linalg.solve(M, W)
-    v = v - MiW @ np.linalg.solve(W.T @ MiW, W.T @ v)
-    return np.concatenate([q, v])
-
-
-def _select(model, t, q, v, cands, ftol) -> tuple[int, ...]:
-    """Largest subset of `cands` with λ_N ≥ 0 and g̈_N ≥ 0 on the rest (Signorini).
-
-    When round-off leaves no subset exactly consistent (a grazing contact whose
-    force or acceleration is zero to within ~1e-6 of the load scale), the subset
-    with the smallest relative violation is taken; a larger violation raises.
-    """
-    cands = tuple(sorted(int(c) for c in cands))
-    f_scale = ftol * 1e10
-    best, best_viol = None, np.inf
-    for size in range(len(cands), -1, -1):
-        for S in itertools.combinations(cands, size):
-            ph = _Phase(model, S, q, v)
-            a, lam, gdd, _ = ph.solve(t, q, v)
-            rest = [j for j in cands if j not in S]
-            if np.all(lam >= -ftol) and np.all(gdd[rest] >= -ftol):
-                return S
-            a_scale = max(np.abs(a).max(), 1e-300)
-            viol = max(np.max(-lam, initial=0.0) / f_scale,
-                       np.max(-gdd[rest], initial=0.0) / a_scale)
-            if viol < best_viol:
-                best, best_viol = S, viol
-    if best_viol <= 1e-5:
-        return best
-    raise SolverError(f"t = {t:.9g}: no consistent set of closed contacts among {cands} "
-                      f"(smallest relative violation {best_viol:.3g})")
-
-
-def _events(model, ph: _Phase, k: int, y0, gap_eps: float):
-    """Terminal events of a phase: λ_N,i → 0 for closed contacts, g_N,j → 0 for open ones.
-
-    Each gap event is shifted to start at ≥ `gap_eps` above zero, so a contact
-    that has just bounced off (g = 0, ġ > 0) is caught when it comes back
-    within the first step.
-    """
-    n = model.n
-    g0 = model.contacts(y0[:n], y0[n:2 * n])[0]
-    evs = []
-    for j in range(k):
-        if j in ph.S:
-            i = ph.S.index(j)
-
-            def f(t, y, i=i):
-                return ph.solve(t, y[:n], y[n:2 * n])[1][i]
-        else:
-            def f(t, y, j=j, off=gap_eps - min(g0[j], 0.0)):
-                return model.contacts(y[:n], y[n:2 * n])[0][j] + off
-        f.terminal, f.direction = True, -1
-        evs.append(f)
-    for name, fn in getattr(model, "events", ()):
-        def f(t, y, fn=fn):
-            return fn(t, y[:n], y[n:2 * n])
-        f.terminal, f.direction, f.name = True, 0, name
-        evs.append(f)
-    return evs
-
-
-def _grid(t0, t1, dt_out):
-    if dt_out is None:
-        return np.array([t0, t1])
-    k0, k1 = int(np.floor(t0 / dt_out)) + 1, int(np.ceil(t1 / dt_out))
-    inner = dt_out * np.arange(k0, k1)
-    return np.concatenate([[t0], inner[(inner > t0) & (inner < t1)], [t1]])
 
 
 class _Driver:
@@ -263,6 +151,8 @@ class _Driver:
     def __init__(self, model, eps, opts):
         self.model, self.eps, self.o = model, eps, opts
         self.out, self.events, self.loss = [], [], 0.0
+        self.proj, self.proj_abs = 0.0, 0.0
+        self.fd = dict(smooth=0.0, smooth_time=None, impact=0.0, impact_time=None)
 
     def record(self, ts, ys, S):
         n = self.model.n
@@ -270,11 +160,53 @@ class _Driver:
         E = np.array([self.model.energy(a, b) for a, b in zip(qs, vs)])
         mask = sum(1 << j for j in S)
         self.out.append((ts, qs, vs, np.full(ts.size, mask), E, ys[2 * n], ys[2 * n + 1],
-                         np.full(ts.size, self.loss)))
+                         np.full(ts.size, self.loss), np.full(ts.size, self.proj)))
+
+    def note(self, kind: str, value: float, t: float):
+        """Keep the largest friction demand of `kind` ("smooth" or "impact") and its time."""
+        if self.fd[f"{kind}_time"] is None or value > self.fd[kind]:
+            self.fd[kind], self.fd[f"{kind}_time"] = float(value), float(t)
+
+    def book_projection(self, y_new, y_old):
+        """Book the energy change of a housekeeping correction y_old → y_new."""
+        n, m = self.model.n, self.model
+        dE = m.energy(y_old[:n], y_old[n:2 * n]) - m.energy(y_new[:n], y_new[n:2 * n])
+        self.proj += dE
+        self.proj_abs += abs(dE)
+
+    def project(self, S, y):
+        """Remove integration drift at a phase start (booked as projection loss)."""
+        if S:
+            n = self.model.n
+            old = y[:2 * n].copy()
+            y[:2 * n] = _project(self.model, S, y[:n], y[n:2 * n])
+            self.book_projection(y, old)
+
+    def peak_demand(self, ph, ts, lams, lam_at):
+        """Largest demand over samples `lams` at `ts`, refined between the neighbours."""
+        ns, ftol = len(ph.S), self.o["ftol"]
+
+        def dem(lam):
+            return friction_ratio(lam[:ns], lam[ns:], ph.groups, ftol)
+
+        vals = np.array([dem(lam) for lam in lams])
+        i = int(np.argmax(vals))
+        best = [float(vals[i]), float(ts[i])]
+
+        def neg(s):                     # −demand, kept finite for Brent's arithmetic
+            d = dem(lam_at(s))
+            if d > best[0]:
+                best[:] = [d, float(s)]
+            return -min(d, 1e300)
+
+        if 0 < i < vals.size - 1 and math.isfinite(best[0]) and ts[i + 1] > ts[i - 1]:
+            minimize_scalar(neg, bounds=(ts[i - 1], ts[i + 1]), method="bounded",
+                            options={"xatol": 1e-12 * max(1.0, ts[i])})
+        self.note("smooth", best[0], best[1])
 
     def smooth(self, ph, t, t_stop, y):
         """Integrate a phase; returns (t1, y1, indices of the events that fired)."""
-        o, k = self.o, self.model.k
+        o, k, n = self.o, self.model.k, self.model.n
         sol = solve_ivp(ph.rhs, (t, t_stop), y, method="DOP853", rtol=o["rtol"],
                         atol=o["atol"], max_step=o["max_step"], dense_output=True,
                         events=_events(self.model, ph, k, y, 1e-3 * o["gap_tol"]))
@@ -283,12 +215,18 @@ class _Driver:
         t1 = float(sol.t[-1])
         ts = _grid(t, t1, o["dt_out"])
         self.record(ts, sol.sol(ts), ph.S)
+        if ph.tk:                         # sticking contacts carry tangential forces
+            def lam_at(s, yy=None):
+                yy = sol.sol(s) if yy is None else yy
+                return ph.multipliers(s, yy[:n], yy[n:2 * n])[1]
+            self.peak_demand(ph, sol.t, [lam_at(s, yy) for s, yy in zip(sol.t, sol.y.T)],
+                             lam_at)
         hit = [i for i, te in enumerate(sol.t_events) if te.size] if sol.status == 1 else []
         return t1, sol.y[:, -1].copy(), hit
 
     def locked(self, ph, t, t_stop, y):
         """A phase without free coordinates: scan λ_N(t) for the first sign change."""
-        n, dt = self.model.n, self.o["locked_dt"]
+        n, dt, ns = self.model.n, self.o["locked_dt"], len(ph.S)
         q, v = y[:n], y[n:2 * n]
         L, c = ph.force_map(q, v)
 
@@ -299,62 +237,109 @@ class _Driver:
         ts = np.arange(t, min(t_stop, quiet), dt)
         ts = np.unique(np.concatenate([ts, [min(t_stop, quiet), t_stop]]))
         t1, hit, la = t_stop, [], lam(ts[0])
+        seen_t, seen = [ts[0]], [la]
         for a, b in zip(ts[:-1], ts[1:]):
             lb = lam(b)
-            neg = np.flatnonzero(lb < 0.0)
+            neg = np.flatnonzero(lb[:ns] < 0.0)
             if neg.size:
                 roots = [brentq(lambda s, i=i: lam(s)[i], a, b, xtol=1e-14) if la[i] > 0 else a
                          for i in neg]
                 t1, hit = min(roots), [int(neg[np.argmin(roots)])]
+                seen_t.append(t1)
+                seen.append(lam(t1))
                 break
+            seen_t.append(b)
+            seen.append(lb)
             la = lb
+        if ph.tk:
+            self.peak_demand(ph, np.array(seen_t), seen, lam)
         ts_out = _grid(t, t1, self.o["dt_out"])
         self.record(ts_out, np.repeat(y[:, None], ts_out.size, axis=1), ph.S)
         return t1, y, [ph.S[h] for h in hit]
 
-    def transition(self, t, y, S, hit_contacts):
-        """Impact or lift-off at time t; returns the new closed set (and updates y)."""
+    def impact(self, t, y, S, closing):
+        """Impact at time t of the `closing` contacts (or a slip stopped by sticking)."""
         m, n, k, o = self.model, self.model.n, self.model.k, self.o
         q, v = y[:n], y[n:2 * n]
         g = m.contacts(q, v)[0]
-        closing = [j for j in hit_contacts if j not in S]
-        if closing:
-            K = tuple(sorted(int(j) for j in set(S) | set(closing)
-                             | {j for j in range(k) if abs(g[j]) <= o["gap_tol"]}))
-            y[:n] = q = _project_q(m, K, q, v)          # the impact happens at g_N = 0
-            _, WN, WT, _, _ = m.contacts(q, v)
-            _, tk = _constraint_matrix(WN, WT, K)
-            approach = -(WN[:, closing].T @ v).min(initial=0.0)
-            if approach < o["zeno_velocity"]:        # accumulation of impacts: come to rest
-                res, kind = None, "zeno_rest"
-                e_before = m.energy(q, v)
-                y[:2 * n] = _project(m, K, q.copy(), v.copy())
-                self.loss += e_before - m.energy(y[:n], y[n:2 * n])
-                cands = list(K)
-            else:
-                res = poisson_impact(m.mass(q), WN[:, list(K)], WT[:, tk], v, self.eps[list(K)])
-                y[n:2 * n] = res.u_plus
-                self.loss += res.energy_loss
-                cands = [K[i] for i, st in enumerate(res.final_states) if st == "closed"]
-                kind = "impact"
-        else:                                     # lift-off: the unloading contact leaves
-            res, kind, K = None, "liftoff", tuple(hit_contacts)
-            cands = [j for j in S if j not in hit_contacts]
-        S_new = _select(m, t, y[:n], y[n:2 * n], cands, o["ftol"])
+        K = tuple(sorted(int(j) for j in set(S) | set(closing)
+                         | {j for j in range(k) if abs(g[j]) <= o["gap_tol"]}))
+        old = y[:2 * n].copy()
+        y[:n] = q = _project_q(m, K, q, v)              # the impact happens at g_N = 0
+        self.book_projection(y, old)
+        _, WN, WT, _, _ = m.contacts(q, v)
+        _, tk = _constraint_matrix(WN, WT, K)
+        approach = -(WN[:, list(closing)].T @ v).min(initial=0.0)
+        if closing and approach < o["zeno_velocity"]:   # accumulation of impacts: come to rest
+            res, kind = None, "zeno_rest"
+            e_before = m.energy(q, v)
+            y[:2 * n] = _project(m, K, q.copy(), v.copy())
+            self.loss += e_before - m.energy(y[:n], y[n:2 * n])
+            cands = list(K)
+        else:
+            res = poisson_impact(m.mass(q), WN[:, list(K)], WT[:, tk], v, self.eps[list(K)])
+            y[n:2 * n] = res.u_plus
+            self.loss += res.energy_loss
+            cands = [K[i] for i, st in enumerate(res.final_states) if st == "closed"]
+            kind = "impact"
+            self.note("impact", impact_ratio(res, tangential_groups(WT, K, tk)), t)
+        return self.after(t, y, S, cands, kind, res, K)
+
+    def after(self, t, y, S, cands, kind, res, K):
+        """Log the event, choose the new closed set among `cands` and record the state."""
+        n = self.model.n
+        S_new = _select(self.model, t, y[:n], y[n:2 * n], cands, self.o["ftol"])
         self.events.append(ContactEvent(t, kind, tuple(S), S_new, res, tuple(int(j) for j in K)))
         self.record(np.array([t]), y[:, None], S_new)
         return S_new
 
-    def run(self, y, S, t, t_end, breakpoints):
+    def transition(self, t, y, S, hit_contacts):
+        """Impact or lift-off at time t; returns the new closed set (and updates y)."""
+        closing = [j for j in hit_contacts if j not in S]
+        if closing:
+            return self.impact(t, y, S, closing)
+        cands = [j for j in S if j not in hit_contacts]   # lift-off: the unloading contact leaves
+        return self.after(t, y, S, cands, "liftoff", None, tuple(hit_contacts))
+
+    def start(self, t, y):
+        """Closed set at t0 from the given state; records it, applies an impact at t0 if due.
+
+        Touching contacts (|g_N| ≤ gap_tol) that separate are open; approaching
+        ones, or a resting one that slips, make an impact at t0; the resting
+        ones (|ġ_N| ≤ 1e-9 of the largest contact speed) are chosen by force signs.
+        """
+        m, n, o = self.model, self.model.n, self.o
+        q, v = y[:n], y[n:2 * n]
+        g, WN, WT, _, _ = m.contacts(q, v)
+        touch = [int(j) for j in np.flatnonzero(np.abs(g) <= o["gap_tol"])]
+        gn, gt = WN[:, touch].T @ v, WT[:, touch].T @ v
+        vtol = 1e-9 * max(np.abs(gn).max(initial=0.0), np.abs(gt).max(initial=0.0))
+        rest = tuple(j for j, x in zip(touch, gn) if abs(x) <= vtol)
+        closing = [j for j, x in zip(touch, gn) if x < -vtol]
+        slip = any(abs(x) > vtol for j, x in zip(touch, gt) if j in rest)
+        self.record(np.array([t]), y[:, None], rest)            # the given state
+        if closing or slip:
+            return self.impact(t, y, rest, closing)
+        return _select(m, t, q, v, rest, o["ftol"])
+
+    def run(self, y, t, t_end, breakpoints):
+        """Run to `t_end`; a failure of the solvers ends the run with status "failed"."""
+        try:
+            return self.loop(y, t, t_end, breakpoints)
+        except (SolverError, LCPError, np.linalg.LinAlgError) as err:  # keep the history
+            return "failed", f"{type(err).__name__}: {err}"
+
+    def loop(self, y, t, t_end, breakpoints):
         m, n, k = self.model, self.model.n, self.model.k
         names = [name for name, _ in getattr(m, "events", ())]
         status, message = "completed", f"reached t_end = {t_end:g} s"
+        S = self.start(t, y)
         while t < t_end:
             if len(self.events) >= self.o["max_events"]:
                 status = "max_events"
                 message = f"stopped after {len(self.events)} events at t = {t:.6g} s"
                 break
-            y[:2 * n] = _project(m, S, y[:n], y[n:2 * n])
+            self.project(S, y)
             ph = _Phase(m, S, y[:n], y[n:2 * n])
             t_stop = next((b for b in breakpoints if b > t + 1e-12), t_end)
             if len(S) + len(ph.tk) >= n:
@@ -371,12 +356,30 @@ class _Driver:
                 S = self.transition(t, y, S, hit)
         return status, message
 
+    def response(self, status, message, mu) -> ContactResponse:
+        cat = [np.concatenate([o[i] for o in self.out]) for i in range(9)]
+        demand = FrictionDemand(**self.fd)
+        ledger = cat[4] - cat[4][0] - cat[5] + cat[6] + cat[7] + cat[8]
+        checks, warnings = run_checks(cat[4], ledger, cat[5], self.proj_abs, demand, mu,
+                                      self.o["e_floor"])
+        failed = not all(c["passed"] for c in checks.values())
+        if failed:
+            message = f"{message}; checks failed: " + "; ".join(warnings)
+        return ContactResponse(t=cat[0], q=cat[1], v=cat[2], closed=cat[3].astype(int),
+                               energy=cat[4], ground_work=cat[5], damping=cat[6],
+                               impact_loss=cat[7], projection_loss=cat[8],
+                               events=tuple(self.events),
+                               status="inaccurate" if failed and status != "failed" else status,
+                               message=message,
+                               outcome=status, checks=checks, warnings=warnings,
+                               friction=demand)
+
 
 def simulate_contacts(model, q0, v0, t_end: float, eps_p, *, t0: float = 0.0,
                       dt_out: float | None = None, rtol: float = 1e-10, atol: float = 1e-10,
                       gap_tol: float = 1e-8, zeno_velocity: float = 0.0,
                       max_events: int = 10_000, breakpoints=(), max_step: float = np.inf,
-                      locked_dt: float = 0.005) -> ContactResponse:
+                      locked_dt: float = 0.005, mu: float | None = None) -> ContactResponse:
     """Integrate a contact model phase by phase with Poisson impacts (paper 000).
 
     Parameters
@@ -384,7 +387,10 @@ def simulate_contacts(model, q0, v0, t_end: float, eps_p, *, t0: float = 0.0,
     model : object
         See the module docstring.
     q0, v0 : array_like, shape (n,)
-        Initial state; contacts with |g_N| ≤ `gap_tol` are candidates to be closed.
+        Initial state. Contacts with |g_N| ≤ `gap_tol` touch: a separating one
+        is open, an approaching one impacts at t0, a resting one is closed or
+        opened by the force signs (module docstring). No gap may be below
+        −`gap_tol` (penetration).
     t_end : float
     eps_p : float or array_like, shape (k,)
         Poisson's coefficient per contact.
@@ -408,29 +414,44 @@ def simulate_contacts(model, q0, v0, t_end: float, eps_p, *, t0: float = 0.0,
         In a phase with no free coordinate (a block in full contact) the state
         does not move; the contact forces λ_N(t) are scanned on this grid (s)
         and a sign change is located by Brent's method.
+    mu : float, optional
+        Friction coefficient of the contacts. The sticking model needs
+        |λ_T| ≤ μ λ_N; a run whose friction demand exceeds it gets status
+        "inaccurate" and a warning. The demand is reported either way
+        (``ContactResponse.friction``); None (default) checks nothing.
 
     Returns
     -------
     ContactResponse
+        ``status`` is "inaccurate" when a check fails (``outcome`` keeps
+        "completed", "overturned", "max_events", ...); ``checks`` and
+        ``warnings`` say which (`multimass._contact_checks`). A run the solvers
+        cannot continue (integrator or LCP failure, no consistent set of closed
+        contacts) returns its history with status and outcome "failed" and the
+        cause in ``message``.
+
+    Raises
+    ------
+    InputError
+        An argument out of range, or an initial state that penetrates a contact.
     """
-    k = model.k
-    eps = np.broadcast_to(np.asarray(eps_p, dtype=float), (k,)).copy()
-    if not np.all((eps >= 0.0) & (eps <= 1.0)):
-        raise InputError(f"`eps_p` = {eps_p!r}: Poisson's coefficient must lie in [0, 1]")
-    if not t_end > t0:
-        raise InputError(f"`t_end` = {t_end!r}: must exceed the start time {t0}")
-    q, v = np.array(q0, dtype=float), np.array(v0, dtype=float)
-    ftol = 1e-10 * max(np.abs(model.forces(t0, q, v)).max(), 1.0)
+    n, k = model.n, model.k
     opts = dict(rtol=rtol, atol=atol, gap_tol=gap_tol, zeno_velocity=zeno_velocity,
-                max_events=max_events, max_step=max_step, locked_dt=locked_dt,
-                dt_out=dt_out, ftol=ftol)
+                max_events=max_events, max_step=max_step, locked_dt=locked_dt, dt_out=dt_out)
+    eps, t0, t_end, opts = _options(k, eps_p, t0, t_end, opts)
+    mu = validate_mu(mu)
+    q, v = _state("q0", q0, n), _state("v0", v0, n)
+    bps = sorted(_number("breakpoints", b) for b in breakpoints)
     g = model.contacts(q, v)[0]
-    S = _select(model, t0, q, v, np.flatnonzero(np.abs(g) <= gap_tol), ftol)
+    if g.min() < -opts["gap_tol"]:
+        j = int(np.argmin(g))
+        raise InputError(f"`q0` = {q.tolist()!r}: contact {j} penetrates by {-g[j]:.3g} m "
+                         f"(more than gap_tol = {opts['gap_tol']:.3g} m); start with every "
+                         "gap g_N ≥ 0")
+    h0 = np.abs(model.forces(t0, q, v)).max()
+    opts["ftol"] = 1e-10 * max(h0, 1.0)
+    opts["e_floor"] = h0 * opts["gap_tol"]        # energy resolved by the contact geometry
     drv = _Driver(model, eps, opts)
-    bps = sorted(b for b in breakpoints if t0 < b < t_end)
-    status, message = drv.run(np.concatenate([q, v, [0.0, 0.0]]), S, float(t0), t_end, bps)
-    cat = [np.concatenate([o[i] for o in drv.out]) for i in range(8)]
-    return ContactResponse(t=cat[0], q=cat[1], v=cat[2], closed=cat[3].astype(int),
-                           energy=cat[4], ground_work=cat[5], damping=cat[6],
-                           impact_loss=cat[7], events=tuple(drv.events), status=status,
-                           message=message)
+    status, message = drv.run(np.concatenate([q, v, [0.0, 0.0]]), t0, t_end,
+                              [b for b in bps if t0 < b < t_end])
+    return drv.response(status, message, mu)
