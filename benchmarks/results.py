@@ -110,7 +110,7 @@ def from_response(resp, wall: float) -> RunResult:
     df = resp.series
     final = (float(df.kinetic.iloc[-1] + df.gravitational.iloc[-1] + df.elastic.iloc[-1])
              if len(df) else math.nan)
-    return RunResult(resp.status, resp.message, events, tuple(map(float, resp.peaks)),
+    return RunResult(resp.outcome or resp.status, resp.message, events, tuple(map(float, resp.peaks)),
                      tuple(map(float, resp.peak_times)), final, float(resp.energy_reference),
                      float(resp.energy_balance_error),
                      resp.consecutive_transitions(window=CHATTER_WINDOW), int(resp.n_rhs), wall)
@@ -158,7 +158,8 @@ def from_block(resp, wall: float, n_rhs: int) -> RunResult:
     peaks, times = sampled_peaks(raw.t[keep], resp.theta[keep])
     scale = max(abs(float(raw.energy[0])), float(np.max(np.abs(raw.ground_work))), 1e-300)
     trans = [t for k, t in events if k in TRANSITIONS]
-    status = {"overturned": "overturned", "completed": "completed"}.get(raw.status, "failed")
+    # the physical outcome: an "inaccurate" run is judged by its errors here, not as a failure
+    status = {"overturned": "overturned", "completed": "completed"}.get(raw.outcome, "failed")
     return RunResult(status, raw.message, events, tuple(peaks), tuple(times),
                      float(raw.energy[-1]), scale,
                      float(np.max(np.abs(raw.ledger_error)) / scale), _chatter(trans), n_rhs, wall)
@@ -185,7 +186,8 @@ def from_nscd(res, wall: float, block) -> RunResult:
                            + block.g * (block.static_moment * (math.cos(a) - 1.0)
                                         + block.B * block.m_t * abs(math.sin(a))))
     e0 = energy(math.radians(th0), 0.0)
-    status = res.status if res.status in ("completed", "overturned") else "failed"
+    outcome = getattr(res, "outcome", None) or res.status
+    status = outcome if outcome in ("completed", "overturned") else "failed"
     return RunResult(status, res.message, events,
                      (math.radians(abs(th0)),) + tuple(math.radians(p) for p in res.peaks_deg),
                      (0.0,) + tuple(res.peak_times_s), energy(th, thd), e0,

@@ -138,7 +138,7 @@ def _baseline(block, cells, t_free: float, restitution: str) -> tuple[float, lis
         exc = SineWave(amplitude=a * block.alpha_cg * block.g, omega=w * block.p)
         r = simulate(block, exc, "CIM", t_end=exc.duration + t_free, stop_when_safe=True,
                      restitution=restitution)
-        outcomes.append("overturned" if r.status == "overturned" else
+        outcomes.append("overturned" if r.outcome == "overturned" else
                         "no_rocking" if not any(e.kind == "uplift" for e in r.events) else
                         "rest" if any(e.kind == "rest" for e in r.events) else "undecided")
     return time.perf_counter() - t0, outcomes

@@ -26,6 +26,7 @@ from functools import cached_property
 import numpy as np
 import sympy as sp
 
+from ._contact_checks import ground_excitation
 from .contact_dynamics import ContactResponse, simulate_contacts
 from .errors import InputError
 from .flexible_oscillator_eom import numeric, symbolic
@@ -38,12 +39,69 @@ SHAPE = (0.0, 0.0, 1.5, -0.5)          # α0, α1, α2, α3: paper 000, Sec 4 (C
 def _positive(name, value, allow_zero=False) -> float:
     try:
         x = float(value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError(f"`{name}` = {value!r}: expected a number") from None
     if not math.isfinite(x) or x < 0.0 or (x == 0.0 and not allow_zero):
         need = "non-negative" if allow_zero else "positive"
         raise InputError(f"`{name}` = {value!r}: expected a {need} finite number")
     return x
+
+
+def _finite(name, value) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"`{name}` = {value!r}: expected a number") from None
+    if not math.isfinite(x):
+        raise InputError(f"`{name}` = {value!r}: expected a finite number")
+    return x
+
+
+def _shape(value) -> tuple[float, float, float, float]:
+    """(α0, α1, α2, α3) of Eq 26 as floats, finite, ψ(h) = Σα = 1, with stiffness."""
+    need = ("expected four finite numbers (α0, α1, α2, α3) with ψ(h) = α0 + α1 + α2 + α3 "
+            "= 1 (u is the top deflection), e.g. (0, 0, 1.5, -0.5)")
+    try:
+        shape = tuple(float(a) for a in value)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"`shape` = {value!r}: {need}") from None
+    if len(shape) != 4 or not all(map(math.isfinite, shape)) or abs(sum(shape) - 1.0) > 1e-12:
+        raise InputError(f"`shape` = {value!r}: {need}")
+    a2, a3 = shape[2], shape[3]
+    if not 3 * a3 * a3 + a2 * a2 + 3 * a3 * a2 > 0.0:          # k̃ > 0, paper 000, Eq 27
+        raise InputError(f"`shape` = {value!r}: ψ'' ≡ 0, so the column has no stiffness "
+                         "(k̃ = 0, Eq 27); give α2 or α3 ≠ 0")
+    return shape
+
+
+def _check_derived(osc) -> None:
+    """m̃, k̃, ω_n, c, L0, L1 finite and positive where they must be (Eq 27), else InputError.
+
+    Evaluated with exact polynomial integrals of ψ(s) = Σ α_i s^i over s ∈ [0, 1], apart
+    from the SymPy derivation the properties use.
+    """
+    psi = np.polynomial.Polynomial(osc.shape)
+    integral = lambda p: float(p.integ()(1.0))                     # noqa: E731
+    a2, a3 = osc.shape[2], osc.shape[3]
+    try:
+        with np.errstate(all="ignore"):
+            m_t = osc.m + osc.m_c * integral(psi * psi)
+            k_t = osc.EI / osc.h**3 * 4.0 * (3 * a3 * a3 + a2 * a2 + 3 * a3 * a2)   # Eq 27
+            values = dict(m_tilde=m_t, k_tilde=k_t,
+                          omega_n=math.sqrt(k_t / m_t) if m_t > 0 and k_t >= 0 else 0.0,
+                          c=2.0 * osc.zeta * math.sqrt(m_t * k_t) if m_t * k_t >= 0 else 0.0,
+                          L0=osc.m_c * integral(psi),
+                          L1=osc.m_c * integral(psi * np.polynomial.Polynomial([0, 1])),
+                          total_weight=(osc.m + osc.m_c + osc.m_b) * osc.g)
+        bad = [k for k, v in values.items() if not math.isfinite(v)
+               or (k in ("m_tilde", "k_tilde", "omega_n") and not v > 0.0)]
+    except (OverflowError, ZeroDivisionError):
+        bad = ["quantities"]
+    if bad:
+        raise InputError(f"FlexibleOscillator(m={osc.m!r}, m_c={osc.m_c!r}, m_b={osc.m_b!r}, "
+                         f"h={osc.h!r}, EI={osc.EI!r}, zeta={osc.zeta!r}): derived "
+                         f"{', '.join(bad)} not finite and positive; give SI values of "
+                         "ordinary size (kg, m, N m²)")
 
 
 @dataclass(frozen=True)
@@ -82,11 +140,8 @@ class FlexibleOscillator:
             object.__setattr__(self, name, _positive(name, getattr(self, name)))
         for name in ("m_c", "m_b", "zeta"):
             object.__setattr__(self, name, _positive(name, getattr(self, name), True))
-        shape = tuple(float(a) for a in self.shape)
-        if len(shape) != 4 or abs(sum(shape) - 1.0) > 1e-12:
-            raise InputError(f"`shape` = {self.shape!r}: expected (α0, α1, α2, α3) with "
-                             "ψ(h) = α0 + α1 + α2 + α3 = 1 (u is the top deflection)")
-        object.__setattr__(self, "shape", shape)
+        object.__setattr__(self, "shape", _shape(self.shape))
+        _check_derived(self)
 
     @classmethod
     def from_frequency(cls, f_n: float, **kw) -> "FlexibleOscillator":
@@ -209,7 +264,16 @@ class OscillatorResponse:
     y = property(lambda self: self.raw.q[:, 2])
     phi = property(lambda self: self.raw.q[:, 3], doc="Rotation, counter-clockwise positive.")
     theta = property(lambda self: -self.raw.q[:, 3], doc="Toolkit convention θ = −φ.")
-    status = property(lambda self: self.raw.status)
+    status = property(lambda self: self.raw.status,
+                      doc='``outcome`` when every check passed, else "inaccurate".')
+    outcome = property(lambda self: self.raw.outcome,
+                       doc='How the run ended: "completed", "overturned", "max_events", '
+                           '"failed".')
+    checks = property(lambda self: self.raw.checks,
+                      doc="Energy balance, housekeeping and (with ``mu``) friction checks.")
+    warnings = property(lambda self: self.raw.warnings)
+    friction = property(lambda self: self.raw.friction,
+                        doc="Largest friction demand |λ_T|/λ_N (`FrictionDemand`).")
     events = property(lambda self: self.raw.events)
 
     @property
@@ -222,8 +286,8 @@ def simulate_oscillator(osc: FlexibleOscillator, eps_p: float, t_end: float, *, 
                         u0: float = 0.0, udot0: float = 0.0, dt_out: float | None = 0.005,
                         rtol: float = 1e-10, atol: float = 1e-12,
                         zeno_velocity: float | None = None,
-                        max_events: int = 20_000) -> OscillatorResponse:
-    """Event-driven response of the oscillator, starting in full contact.
+                        max_events: int = 20_000, mu: float | None = None) -> OscillatorResponse:
+    """Event-driven response of the oscillator, starting with its base flat on the ground.
 
     Parameters
     ----------
@@ -235,26 +299,36 @@ def simulate_oscillator(osc: FlexibleOscillator, eps_p: float, t_end: float, *, 
         Ground acceleration ag(t) (m/s²), e.g. `multimass.Ricker`; ``duration`` and
         ``breakpoints`` attributes are honoured.
     u0, udot0 : float
-        Initial deflection and rate of the column top (base at rest, flat).
+        Initial deflection and rate of the column top (base at rest, flat). The
+        base rocks from t = 0 when the contact forces say so (|u0| beyond
+        `FlexibleOscillator.u_cr`, Eq 29); the energy ledger starts from this
+        state, ½ k̃ u0² + ½ m̃ u̇0².
     dt_out, rtol, atol, zeno_velocity, max_events
         As in `multimass.contact_dynamics.simulate_contacts`; zeno_velocity
         defaults to 1e-4 √(g b).
+    mu : float, optional
+        Friction coefficient of the base corners: the run reports the largest
+        friction demand |T/N| of its sticking corners (``friction``) and, when
+        it exceeds `mu`, status "inaccurate" with a warning (the base would
+        slide). None: reported, not checked.
 
     Returns
     -------
     OscillatorResponse
+        ``status`` is ``outcome`` ("completed", "overturned", "max_events")
+        when the checks pass, else "inaccurate"; "failed" when the solvers
+        could not go on (history kept, ``raw.message`` says why).
     """
     if not isinstance(osc, FlexibleOscillator):
         raise InputError(f"`osc` = {osc!r}: expected a FlexibleOscillator")
-    if ag is not None and not callable(ag):
-        raise InputError(f"`ag` = {ag!r}: expected a callable ag(t) in m/s²")
-    quiet = 0.0 if ag is None else float(getattr(ag, "duration", np.inf))
-    ag = ag if ag is not None else (lambda t: 0.0)
-    zv = 1e-4 * math.sqrt(osc.g * osc.b) if zeno_velocity is None else float(zeno_velocity)
-    q0 = np.array([float(u0), 0.0, 0.0, 0.0])
-    v0 = np.array([float(udot0), 0.0, 0.0, 0.0])
+    ag, quiet, bps = ground_excitation(ag)
+    u0, udot0 = _finite("u0", u0), _finite("udot0", udot0)
+    eps_p = _finite("eps_p", eps_p)
+    zv = 1e-4 * math.sqrt(osc.g * osc.b) if zeno_velocity is None else zeno_velocity
+    q0 = np.array([u0, 0.0, 0.0, 0.0])
+    v0 = np.array([udot0, 0.0, 0.0, 0.0])
     raw = simulate_contacts(_OscillatorModel(osc, ag, quiet), q0, v0, t_end, eps_p,
                             dt_out=dt_out, rtol=rtol, atol=atol, gap_tol=1e-9 * osc.h,
                             zeno_velocity=zv, max_events=max_events,
-                            breakpoints=getattr(ag, "breakpoints", ()))
-    return OscillatorResponse(osc, float(eps_p), raw)
+                            breakpoints=bps, mu=mu)
+    return OscillatorResponse(osc, eps_p, raw)

@@ -25,16 +25,27 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._contact_checks import ground_excitation
 from .contact_dynamics import ContactResponse, simulate_contacts
 from .errors import InputError
 
 __all__ = ["PoissonBlock", "BlockResponse", "simulate_block", "housner_theta"]
 
 
+def _finite(name: str, value) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"`{name}` = {value!r}: expected a number") from None
+    if not math.isfinite(x):
+        raise InputError(f"`{name}` = {value!r}: expected a finite number")
+    return x
+
+
 def _positive(name: str, value) -> float:
     try:
         x = float(value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise InputError(f"`{name}` = {value!r}: expected a positive number") from None
     if not (math.isfinite(x) and x > 0.0):
         raise InputError(f"`{name}` = {value!r}: expected a positive finite number")
@@ -65,6 +76,16 @@ class PoissonBlock:
     def __post_init__(self):
         for name in ("b", "h", "mass", "g"):
             object.__setattr__(self, name, _positive(name, getattr(self, name)))
+        try:
+            derived = dict(alpha=self.alpha, R=self.R, I_G=self.I_G, p=self.p,
+                           weight=self.mass * self.g, R_squared=self.R**2)
+            bad = [k for k, v in derived.items() if not (math.isfinite(v) and v > 0.0)]
+        except (OverflowError, ZeroDivisionError):
+            bad = ["quantities"]
+        if bad:
+            raise InputError(f"PoissonBlock(b={self.b!r}, h={self.h!r}, mass={self.mass!r}, "
+                             f"g={self.g!r}): derived {', '.join(bad)} not finite and "
+                             "positive; give SI values of ordinary size (m, kg, m/s²)")
 
     @classmethod
     def from_slenderness(cls, h_over_b: float, width: float = 1.0, **kw) -> "PoissonBlock":
@@ -189,7 +210,27 @@ class BlockResponse:
 
     @property
     def status(self) -> str:
+        """``outcome`` when every check passed, else "inaccurate" (`ContactResponse`)."""
         return self.raw.status
+
+    @property
+    def outcome(self) -> str:
+        """How the run ended: "completed", "overturned", "max_events" or "failed"."""
+        return self.raw.outcome
+
+    @property
+    def checks(self) -> dict:
+        """Energy balance, housekeeping and (with ``mu``) friction checks."""
+        return self.raw.checks
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        return self.raw.warnings
+
+    @property
+    def friction(self):
+        """Largest friction demand |λ_T|/λ_N, smooth phases and impacts (`FrictionDemand`)."""
+        return self.raw.friction
 
     @property
     def events(self):
@@ -200,7 +241,7 @@ def simulate_block(block: PoissonBlock, eps_p: float, t_end: float, *, phi0: flo
                    dphi0: float = 0.0, ag=None, dt_out: float | None = 0.01,
                    rtol: float = 1e-10, atol: float = 1e-12,
                    zeno_velocity: float | None = None, max_events: int = 20_000,
-                   locked_dt: float = 0.002) -> BlockResponse:
+                   locked_dt: float = 0.002, mu: float | None = None) -> BlockResponse:
     """Event-driven response of the block with Poisson impacts (paper 000, Sec 3.3).
 
     Parameters
@@ -211,8 +252,12 @@ def simulate_block(block: PoissonBlock, eps_p: float, t_end: float, *, phi0: flo
     t_end : float
         End time (s).
     phi0, dphi0 : float
-        Initial rotation (rad, counter-clockwise, |φ0| < π/2) and rate; the
-        block starts on the corner that stays down (`PoissonBlock.rocking_state`).
+        Initial rotation (rad, counter-clockwise, |φ0| < π/2) and rate (rad/s);
+        the block starts on the corner that stays down
+        (`PoissonBlock.rocking_state`; at φ0 = 0 the corner the spin pivots
+        on). The energy ledger starts from this state. A block started upright
+        with a spin rocks on its pivot (the other corner separates); a spin
+        towards the other corner from φ0 ≈ 0 is an impact at t = 0.
     ag : callable, optional
         Horizontal ground acceleration ag(t) (m/s²); attributes
         ``breakpoints`` (times of kinks) and ``duration`` (ag = 0 after it)
@@ -228,26 +273,39 @@ def simulate_block(block: PoissonBlock, eps_p: float, t_end: float, *, phi0: flo
     max_events : int
     locked_dt : float
         In full contact the contact forces are scanned for uplift on this grid (s).
+    mu : float, optional
+        Friction coefficient of the corners. Paper 000's corners stick, however
+        large the tangential force; the run reports the largest friction demand
+        |T/N| (``BlockResponse.friction``) and, when `mu` is given and the
+        demand exceeds it, status "inaccurate" with a warning: the block would
+        slide. A rigid block needs |T/N| = |a_g|/g in full contact, h/b at the
+        impacts of a stocky block (h/b < 1/√2, paper 000 Eqs 14–15) and
+        3 sin α cos α / (4 − 3 sin²α) at those of a slender one (Eqs 17–18);
+        while it rocks, the centripetal acceleration of a squat block loads the
+        pivot sideways as it unloads it (`multimass._contact_checks`).
 
     Returns
     -------
     BlockResponse
+        ``status`` is ``outcome`` ("completed", "overturned", "max_events")
+        when the checks pass, else "inaccurate"; see ``checks``, ``warnings``.
+        "failed": the solvers could not go on (e.g. a corner that would have
+        to slide), the history up to there is kept and ``raw.message`` says why.
     """
     if not isinstance(block, PoissonBlock):
         raise InputError(f"`block` = {block!r}: expected a PoissonBlock")
-    if not (math.isfinite(phi0) and abs(phi0) < 0.5 * math.pi):
+    phi0, dphi0 = _finite("phi0", phi0), _finite("dphi0", dphi0)
+    if not abs(phi0) < 0.5 * math.pi:
         raise InputError(f"`phi0` = {phi0!r}: the initial rotation must lie in (−π/2, π/2)")
-    quiet = 0.0 if ag is None else float(getattr(ag, "duration", np.inf))
-    ag = ag if ag is not None else (lambda t: 0.0)
-    if not callable(ag):
-        raise InputError(f"`ag` = {ag!r}: expected a callable ag(t) in m/s²")
+    ag, quiet, bps = ground_excitation(ag)
+    eps_p = _finite("eps_p", eps_p)
     q0, v0 = block.rocking_state(phi0, dphi0)
-    zv = 1e-4 * math.sqrt(block.g * block.R) if zeno_velocity is None else float(zeno_velocity)
+    zv = 1e-4 * math.sqrt(block.g * block.R) if zeno_velocity is None else zeno_velocity
     raw = simulate_contacts(_BlockModel(block, ag, quiet), q0, v0, t_end, eps_p, dt_out=dt_out,
                             rtol=rtol, atol=atol, gap_tol=1e-9 * block.R, zeno_velocity=zv,
                             max_events=max_events, locked_dt=locked_dt,
-                            breakpoints=getattr(ag, "breakpoints", ()))
-    return BlockResponse(block, float(eps_p), raw)
+                            breakpoints=bps, mu=mu)
+    return BlockResponse(block, eps_p, raw)
 
 
 def housner_theta(block: PoissonBlock, ag, t_start: float, theta0: float, t_grid,

@@ -162,6 +162,9 @@ def test_ricker_pulse_response_and_ledger(osc):
 @pytest.mark.parametrize("kw, match", [
     (dict(m=-1.0), "`m`"), (dict(h=0.0), "`h`"), (dict(zeta=-0.1), "`zeta`"),
     (dict(shape=(0.0, 0.0, 1.0, 0.5)), "`shape`"),
+    (dict(shape=0.0), "`shape`"), (dict(shape=(0.0, 0.0, float("nan"), 1.0)), "`shape`"),
+    (dict(shape=(1.0, 0.0, 0.0, 0.0)), "no stiffness"),       # ψ'' ≡ 0: k̃ = 0 (Eq 27)
+    (dict(m=10**400), "`m`"), (dict(h=1e-300), "derived"), (dict(EI=1e308, h=1e-100), "k_tilde"),
 ])
 def test_bad_oscillator(kw, match):
     args = dict(OSC, EI=1e5)
@@ -175,3 +178,77 @@ def test_bad_simulation_input(osc):
         simulate_oscillator(osc, 1.2, 1.0)
     with pytest.raises(InputError, match="`ag`"):
         simulate_oscillator(osc, 0.5, 1.0, ag="record.csv")
+
+
+# -- runs that start on the ground (issue 12): the given state, its energy, friction
+
+@pytest.mark.parametrize("u0, udot0", [(0.0, 0.0), (0.5, 0.0), (0.5, -0.3), (2.5, 0.2)])
+def test_ledger_starts_from_the_given_state(osc, u0, udot0):
+    # base flat and at rest: E(t0) = ½ k̃ u0² + ½ m̃ u̇0² (Eq 27), whatever happens at t0
+    u0 *= osc.u_cr
+    r = simulate_oscillator(osc, 0.5, 0.5, u0=u0, udot0=udot0)
+    E0 = 0.5 * osc.k_tilde * u0**2 + 0.5 * osc.m_tilde * udot0**2
+    assert r.raw.t[0] == 0.0 and r.u[0] == u0
+    assert r.raw.energy[0] == pytest.approx(E0, rel=1e-12, abs=1e-12)
+    weight_h = (osc.m + osc.m_c + osc.m_b) * osc.g * osc.h     # round-off of V ~ 1e-16 of it
+    assert np.abs(r.raw.ledger_error).max() <= 1e-7 * E0 + 1e-12 * weight_h
+    assert r.status == "completed" and r.checks["energy_balance"]["passed"]
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_base_spinning_at_the_start_rocks_like_a_rigid_body(sign):
+    # The base starts flat, pivoting on one corner at rate φ̇0 (the other corner separates,
+    # so it must be left open). Hand closed forms of the rigid body (column undeformed):
+    # T0 = ½ φ̇0² [m (h² + b²) + m_b b² + m_b b²/3 + m_c (h²/3 + b²)], and the first peak
+    # from T0 = g [m (b sin φ + h cos φ − h) + m_b b sin φ + m_c (b sin φ + h/2 (cos φ − 1))].
+    # A 20 Hz column follows the rigid peak within 1e-3 (measured 7.3e-4).
+    from scipy.optimize import brentq
+    from multimass.contact_dynamics import simulate_contacts
+    o = FlexibleOscillator.from_frequency(20.0, **dict(OSC, zeta=0.0))
+    m, mc, mb, h, b, g = o.m, o.m_c, o.m_b, o.h, o.b, o.g
+    w = sign * 0.1
+    T0 = 0.5 * w * w * (m * (h * h + b * b) + mb * b * b * 4 / 3 + mc * (h * h / 3 + b * b))
+
+    def V(p):
+        return g * (m * (b * math.sin(p) + h * math.cos(p) - h) + mb * b * math.sin(p)
+                    + mc * (b * math.sin(p) + h / 2 * (math.cos(p) - 1)))
+
+    peak = brentq(lambda p: V(p) - T0, 0.0, o.alpha)
+    model = _OscillatorModel(o, lambda t: 0.0, 0.0)
+    r = simulate_contacts(model, np.zeros(4), [0.0, 0.0, abs(w) * b, w], 0.12, 0.0,
+                          dt_out=1e-4, gap_tol=1e-9 * h, zeno_velocity=1e-4 * math.sqrt(g * b))
+    assert r.closed[0] == (1 if sign > 0 else 2)                  # on the pivot corner only
+    assert r.energy[0] == pytest.approx(T0, rel=1e-12)
+    assert np.abs(r.q[:, 3]).max() == pytest.approx(peak, rel=1e-3)
+    assert np.abs(r.ledger_error).max() < 1e-7 * T0
+    assert r.status == "completed"
+
+
+def test_full_contact_friction_demand_closed_form():
+    # Fixed-base free vibration from u0 (|u0| < u_cr, ζ = 0, no ground motion): the ground
+    # holds the base with T = L ü, L = m + 3/8 m_c (Eq 30, row 2), and N = (m + m_b + m_c) g;
+    # |ü| peaks at k̃ u0 / m̃, so the demand is L k̃ u0 / (m̃ (m + m_b + m_c) g).
+    o = FlexibleOscillator.from_frequency(2.0, **dict(OSC, zeta=0.0))
+    u0 = 0.5 * o.u_cr
+    L = o.m + 3 / 8 * o.m_c
+    expected = L * o.k_tilde * u0 / (o.m_tilde * (o.m + o.m_b + o.m_c) * o.g)
+    r = simulate_oscillator(o, 0.0, 1.0, u0=u0, mu=0.5 * expected)
+    assert set(r.phase) == {"full"}
+    assert r.friction.smooth == pytest.approx(expected, rel=1e-7)
+    assert r.status == "inaccurate" and r.outcome == "completed"
+    assert r.checks["friction_smooth"] == {"value": r.friction.smooth,
+                                           "limit": 0.5 * expected, "passed": False}
+    ok = simulate_oscillator(o, 0.0, 1.0, u0=u0, mu=2.0 * expected)
+    assert ok.status == "completed" and ok.warnings == ()
+
+
+def test_bad_new_simulation_input(osc):
+    for kw, match in [(dict(mu=0.0), "`mu`"), (dict(mu=-1.0), "`mu`"),
+                      (dict(u0=float("nan")), "`u0`"), (dict(udot0="fast"), "`udot0`")]:
+        with pytest.raises(InputError, match=match):
+            simulate_oscillator(osc, 0.5, 1.0, **kw)
+
+
+def test_a_ground_acceleration_that_is_not_finite_is_refused(osc):
+    with pytest.raises(InputError, match=r"`ag` returned inf at t = 0 s"):
+        simulate_oscillator(osc, 0.5, 1.0, ag=lambda t: float("inf"))

@@ -168,7 +168,9 @@ def test_bad_input(kw, match):
 
 
 @pytest.mark.parametrize("kw", [dict(b=-1.0, h=1.0), dict(b=1.0, h=0.0),
-                                dict(b=1.0, h=1.0, mass=float("nan"))])
+                                dict(b=1.0, h=1.0, mass=float("nan")),
+                                dict(b=1.0, h=10**400), dict(b=1.0, h=1e308),
+                                dict(b=1e-300, h=1e-300, mass=1e-300)])
 def test_bad_block(kw):
     with pytest.raises(InputError):
         PoissonBlock(**kw)
@@ -218,3 +220,190 @@ def test_housner_reference_agrees_with_the_engine(case):
     theta_engine = np.interp(grid, df.t[keep], df.theta[keep])
     assert np.abs(theta_engine).max() > 0.3 * block.alpha
     assert np.abs(theta_h - theta_engine).max() < 1e-6 * block.alpha
+
+
+# -- runs that start on the ground (issue 12): the given state, its energy, its first peak
+
+def b6m_block():
+    st = multimass.rigid_block("B6M")
+    return PoissonBlock(b=st.B, h=st.h0, mass=st.m0, g=st.g)
+
+
+def first_peak(block, dphi):
+    """Closed form: ½ I_O φ̇² = m g R (cos(α − φ_max) − cos α), I_O = 4/3 m R² (rotation
+    about the pivot corner; the centre of mass sits at height R cos(α − |φ|))."""
+    from scipy.optimize import brentq
+    a, R, g = block.alpha, block.R, block.g
+    e = 0.5 * (4.0 / 3.0) * R * R * dphi * dphi
+    return brentq(lambda p: g * R * (math.cos(a - p) - math.cos(a)) - e, 0.0, a, xtol=1e-15)
+
+
+@pytest.mark.parametrize("dphi", [0.25, -0.25, 0.5, -0.5, 1.0, -1.0, 1.5])
+def test_upright_block_with_a_spin_rocks_to_the_closed_form_peak(dphi):
+    # regression, issue 12: started upright with a spin, the block used to stay at rest
+    # (every touching corner was closed, the spin projected away, the ledger started after)
+    block = b6m_block()
+    r = simulate_block(block, 0.0, 0.12 if abs(dphi) <= 1.0 else 0.3, dphi0=dphi, dt_out=1e-5)
+    peak = first_peak(block, dphi)
+    assert first_peak(block, 0.5) == pytest.approx(0.008277339614, rel=1e-9)  # reviewer's value
+    assert np.abs(r.phi).max() == pytest.approx(peak, rel=1e-6)
+    assert np.sign(r.phi[np.argmax(np.abs(r.phi))]) == np.sign(dphi)
+    assert r.phase[0] == ("rock_left" if dphi > 0 else "rock_right")
+    E0 = 0.5 * (4.0 / 3.0) * block.mass * block.R**2 * dphi**2
+    assert r.raw.t[0] == 0.0 and r.raw.energy[0] == pytest.approx(E0, rel=1e-14)
+    assert np.abs(r.raw.ledger_error).max() < 1e-7 * E0
+    assert r.status == "completed" and r.checks["energy_balance"]["passed"]
+
+
+def test_spin_threshold_of_overturning():
+    # closed form: the block overturns iff ½ I_O φ̇0² > m g R (1 − cos α)
+    block = b6m_block()
+    w_c = math.sqrt(1.5 * block.g * (1.0 - math.cos(block.alpha)) / block.R)
+    assert simulate_block(block, 0.0, 1.0, dphi0=1.01 * w_c).status == "overturned"
+    below = simulate_block(block, 0.0, 1.0, dphi0=0.99 * w_c)
+    assert below.status == "completed" and np.abs(below.phi).max() < block.alpha
+
+
+@pytest.mark.parametrize("phi0, dphi", [(0.0, 0.0), (0.05, 0.0), (-0.1, 0.3), (0.1, -0.7)])
+def test_ledger_starts_from_the_given_state(phi0, dphi):
+    # E(t0) = ½ I_O φ̇0² + m g (R cos(α − |φ0|) − h): the state the user gave
+    block = b6m_block()
+    r = simulate_block(block, 0.5, 0.3, phi0=phi0, dphi0=dphi)
+    m, R, a = block.mass, block.R, block.alpha
+    E0 = 0.5 * (4 / 3) * m * R * R * dphi**2 + m * block.g * (R * math.cos(a - abs(phi0))
+                                                                - block.h)
+    assert r.raw.t[0] == 0.0 and r.phi[0] == phi0
+    assert r.raw.energy[0] == pytest.approx(E0, rel=1e-13, abs=1e-18)
+    assert np.abs(r.raw.ledger_error).max() <= 1e-7 * max(E0, 1e-300)
+
+
+@pytest.mark.parametrize("eps", [0.0, 0.5])
+def test_spin_towards_the_other_corner_is_an_impact_at_t0(eps):
+    # φ0 ≈ 0 on the left corner, rotating towards the right one: an impact at t = 0,
+    # resolved by the Poisson LCPs; η = 1 − 3/2 sin²α − 3/2 ε sin²α (paper 000, Eq 24)
+    block, w = b6m_block(), -0.5
+    r = simulate_block(block, eps, 0.12, phi0=1e-12, dphi0=w, dt_out=1e-5)
+    ev = r.events[0]
+    assert (ev.kind, ev.time, ev.closed_before) == ("impact", 0.0, (0,))
+    s2 = math.sin(block.alpha) ** 2
+    eta = 1.0 - 1.5 * s2 - 1.5 * eps * s2
+    assert ev.impact.u_plus[2] / w == pytest.approx(eta, rel=1e-9)
+    I_O = 4.0 / 3.0 * block.mass * block.R**2
+    E0 = r.raw.energy[0]
+    assert E0 == pytest.approx(0.5 * I_O * w * w, rel=1e-9)
+    if eps == 0.0:                       # plastic: rocks on the right corner with ηφ̇
+        assert ev.closed_after == (1,)
+        assert ev.impact.energy_loss == pytest.approx(0.5 * I_O * w * w * (1 - eta**2), rel=1e-9)
+        assert np.abs(r.phi).max() == pytest.approx(first_peak(block, eta * w), rel=1e-6)
+    else:                                # paper 000, Eq 22: flight
+        assert ev.closed_after == ()
+    assert np.abs(r.raw.ledger_error).max() < 1e-7 * E0
+    assert r.raw.impact_loss[-1] >= ev.impact.energy_loss > 0.0
+
+
+# -- friction demand of the sticking corners
+
+@pytest.mark.parametrize("amp, mu, flagged", [(0.5, 0.4, True), (0.5, 0.7, False),
+                                              (0.8, 0.7, True)])
+def test_full_contact_friction_demand_is_ag_over_g(amp, mu, flagged):
+    # closed form: a rigid block that stays in full contact needs |T/N| = |a_g|/g (the
+    # classical sliding condition); h/b = 1 keeps it down (rocking needs a_g > g tan α = g)
+    block = PoissonBlock(b=0.3, h=0.3)
+    w = 3.0 * block.p
+    r = simulate_block(block, 0.0, 3.0, ag=SineWave(amplitude=amp * block.g, omega=w), mu=mu)
+    assert set(r.phase) == {"full"}
+    assert r.friction.smooth == pytest.approx(amp, rel=1e-9)
+    t_peak = r.friction.smooth_time
+    assert min(abs(t_peak - 0.5 * math.pi / w), abs(t_peak - 1.5 * math.pi / w)) < 1e-6
+    assert r.friction.impact == 0.0 and r.friction.impact_time is None
+    assert r.outcome == "completed"
+    assert r.checks["friction_smooth"]["passed"] is not flagged
+    if flagged:
+        assert r.status == "inaccurate"
+        assert any(f"mu = {mu:g}" in s and "slide" in s for s in r.warnings)
+    else:
+        assert r.status == "completed" and r.warnings == ()
+    no_mu = simulate_block(block, 0.0, 3.0, ag=SineWave(amplitude=amp * block.g, omega=w))
+    assert "friction_smooth" not in no_mu.checks and no_mu.status == "completed"
+    assert no_mu.friction.smooth == pytest.approx(amp, rel=1e-9)
+
+
+def pivot_demand(block, phi0, phi):
+    """|T/N| at the left pivot of a block released from rest at φ0, at φ (0 ≤ φ ≤ φ0), by
+    Newton–Euler: r = G − O = (b cos φ − h sin φ, b sin φ + h cos φ), I_O φ̈ = −m g r_x,
+    φ̇² from energy, T = m ẍ_G, N = m (ÿ_G + g)."""
+    b, h, g = block.b, block.h, block.g
+    I_O = 4.0 / 3.0 * block.R**2                          # per unit mass
+    rx = b * math.cos(phi) - h * math.sin(phi)
+    ry = b * math.sin(phi) + h * math.cos(phi)
+    ry0 = b * math.sin(phi0) + h * math.cos(phi0)
+    w2, acc = 2.0 * g * (ry0 - ry) / I_O, -g * rx / I_O
+    xdd, ydd = -ry * acc - rx * w2, rx * acc - ry * w2
+    return abs(xdd) / (ydd + g)
+
+
+@pytest.mark.parametrize("b, h", [(0.5, 0.25), (0.5, 0.35)])
+def test_rocking_friction_demand_of_a_squat_block(b, h):
+    # the first half-cycle of a stocky block (ε_P = 0: it then stays down, Eq 25): the
+    # pivot's |T/N| peaks inside the half-cycle; reference: Newton–Euler on a fine φ grid
+    block = PoissonBlock(b=b, h=h)
+    phi0 = block.alpha / 3
+    r = simulate_block(block, 0.0, 0.5, phi0=phi0)
+    grid = np.linspace(0.0, phi0, 20001)
+    ref = max(pivot_demand(block, phi0, p) for p in grid)
+    assert r.friction.smooth == pytest.approx(ref, rel=1e-8)
+    assert 0.0 < r.friction.smooth_time < r.raw.impacts[0].time
+    # its one impact needs |Λ_T/Λ_N| = h/b (paper 000, Eqs 14–15)
+    assert r.friction.impact == pytest.approx(h / b, rel=1e-9)
+    assert r.friction.impact_time == r.raw.impacts[0].time
+
+
+def test_slender_block_needs_little_friction_a_squat_one_more():
+    # μ = 0.7: paper 000's slender block (H/b = 7) rocks within it — impacts need
+    # 3 sin α cos α / (4 − 3 sin²α) (Eqs 17–18) — while a squat block bouncing with
+    # ε_P = 0.5 exceeds it between impacts
+    slender = PoissonBlock.from_slenderness(7.0)
+    r = simulate_block(slender, 0.0, 3.0, phi0=slender.alpha / 3, mu=0.7)
+    s, c = math.sin(slender.alpha), math.cos(slender.alpha)
+    assert r.friction.impact == pytest.approx(3 * s * c / (4 - 3 * s * s), rel=1e-9)
+    assert r.friction.largest < 0.7 and r.status == "completed"
+    squat = PoissonBlock(b=0.5, h=0.25)
+    r = simulate_block(squat, 0.5, 3.0, phi0=squat.alpha / 3, mu=0.7)
+    assert r.friction.smooth > 0.7 and r.friction.impact == pytest.approx(0.5, rel=1e-9)
+    assert r.status == "inaccurate" and r.outcome == "completed"
+    assert r.checks["friction_smooth"]["passed"] is False
+    assert r.checks["friction_impact"]["passed"] is True
+
+
+def test_lift_off_into_flight_needs_unbounded_friction():
+    # squat block under a strong sine: the pivot unloads while the ground pushes it sideways
+    block = PoissonBlock(b=0.5, h=0.25)
+    ag = SineWave(amplitude=1.5 * block.g * math.tan(block.alpha), omega=4.0 * block.p)
+    r = simulate_block(block, 0.0, 3.0, ag=ag, mu=5.0)
+    flights = [e for e in r.events if e.kind == "liftoff" and e.closed_after == ()]
+    assert flights and r.friction.smooth == math.inf
+    assert r.friction.smooth_time == pytest.approx(flights[0].time, abs=1e-12)
+    assert r.status == "inaccurate" and any("unbounded" in s for s in r.warnings)
+
+
+@pytest.mark.parametrize("kw, match", [(dict(mu=0.0), "`mu`"), (dict(mu=float("nan")), "`mu`"),
+                                       (dict(mu="high"), "`mu`"),
+                                       (dict(dphi0=float("inf")), "`dphi0`"),
+                                       (dict(t_end=float("inf")), "`t_end`")])
+def test_bad_new_input(kw, match):
+    args = dict(block=PoissonBlock(0.5, 1.0), eps_p=0.5, t_end=1.0)
+    args.update(kw)
+    with pytest.raises(InputError, match=match):
+        simulate_block(**args)
+
+
+def test_a_ground_acceleration_that_is_not_finite_is_refused():
+    block = PoissonBlock(b=0.3, h=0.6)
+    with pytest.raises(InputError, match=r"`ag` returned nan at t = 0 s"):
+        simulate_block(block, 0.0, 1.0, ag=lambda t: float("nan"))
+    # a record that turns NaN mid-run stops the run with the time, not with NaN results
+    with pytest.raises(InputError, match=r"`ag` returned nan at t = 0\.2"):
+        simulate_block(block, 0.0, 1.0, ag=lambda t: float("nan") if t >= 0.2 else 1.0,
+                       locked_dt=0.05)
+    with pytest.raises(InputError, match="`ag`"):
+        simulate_block(block, 0.0, 1.0, ag=lambda t: "1 g")
