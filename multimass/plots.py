@@ -22,34 +22,54 @@ def _save(fig: Figure, path) -> Path:
     return path
 
 
-def _impact_marks(ax, resp: Response):
-    for e in resp.events:
-        if e.kind in ("impact", "full_contact", "uplift", "overturn"):
-            ax.axvline(e.time, color={"impact": "0.75", "full_contact": "tab:orange",
-                                      "uplift": "tab:green", "overturn": "k"}[e.kind],
-                       lw=0.5, zorder=0)
+# event kind -> (marker, colour, label) drawn on the θ line where the event happens
+_EVENT_MARKS = {"uplift": ("^", "tab:green", "uplift"),
+                "impact": ("|", "0.1", "impact (new half-cycle)"),
+                "full_contact": ("s", "tab:orange", "full contact"),
+                "chatter_guard": ("D", "tab:purple", "chattering guard"),
+                "overturn": ("X", "k", "overturned")}
 
 
-def plot_rocking(resp: Response, path, title: str = "") -> Path:
-    """θ(t) with the impact force F_i (twin axis) and θ̇(t)."""
+def _event_marks(ax, resp: Response) -> None:
+    """Markers on the θ line at each transition, one legend entry per kind with its count."""
+    for kind, (marker, colour, label) in _EVENT_MARKS.items():
+        times = [e.time for e in resp.events if e.kind == kind]
+        thetas = [e.theta for e in resp.events if e.kind == kind]
+        if times:
+            ax.plot(times, thetas, ls="", marker=marker, color=colour, ms=4 if marker != "|" else 7,
+                    mew=1.0, alpha=0.8, zorder=3, label=f"{label} ({len(times)})")
+
+
+def plot_rocking(resp: Response, path, title: str = "", g: float = 9.81) -> Path:
+    """Ground acceleration (if any), θ(t) with its transitions marked, θ̇(t), and the
+    Dirac-delta impact force F_i (if any), each on its own panel."""
     df = resp.series
-    fig = Figure(figsize=(10, 5.5), layout="constrained")
-    ax, ax2 = fig.subplots(2, 1, sharex=True)
-    ax.plot(df.t, df.theta, color="tab:blue", lw=1.0, label="θ")
-    _impact_marks(ax, resp)
+    panels = (["ag"] if np.any(df.ag != 0) else []) + ["theta", "thetadot"] \
+        + (["F_i"] if np.any(df.F_i != 0) else [])
+    ratios = {"ag": 1.0, "theta": 2.2, "thetadot": 1.2, "F_i": 1.0}
+    fig = Figure(figsize=(10, 1.0 + 1.6 * sum(ratios[p] for p in panels)), layout="constrained")
+    axes = dict(zip(panels, np.atleast_1d(fig.subplots(len(panels), 1, sharex=True,
+                                                       height_ratios=[ratios[p] for p in panels]))))
+    if "ag" in axes:
+        axes["ag"].plot(df.t, df.ag / g, color="0.3", lw=0.8)
+        axes["ag"].set_ylabel("ground ü_g (g)")
+    ax = axes["theta"]
+    ax.plot(df.t, df.theta, color="tab:blue", lw=1.0, label="θ", zorder=2)
+    _event_marks(ax, resp)
     ax.set_ylabel("θ (rad)")
-    ax.grid(alpha=0.3)
-    if np.any(df.F_i != 0):
-        axf = ax.twinx()
-        axf.plot(df.t, df.F_i / 1e3, color="0.55", lw=0.8, label="F_i")
-        axf.set_ylabel("impact force F_i (kN)", color="0.4")
-    ax2.plot(df.t, df.thetadot, color="tab:red", lw=0.8)
-    ax2.set_ylabel("θ̇ (rad/s)")
-    ax2.set_xlabel("t (s)")
-    ax2.grid(alpha=0.3)
-    ax.set_title(title or f"{resp.structure_name}: {resp.options.get('impact', '')}, "
-                 f"{resp.n_impacts} impacts, {resp.n_full_contact} full-contact transitions, "
-                 f"status {resp.status}")
+    ax.legend(fontsize=8, ncol=6, loc="lower left", bbox_to_anchor=(0.0, 1.0), frameon=False)
+    axes["thetadot"].plot(df.t, df.thetadot, color="tab:red", lw=0.8)
+    axes["thetadot"].set_ylabel("θ̇ (rad/s)")
+    if "F_i" in axes:
+        axes["F_i"].plot(df.t, df.F_i / 1e3, color="0.4", lw=0.8)
+        axes["F_i"].set_ylabel("impact force\nF_i (kN)")
+    for a in axes.values():
+        a.grid(alpha=0.3)
+    axes[panels[-1]].set_xlabel("t (s)")
+    status = resp.status + (f" — {resp.warnings[0]}" if resp.warnings else "")
+    fig.suptitle(title or f"{resp.structure_name}: {resp.options.get('impact', '')}, "
+                 f"{resp.n_impacts} impacts, {resp.n_full_contact} full-contact transitions; "
+                 f"status {status}", fontsize=10, wrap=True)
     return _save(fig, path)
 
 

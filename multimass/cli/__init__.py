@@ -12,9 +12,10 @@ from __future__ import annotations
 import argparse
 import importlib
 import pkgutil
+import re
 import sys
 
-__all__ = ["main", "build_parser", "command_modules"]
+__all__ = ["main", "build_parser", "command_modules", "attach_negative_values"]
 
 
 def command_modules() -> list[str]:
@@ -22,9 +23,16 @@ def command_modules() -> list[str]:
     return sorted(m.name for m in pkgutil.iter_modules(__path__) if m.name.endswith("_cmd"))
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse, with a mistake reported in one line (no usage dump) and exit status 2."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message} (see `{self.prog} --help`)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The full argument parser with every sub-command registered."""
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="multimass",
         description="Rocking structures: modal analysis, time histories, overturning maps.")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
@@ -33,14 +41,44 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+# a value that starts with a minus sign: a number, a range START:STOP:COUNT or a list
+_NEGATIVE_VALUE = re.compile(r"^-(\d|\.\d)[\w.:+,-]*$")
+
+
+def attach_negative_values(argv: list[str]) -> list[str]:
+    """``--flag -1:10:6`` → ``--flag=-1:10:6``.
+
+    argparse takes a token that starts with '-' for an option unless it is a plain
+    negative number, so a negative range (``--omega-p -1:10:6``) was refused with
+    "expected one argument" instead of reaching the range's own check, which says
+    what is wrong with it.
+    """
+    out: list[str] = []
+    for token in argv:
+        if (out and _NEGATIVE_VALUE.match(token) and out[-1].startswith("--")
+                and "=" not in out[-1]):
+            out[-1] = f"{out[-1]}={token}"
+        else:
+            out.append(token)
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``multimass`` console script."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    try:
+        args = parser.parse_args(attach_negative_values(argv))
+    except SystemExit as done:          # --help, or a mistake argparse reported in one line
+        return int(done.code or 0) if not isinstance(done.code, str) else 2
     try:
         return int(args.func(args) or 0)
     except ValueError as exc:  # the packages' own errors all derive from ValueError
         print(f"multimass {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print(f"multimass {args.command}: error: out of memory; reduce the size of the run "
+              "(end time, output step, grid, elements)", file=sys.stderr)
         return 2
     except BrokenPipeError:  # output piped into e.g. `head`: not an error of ours
         sys.stderr.close()

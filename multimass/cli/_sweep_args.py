@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from ._types import count as _count
+
 __all__ = ["add_executor_args", "executor_kwargs"]
 
 
@@ -9,15 +11,19 @@ def add_executor_args(p) -> None:
     g = p.add_argument_group("sweep execution")
     g.add_argument("--executor", default="process", choices=("serial", "process", "dask"),
                    help="serial, local process pool (default, all cores) or Dask")
-    g.add_argument("--workers", type=int, default=None, help="number of workers (default: all cores)")
+    g.add_argument("--workers", type=_count, default=None,
+                   help="number of workers, ≥ 1 (default: all cores)")
     g.add_argument("--dask-address", default=None, metavar="ADDR",
                    help="scheduler address of a Dask cluster (with --executor dask)")
     g.add_argument("--no-progress", action="store_true", help="hide the progress bar")
 
 
 def executor_kwargs(args) -> dict:
+    from multimass.errors import InputError
     from multimass.sweeps import get_executor
 
+    if args.dask_address and args.executor != "dask":
+        raise InputError(f"`--dask-address` = {args.dask_address!r} needs `--executor dask`")
     if args.executor == "dask" and args.dask_address:
         ex = get_executor("dask", args.workers, address=args.dask_address)
     else:

@@ -38,9 +38,11 @@ def run(args) -> int:
     from benchmarks.config import preset
     from benchmarks.run import run_bench
 
+    from ._output import output_folder
+
     cfg = preset("smoke" if args.smoke else "quick" if args.quick else "full")
     quiet = args.json
-    res = run_bench(cfg, args.out,
+    res = run_bench(cfg, output_folder(args.out),
                     progress=None if quiet else (lambda m: print(m, file=sys.stderr, flush=True)))
     if args.json:
         rows = [{k: r.get(k) for k in ROW_KEYS} for r in res["rows"] + res["stiffness"]["rows"]]

@@ -10,9 +10,13 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import argparse
+
 from ..errors import InputError
+from . import _types as types
 from ._args import add_excitation_args, add_impact_args, add_solver_args, excitation_from_args, \
     solver_kwargs
+from ._output import output_folder
 
 __all__ = ["register", "model_specs"]
 
@@ -41,10 +45,10 @@ def register(sub) -> None:
     add_impact_args(p, multiple=True)
     add_excitation_args(p)
     add_solver_args(p)
-    p.add_argument("--t-end", type=float, default=None,
+    p.add_argument("--t-end", type=types.positive, default=None,
                    help="end of the simulation (s, on its own clock); default: the trace's last "
                         "sample")
-    p.add_argument("--t-offset", type=float, default=None,
+    p.add_argument("--t-offset", type=types.finite, default=None,
                    help="trace time of the simulation's t = 0 (s); default: the trace's first "
                         "time for a release, 0 for a pulse or a record")
     p.add_argument("--out", type=Path, default=None,
@@ -54,12 +58,19 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
+# per-model option -> the type of its flag (--cp, --k, --seed), so the same mistake gets
+# the same message whether it is written --cp -1 or --impact DD2:cp=-1
+_TYPES = {"cp": types.positive, "c_p": types.positive, "k": types.unit_interval,
+          "seed": types.whole}
+
+
 def _option(label: str, key: str, value: str):
+    if key in ("restitution", "r"):
+        return value
     try:
-        return int(value) if key == "seed" else value if key in ("restitution", "r") else float(value)
-    except ValueError:
-        raise InputError(f"`--impact` = {label!r}: {key} = {value!r} is not a number; "
-                         f"{_OPTIONS_HELP}") from None
+        return _TYPES[key](value)
+    except argparse.ArgumentTypeError as err:
+        raise InputError(f"`--impact` = {label!r}: {key} {err}") from None
 
 
 def model_specs(args) -> dict[str, dict]:
@@ -112,6 +123,7 @@ def run(args) -> int:
     for kw in specs.values():                          # unknown names / options: fail early too
         impact_model(kw["impact"], st.specimen, kw["restitution"], kw["k"], kw["C_p"])
     exc, t_offset = _excitation(args, st, trace)
+    out = output_folder(args.out if args.out is not None or args.json else Path("compare_report"))
     t_end = args.t_end if args.t_end is not None else float(trace.time[-1]) - t_offset
     if not t_end > 0.0:
         raise InputError(f"`--t-end` = {t_end!r} s: the simulation would not run; the trace ends "
@@ -136,17 +148,16 @@ def run(args) -> int:
                                         "column": columns[ch]} for ch in trace.names}},
             "excitation": exc.describe(), "t_offset": t_offset, "t_end": t_end,
             "models": models, "files": []}
-    out = args.out if args.out is not None or args.json else Path("compare_report")
     if out is not None:
         info["files"] = _write(out, st, trace, responses, metrics, t_offset, info)
     _print(args, info)
-    return 1 if any(m["summary"]["status"] == "failed" for m in models.values()) else 0
+    return 1 if any(m["summary"]["status"] in ("failed", "inaccurate")
+                    for m in models.values()) else 0
 
 
 def _write(out: Path, st, trace, responses, metrics, t_offset, info) -> list[str]:
     from multimass.plots import plot_overlay
 
-    out.mkdir(parents=True, exist_ok=True)
     stem = f"{st.name}_{Path(trace.source).stem}"
     files = []
     if responses:
@@ -218,7 +229,9 @@ def _print(args, info) -> None:
         return
     for label, entry in info["models"].items():
         s = entry["summary"]
-        print(f"{label}: {s['status']}, {s['n_impacts']} impacts, {s['wall_time_s']:.2f} s")
+        print(f"{label}: {s['status']}, {s['n_impacts']} impacts, {s['wall_time_s']:.2f} s"
+              + (f"\n  failed: {s['message']}" if s["status"] == "failed" else "")
+              + "".join(f"\n  warning: {w}" for w in s.get("warnings", ())))
         for ch, m in (entry["metrics"] or {}).items():
             nrmse = "—" if m["nrmse"] is None else f"{100 * m['nrmse']:.1f} %"
             print(f"  {ch:<8} RMS error {m['rms_error']:.4g} {m['units']} (NRMSE {nrmse}), "

@@ -6,6 +6,8 @@ import json
 from pathlib import Path
 
 from ..errors import InputError
+from . import _types as types
+from ._output import output_folder
 from ._sweep_args import add_executor_args, executor_kwargs
 
 __all__ = ["register"]
@@ -18,19 +20,23 @@ def register(sub) -> None:
                     "for a single sine or cosine pulse (paper 004). Ranges are inclusive: "
                     "START:STOP:COUNT.")
     p.add_argument("block", metavar="BLOCK", help="bundled block (B6M, B3L, ...) or TOML file")
-    p.add_argument("--pulse", choices=("sine", "cosine"), default="sine")
+    p.add_argument("--pulse", choices=("sine", "cosine"), default="sine",
+                   help="single sine or cosine wave of paper 004, Fig 2 (default sine)")
     p.add_argument("--restitution", default="modified",
                    help="modified (η_M, paper 004 Eq 10) | housner (η_H, Eq 9) | VALUE")
-    p.add_argument("--k", type=float, default=None, help="k of η_M (default: the block's published k)")
+    p.add_argument("--k", type=types.unit_interval, default=None,
+                   help="k of η_M, in [0, 1] (default: the block's published k)")
     p.add_argument("--omega-p", default="0.5:10:40", help="ω/p range START:STOP:COUNT")
     p.add_argument("--amp", default="0.25:8:40", help="a0/(α g) range START:STOP:COUNT")
-    p.add_argument("--refine", type=int, default=2, help="bisection rounds on the boundary")
+    p.add_argument("--refine", type=types.whole, default=2,
+                   help="bisection rounds on the boundary (default 2)")
     p.add_argument("--integrator", choices=("solve_ivp", "newmark"), default="solve_ivp",
                    help="solve_ivp with exact impact location, or paper 004's Newmark + Newton-Raphson")
     p.add_argument("--backend", choices=("scipy", "compiled"), default=None,
                    help="solve_ivp path: compiled fast path (default) or scipy's solve_ivp")
-    p.add_argument("--dt", type=float, default=1e-3, help="Newmark step (s)")
-    p.add_argument("--t-free", type=float, default=10.0, help="free rocking after the pulse (s)")
+    p.add_argument("--dt", type=types.positive, default=1e-3, help="Newmark step (s; default 0.001)")
+    p.add_argument("--t-free", type=types.positive, default=10.0,
+                   help="free rocking after the pulse (s; default 10)")
     add_executor_args(p)
     p.add_argument("--compare", action="store_true",
                    help="also run the other restitution (housner vs modified) and draw both")
@@ -43,14 +49,15 @@ def run(args) -> int:
     import multimass
     from multimass.sweeps.maps import overturning_map
     from multimass.sweeps.plots import plot_map, plot_map_comparison
-    from multimass.sweeps.ranges import parse_range
+    from multimass.sweeps.ranges import check_values, parse_range
 
     st = multimass.from_specimen(args.block)
     if st.n != 0:
         raise InputError(f"`BLOCK` = {args.block!r} is a column; `stability` maps rigid blocks "
                          "(use `multimass spectrum` for a column)")
-    omega_p = parse_range(args.omega_p, "--omega-p")
-    amp = parse_range(args.amp, "--amp")
+    out = output_folder(args.out)
+    omega_p = check_values("--omega-p", parse_range(args.omega_p, "--omega-p"), positive=True)
+    amp = check_values("--amp", parse_range(args.amp, "--amp"), nonnegative=True)
     sim = dict(integrator=args.integrator, dt=args.dt) if args.integrator == "newmark" else {}
     if args.backend is not None and args.integrator != "newmark":
         sim["backend"] = args.backend
@@ -63,9 +70,8 @@ def run(args) -> int:
         alt = "housner" if args.restitution != "housner" else "modified"
         other = overturning_map(st, restitution=alt, **kw)
         info["comparison"] = {alt: other.summary()}
-    if args.out is not None:
-        args.out.mkdir(parents=True, exist_ok=True)
-        stem = args.out / f"{st.name}_{args.pulse}_{args.restitution}"
+    if out is not None:
+        stem = out / f"{st.name}_{args.pulse}_{args.restitution}"
         m.cells.to_csv(f"{stem}_cells.csv", index=False)
         Path(f"{stem}_map.json").write_text(json.dumps(info, indent=2))
         plot_map(m, f"{stem}_map.png")
@@ -78,5 +84,7 @@ def run(args) -> int:
         print(f"{st.name} {args.pulse}: {info['n_simulations']} simulations in {info['wall_time_s']:.1f} s; "
               f"overturned {o['overturned']}, rest {o['rest']}, no rocking {o['no_rocking']}"
               + (f", undecided {o['undecided']}" if o["undecided"] else "")
-              + (f"; files in {args.out}/" if args.out else ""))
+              + (f"; {info['inaccurate']} cells failed their accuracy check (outcome kept; "
+                 "tighten --dt or the tolerances)" if info["inaccurate"] else "")
+              + (f"; files in {out}/" if out else ""))
     return 0

@@ -127,12 +127,15 @@ def test_model_specs_repeated_comma_and_overrides():
 @pytest.mark.parametrize("extra, header, fragment", [
     (["--impact", "XYZ"], None, "unknown impact model"),
     (["--impact", "DD2:foo=1"], None, "cannot read option 'foo=1'"),
-    (["--impact", "DD2:cp=abc"], None, "cp = 'abc' is not a number"),
+    (["--impact", "DD2:cp=abc"], None, "cp must be a finite number > 0, got 'abc'"),
+    # the same mistake gets the same words whether it is written as a model option or a flag
+    (["--impact", "DD2:cp=-1"], None, "cp must be a finite number > 0, got '-1'"),
+    (["--cp", "-1"], None, "argument --cp: must be a finite number > 0, got '-1'"),
     (["--impact", ","], None, "`--impact` is empty"),
     ([], "t [s],a_A9 [g]", "column `a_A9`"),
     ([], "t [s],a_A2 [g]", "no `theta` column"),
     ([], "t [s],theta", "column `theta` has no unit"),
-    (["--t-end", "-1"], None, "`--t-end` = -1.0"),
+    (["--t-end", "-1"], None, "argument --t-end: must be a finite number > 0, got '-1'"),
 ])
 def test_bad_input_exits_2_with_one_line(tmp_path, trace_file, extra, header, fragment, capsys):
     path = trace_file
