@@ -45,6 +45,9 @@ class DaskExecutor(Executor):
         Scheduler address of a running cluster, e.g. ``"tcp://10.0.0.5:8786"``.
     client : distributed.Client, optional
         A client the caller manages.
+    connect_timeout : float
+        Seconds to wait for the scheduler at `address` (default 10) before
+        giving up with an `InputError` that names the address.
     **cluster_options
         Passed to ``LocalCluster`` (e.g. ``processes=False``); defaults are
         ``threads_per_worker=1, processes=True, dashboard_address=":0"`` (any free port).
@@ -53,8 +56,14 @@ class DaskExecutor(Executor):
     name = "dask"
 
     def __init__(self, workers: int | None = None, *, address: str | None = None,
-                 client: Any = None, **cluster_options):
+                 client: Any = None, connect_timeout: float = 10.0, **cluster_options):
         self._distributed = _import_distributed()
+        if address is not None and (not isinstance(address, str) or not address.strip()):
+            raise InputError(f"`address` = {address!r}: give the scheduler address, e.g. "
+                             "'tcp://10.0.0.5:8786' (printed by `dask scheduler`)")
+        from ..validation import positive
+
+        self._timeout = positive("connect_timeout", connect_timeout, "s")
         self._n_local = validate_workers(workers)
         if client is not None and address is not None:
             raise InputError("`client` and `address` both given: pass one of them")
@@ -86,7 +95,15 @@ class DaskExecutor(Executor):
                 except ValueError:  # no default client in this process
                     pass
         if address is not None:
-            self._own_client = d.Client(address, set_as_default=False)
+            try:
+                self._own_client = d.Client(address, set_as_default=False,
+                                            timeout=self._timeout)
+            except (OSError, TimeoutError, ValueError) as exc:
+                raise InputError(
+                    f"no Dask scheduler answered at `address` (--dask-address) = {address!r} "
+                    f"within {self._timeout:g} s ({type(exc).__name__}: {exc}); start one with "
+                    "`dask scheduler` and workers with `dask worker ADDRESS`, or check the "
+                    "address") from None
             return self._own_client
         options = dict(n_workers=self._n_local or available_workers(), threads_per_worker=1,
                        processes=True, dashboard_address=":0")

@@ -9,8 +9,12 @@ is in `multimass.sweeps.base`.
 from __future__ import annotations
 
 import multiprocessing
+import pickle
 import sys
+import types
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+from contextlib import contextmanager, nullcontext
 
 from ..errors import InputError
 from .base import Executor, available_workers, validate_workers
@@ -74,6 +78,42 @@ def _preload_in_forkserver(*modules: str | None) -> None:
     wanted = current + [m for m in ("multimass", *modules) if m and m not in current]
     if wanted != current:
         forkserver.set_forkserver_preload(wanted)
+
+
+def _refers_to_main(obj) -> bool:
+    """True if pickling `obj` refers to ``__main__`` (a class or function of the user's script)."""
+    try:
+        return b"__main__" in pickle.dumps(obj)
+    except Exception:           # let the pool report the pickling problem itself
+        return True
+
+
+@contextmanager
+def _script_not_rerun():
+    """Start pool workers without re-running the user's script in each of them.
+
+    With 'forkserver' and 'spawn', multiprocessing prepares each new worker by
+    importing the parent's ``__main__`` file again, so that functions defined in
+    it can be unpickled. A script written without an ``if __name__ ==
+    "__main__":`` guard (the README's example, saved as a file or piped to
+    ``python -``) then runs again in every worker, which starts a pool of its
+    own and breaks the parent's pool. Jobs that refer to nothing in
+    ``__main__`` do not need it: while their workers start, ``__main__`` is a
+    blank module, so nothing is re-run.
+    """
+    main = sys.modules.get("__main__")
+    sys.modules["__main__"] = types.ModuleType("__main__")
+    try:
+        yield
+    finally:
+        sys.modules["__main__"] = main
+
+
+_BROKEN_HINT = ("a worker process died before it could run a job. In a script, this is "
+                "usually the missing guard: process pools start each worker by importing the "
+                "script again, so put the code that runs the sweep under "
+                "`if __name__ == \"__main__\":` (or pass executor=\"serial\"); otherwise a job "
+                "ran out of memory or crashed its worker")
 
 
 class ProcessExecutor(Executor):
@@ -148,13 +188,20 @@ class ProcessExecutor(Executor):
 
     def map_unordered(self, fn, args):
         pool = self._get_pool()
-        position = {pool.submit(fn, a): i for i, a in enumerate(args)}
+        args = list(args)
+        hide = self.start_method != "fork" and not _refers_to_main((fn, args))
+        with _script_not_rerun() if hide else nullcontext():    # workers start in submit
+            position = {pool.submit(fn, a): i for i, a in enumerate(args)}
         pending = set(position)
         try:
             while pending:
                 done, pending = wait(pending, return_when=FIRST_COMPLETED)
                 for fut in done:
-                    yield position[fut], fut.result()
+                    try:
+                        result = fut.result()
+                    except BrokenProcessPool as exc:
+                        raise BrokenProcessPool(f"{exc}; {_BROKEN_HINT}") from exc
+                    yield position[fut], result
         finally:
             for fut in pending:
                 fut.cancel()

@@ -18,9 +18,10 @@ from typing import NamedTuple
 import numpy as np
 import pandas as pd
 
+from .. import validation as v
 from ..errors import InputError
 from ..excitations import CosineWave, SineWave
-from ..simulate import simulate_outcome
+from ..simulate import estimate, simulate_outcome
 from ..structure import Structure, from_specimen
 from .base import Executor
 from .engine import run_jobs
@@ -31,6 +32,8 @@ __all__ = ["OverturningMap", "overturning_map", "map_cell", "OUTCOMES", "executo
            "default_backend"]
 
 OUTCOMES = ("no_rocking", "rest", "overturned", "undecided")
+#: An undecided cell is run once more with this many times the free-rocking time.
+UNDECIDED_RETRY = 4.0
 PULSES = {"sine": SineWave, "cosine": CosineWave}
 
 
@@ -67,24 +70,42 @@ class _Cell(NamedTuple):
     options: dict
 
 
+def _classify(resp) -> str:
+    if resp.outcome == "overturned":
+        return "overturned"
+    if not any(e.kind == "uplift" for e in resp.events):
+        return "no_rocking"
+    if any(e.kind == "rest" for e in resp.events):
+        return "rest"
+    return "undecided"
+
+
 def map_cell(cell: _Cell) -> tuple:
-    """Simulate one cell: (outcome, overturn time or nan, max|θ|/α, impacts, rhs evaluations)."""
+    """Simulate one cell: (outcome, overturn time or nan, max|θ|/α, impacts, rhs evaluations,
+    accurate).
+
+    Outcomes: "no_rocking" (never uplifted), "rest" (rocked, then could no longer
+    overturn: its energy fell below what reaching θ = α needs), "overturned", and
+    "undecided": still rocking with enough energy to overturn at the end of the run,
+    even after a second run with `UNDECIDED_RETRY` times the free-rocking time. An
+    undecided cell counts neither as overturned nor as safe (`OverturningMap.undecided`).
+    ``accurate`` is False when the run's accuracy check failed (status "inaccurate",
+    e.g. Newmark's energy error at a coarse step): the outcome is kept, and flagged.
+    """
     st = cell.structure
     exc = PULSES[cell.pulse](amplitude=cell.a0, omega=cell.omega)
-    resp = simulate_outcome(st, exc, t_end=exc.duration + cell.t_free, stop_when_safe=True,
-                            **cell.options)
-    if resp.status == "failed":
-        raise RuntimeError(f"cell ω = {cell.omega:.6g} rad/s, a0 = {cell.a0:.6g} m/s²: {resp.message}")
-    if resp.status == "overturned":
-        outcome = "overturned"
-    elif not any(e.kind == "uplift" for e in resp.events):
-        outcome = "no_rocking"
-    elif any(e.kind == "rest" for e in resp.events):
-        outcome = "rest"
-    else:
-        outcome = "undecided"
+    for t_free in (cell.t_free, UNDECIDED_RETRY * cell.t_free):
+        resp = simulate_outcome(st, exc, t_end=exc.duration + t_free, stop_when_safe=True,
+                                **cell.options)
+        if resp.status == "failed":
+            raise RuntimeError(f"cell ω = {cell.omega:.6g} rad/s, a0 = {cell.a0:.6g} m/s²: "
+                               f"{resp.message}")
+        outcome = _classify(resp)
+        if outcome != "undecided":
+            break
     t_over = next((e.time for e in resp.events if e.kind == "overturn"), math.nan)
-    return outcome, t_over, resp.theta_max / st.alpha_cg, resp.n_impacts, resp.n_rhs
+    return (outcome, t_over, resp.theta_max / st.alpha_cg, resp.n_impacts, resp.n_rhs,
+            resp.status != "inaccurate")
 
 
 @dataclass(frozen=True, eq=False)
@@ -100,7 +121,9 @@ class OverturningMap:
     cells : pandas.DataFrame
         One row per simulated cell (grid and refinement): ``omega_p``,
         ``amp``, ``outcome``, ``overturn_time``, ``theta_max_over_alpha``,
-        ``n_impacts``, ``grid`` (True on the base grid).
+        ``n_impacts``, ``accurate`` (False if the run's accuracy check failed; its
+        outcome is kept and counted in the summary's ``inaccurate``), ``grid``
+        (True on the base grid).
     boundaries : pandas.DataFrame
         Refined boundary segments per ω/p: ``omega_p``, ``amp_low``,
         ``amp_high``, ``low_outcome``, ``high_outcome``.
@@ -125,8 +148,12 @@ class OverturningMap:
         return table.loc[self.amp, self.omega_p].to_numpy()
 
     def overturned(self) -> np.ndarray:
-        """Boolean grid (amp × omega_p): the cell overturned."""
+        """Boolean grid (amp × omega_p): the cell overturned (undecided cells are False)."""
         return self.grid == "overturned"
+
+    def undecided(self) -> np.ndarray:
+        """Boolean grid (amp × omega_p): the map could not decide the cell (see `map_cell`)."""
+        return self.grid == "undecided"
 
     def min_overturn_amp(self) -> list:
         """Smallest a0/(α g) that overturns, per ω/p (refined; None if none in range)."""
@@ -144,8 +171,13 @@ class OverturningMap:
         return out
 
     def overturn_fraction(self) -> float:
-        """Share of base-grid cells that overturn."""
+        """Share of base-grid cells that overturn; undecided cells do not count as overturned
+        (`undecided_fraction` bounds the error: the true share lies between this and the sum)."""
         return float(np.mean(self.overturned()))
+
+    def undecided_fraction(self) -> float:
+        """Share of base-grid cells the map could not decide."""
+        return float(np.mean(self.undecided()))
 
     def summary(self) -> dict:
         """JSON-ready summary (keys of the `multimass stability --json` object)."""
@@ -158,7 +190,9 @@ class OverturningMap:
                 "amp": [float(a) for a in self.amp],
                 "min_overturn_amp": self.min_overturn_amp(),
                 "overturn_fraction": self.overturn_fraction(),
+                "undecided_fraction": self.undecided_fraction(),
                 "outcomes": {k: int(counts.get(k, 0)) for k in OUTCOMES},
+                "inaccurate": int((~self.cells.accurate).sum()),
                 "n_simulations": int(len(self.cells)),
                 "wall_time_s": float(self.wall_time_s),
                 "options": {k: v for k, v in self.options.items() if k not in ("restitution_name",)}}
@@ -219,10 +253,8 @@ def overturning_map(block, pulse: str = "sine", omega_p=np.linspace(1, 10, 10),
         raise InputError(f"`pulse` = {pulse!r}: use 'sine' or 'cosine'")
     omega_p = check_values("omega_p", omega_p, positive=True)
     amp = check_values("amp", amp, nonnegative=True)
-    if int(refine) < 0:
-        raise InputError(f"`refine` = {refine!r}: must be ≥ 0")
-    if not (math.isfinite(t_free) and t_free > 0):
-        raise InputError(f"`t_free` = {t_free!r}: must be > 0 (s)")
+    refine = v.integer("refine", refine, low=0, what="bisection rounds")
+    t_free = v.positive("t_free", t_free, "free rocking after the pulse, s")
     from impact_models import impact_model
 
     model = impact_model(impact, st.specimen, restitution, k)   # validates restitution and k
@@ -233,6 +265,12 @@ def overturning_map(block, pulse: str = "sine", omega_p=np.linspace(1, 10, 10),
     def cells_for(pairs):
         return [_Cell(st, pulse, float(w * st.p), float(a * scale_a), t_free, options)
                 for w, a in pairs]
+
+    # the options and the longest cell (lowest ω, retried) checked here, before any worker
+    slow = cells_for([(omega_p[0], amp[-1])])[0]
+    exc = PULSES[pulse](amplitude=slow.a0, omega=slow.omega)
+    estimate(st, exc, t_end=exc.duration + UNDECIDED_RETRY * t_free, stop_when_safe=True,
+             **options)
 
     wall = time.perf_counter()
     pairs = [(w, a) for a in amp for w in omega_p]
@@ -256,9 +294,10 @@ def overturning_map(block, pulse: str = "sine", omega_p=np.linspace(1, 10, 10),
 
 
 def _row(w, a, result, grid):
-    outcome, t_over, theta, impacts, _ = result
+    outcome, t_over, theta, impacts, _, accurate = result
     return {"omega_p": float(w), "amp": float(a), "outcome": outcome, "overturn_time": t_over,
-            "theta_max_over_alpha": theta, "n_impacts": impacts, "grid": grid}
+            "theta_max_over_alpha": theta, "n_impacts": impacts, "accurate": bool(accurate),
+            "grid": grid}
 
 
 def _refine(rows, omega_p, rounds, cells_for, executor, progress) -> dict:
@@ -269,21 +308,30 @@ def _refine(rows, omega_p, rounds, cells_for, executor, progress) -> dict:
     segments = []
     for w in omega_p:
         col = sorted(columns.get(float(w), ()), key=lambda r: r["amp"])
-        for lo, hi in zip(col, col[1:]):
+        for lo, hi in zip(col, col[1:]):          # undecided cells bound no boundary
+            if "undecided" in (lo["outcome"], hi["outcome"]):
+                continue
             if (lo["outcome"] == "overturned") != (hi["outcome"] == "overturned"):
                 segments.append([float(w), lo["amp"], hi["amp"], lo["outcome"], hi["outcome"]])
-    extra = []
+    extra, stopped = [], []
     for _ in range(rounds):
         if not segments:
             break
         mids = [(s[0], 0.5 * (s[1] + s[2])) for s in segments]
         results = run_jobs(map_cell, cells_for(mids), executor=executor, progress=progress,
                            desc="refining boundary")
+        active = []
         for s, (w, a), r in zip(segments, mids, results):
             row = _row(w, a, r, False)
             extra.append(row)
+            if row["outcome"] == "undecided":      # keep the bracket, refine it no further
+                stopped.append(s)
+                continue
+            active.append(s)
             if (row["outcome"] == "overturned") == (s[3] == "overturned"):
                 s[1], s[3] = a, row["outcome"]
             else:
                 s[2], s[4] = a, row["outcome"]
-    return {"segments": [tuple(s) for s in segments], "extra": extra}
+        segments = active
+    done = sorted(segments + stopped, key=lambda s: (s[0], s[1]))
+    return {"segments": [tuple(s) for s in done], "extra": extra}

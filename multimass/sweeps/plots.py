@@ -7,12 +7,19 @@ from pathlib import Path
 import numpy as np
 from matplotlib.colors import ListedColormap
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 __all__ = ["plot_map", "plot_map_comparison", "plot_spectrum"]
 
 _CODES = {"no_rocking": 0, "rest": 1, "undecided": 2, "overturned": 3}
-_COLOURS = ["#dbe9f6", "#ffffff", "#f4d35e", "#7f7f7f"]
+_LABELS = {"no_rocking": "no rocking (never uplifts)", "rest": "rocks, then rests (safe)",
+           "undecided": "undecided (still rocking at the end)", "overturned": "overturns"}
+# distinct in lightness as well as hue (legible in grey and to colour-blind readers)
+_COLOURS = ["#f0f0f0", "#9ecae1", "#fdae6b", "#4d4d4d"]
+
+
+_BOUNDARY_LABEL = "overturning boundary, refined by bisection in a0"
 
 
 def _edges(v: np.ndarray) -> np.ndarray:
@@ -29,7 +36,7 @@ def _draw_map(ax, m, boundary_colour="k"):
     b = m.boundaries
     if not b.empty:
         ax.plot(b.omega_p, 0.5 * (b.amp_low + b.amp_high), ".", color=boundary_colour, ms=3,
-                label="refined boundary")
+                label=_BOUNDARY_LABEL)
     ax.set_xlabel("ω/p")
     ax.set_ylabel("a0/(α g)")
 
@@ -51,12 +58,21 @@ def plot_map(m, path, title: str = "") -> Path:
     """The overturning map: overturned cells shaded, refined boundary points marked."""
     fig = Figure(figsize=(7.5, 5.5), layout="constrained")
     ax = fig.subplots()
-    _draw_map(ax, m)
-    handles = [Patch(facecolor=c, edgecolor="0.6", label=k.replace("_", " "))
+    _draw_map(ax, m, boundary_colour="tab:red")
+    handles = [Patch(facecolor=c, edgecolor="0.6", label=_LABELS[k])
                for k, c in zip(_CODES, _COLOURS)]
-    ax.legend(handles=handles, loc="upper left", fontsize=8, framealpha=0.9)
+    if not m.boundaries.empty:
+        handles.append(Line2D([], [], ls="", marker=".", color="tab:red", label=_BOUNDARY_LABEL))
+    bad = m.cells[m.cells.grid & ~m.cells.accurate]
+    if not bad.empty:
+        ax.plot(bad.omega_p, bad.amp, ls="", marker="x", ms=4, color="tab:purple")
+        handles.append(Line2D([], [], ls="", marker="x", color="tab:purple",
+                              label=f"accuracy check failed ({len(bad)} cells)"))
+    ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2,
+              fontsize=8, frameon=False)
     ax.set_title(title or f"{m.block}: single {m.pulse} pulse, restitution {_restitution_label(m)}"
-                 f"\n{len(m.cells)} simulations, {m.overturn_fraction():.1%} of the grid overturns")
+                 f"\n{len(m.cells)} simulations, {m.overturn_fraction():.1%} of the grid overturns"
+                 + (f", {m.undecided_fraction():.1%} undecided" if m.undecided().any() else ""))
     path = Path(path)
     fig.savefig(path, dpi=120)
     return path
@@ -85,19 +101,25 @@ def plot_map_comparison(maps: dict, path, title: str = "") -> Path:
 def plot_spectrum(table, x: str, path, xlabel: str, title: str, y: str = "theta_max") -> Path:
     """θ_max against a swept parameter (paper 001, Figs 10 and 12).
 
-    Every run is a marker and the mean of the runs that did not overturn a
-    line (± 1 std shaded when repeated); overturned runs are crosses along
-    the top edge. The axis turns logarithmic when θ_max spans over two decades.
+    Every completed run is a marker and their mean a line (± 1 std shaded when
+    repeated); overturned runs are crosses along the top edge and inaccurate runs
+    hollow grey circles, both left out of the mean (the convention of
+    `multimass.sweeps.spectra.Spectrum`). The axis turns logarithmic when θ_max
+    spans over two decades.
     """
     fig = Figure(figsize=(7.5, 4.5), layout="constrained")
     ax = fig.subplots()
-    ok = table[table.status != "overturned"]
+    ok = table[table.status == "completed"]
     over = table[table.status == "overturned"]
+    odd = table[table.status == "inaccurate"]
     ax.plot(ok[x], ok[y], "o", ms=3.5, color="tab:blue", alpha=0.6, label="runs")
+    if not odd.empty:
+        ax.plot(odd[x], odd[y], "o", ms=5, mfc="none", color="0.45",
+                label=f"inaccurate, not in the mean ({len(odd)} runs)")
     if not ok.empty:
         g = ok.groupby(x)[y]
         mean = g.mean()
-        ax.plot(mean.index, mean.values, "-", color="k", lw=1.5, label="mean (not overturned)")
+        ax.plot(mean.index, mean.values, "-", color="k", lw=1.5, label="mean of the completed runs")
         if ok.groupby(x).size().max() > 1:
             std = g.std().fillna(0.0)
             low = np.maximum((mean - std).values, 0.5 * mean.values)

@@ -14,10 +14,11 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
+from .. import validation as v
 from ..errors import InputError
 from ..excitations import pulse as make_pulse
 from ..records import Record
-from ..simulate import simulate_outcome
+from ..simulate import estimate, simulate_outcome
 from ..structure import Structure, from_specimen
 from .engine import run_jobs
 from .maps import default_backend, executor_session
@@ -50,8 +51,14 @@ class Spectrum:
     """A rocking spectrum: one row per run in `table`.
 
     ``table`` columns: the swept parameter(s) (``omega``, ``amp`` in m/s²,
-    ``scale``), ``repeat``, ``seed``, ``theta_max`` (rad), ``status``,
+    ``scale``), ``repeat``, ``seed``, ``theta_max`` (rad), ``status``
+    ("completed", "overturned" or "inaccurate", see `multimass.simulate`),
     ``n_impacts``, ``overturn_time``.
+
+    One convention for every summary of θ_max (`stats`, the CLI's printed lines,
+    JSON and `multimass.sweeps.plots.plot_spectrum`): the mean, spread and range
+    are over the runs that completed — neither overturned (θ_max would only
+    say "π/2") nor inaccurate (not to be trusted); those are counted apart.
     """
 
     structure: str
@@ -61,10 +68,17 @@ class Spectrum:
     wall_time_s: float = 0.0
 
     def stats(self, by: str) -> pd.DataFrame:
-        """Mean, standard deviation, min and max of θ_max per value of `by`."""
-        g = self.table.groupby(by)
-        out = g.theta_max.agg(["mean", "std", "min", "max"]).reset_index()
-        out["overturned"] = g.status.apply(lambda s: int((s == "overturned").sum())).to_numpy()
+        """Per value of `by`: ``n`` runs; ``mean``, ``std``, ``min``, ``max`` of θ_max over
+        the ``completed`` ones (NaN if none); counts ``overturned`` and ``inaccurate``."""
+        t = self.table
+        values = np.unique(t[by].to_numpy())
+        done = t[t.status == "completed"].groupby(by).theta_max.agg(["mean", "std", "min", "max"])
+        out = done.reindex(values).rename_axis(by).reset_index()
+        count = lambda st: t[t.status == st].groupby(by).size().reindex(values, fill_value=0)
+        out["n"] = t.groupby(by).size().reindex(values).to_numpy()
+        out["completed"] = count("completed").to_numpy()
+        out["overturned"] = count("overturned").to_numpy()
+        out["inaccurate"] = count("inaccurate").to_numpy()
         return out
 
     def summary(self) -> dict:
@@ -72,6 +86,20 @@ class Spectrum:
                 "rows": self.table.replace({np.nan: None}).to_dict(orient="records"),
                 "n_simulations": int(len(self.table)), "wall_time_s": float(self.wall_time_s),
                 "options": self.options}
+
+
+def _common(repeats, seed, t_free) -> tuple:
+    """Validated (repeats, seed, t_free) of a spectrum."""
+    repeats = v.integer("repeats", repeats, low=1, what="runs per point")
+    if seed is not None:
+        seed = v.integer("seed", seed, low=0)
+    return repeats, seed, v.positive("t_free", t_free, "free response after the excitation, s")
+
+
+def _check_in_parent(points) -> None:
+    """Validate the options and the cost of the longest run here, before any worker starts."""
+    p = max(points, key=lambda q: q.t_end)
+    estimate(p.structure, p.excitation, t_end=p.t_end, seed=p.seed, **p.options)
 
 
 def _run(st, points, sweep_cols, executor, workers, progress, desc, kind, options):
@@ -115,8 +143,7 @@ def pulse_spectrum(structure, pulse: str = "cosine", omega=15.0, amp=0.4 * 9.81,
     st = structure if isinstance(structure, Structure) else from_specimen(structure)
     omegas = check_values("omega", omega, positive=True)
     amps = check_values("amp", amp, nonnegative=True)
-    if int(repeats) < 1:
-        raise InputError(f"`repeats` = {repeats!r}: must be ≥ 1")
+    repeats, seed, t_free = _common(repeats, seed, t_free)
     kind = getattr(st.specimen, "kind", "column")
     grid = [(w, a, r) for a in amps for w in omegas for r in range(int(repeats))]
     seeds = job_seeds(seed, len(grid))
@@ -125,6 +152,7 @@ def pulse_spectrum(structure, pulse: str = "cosine", omega=15.0, amp=0.4 * 9.81,
     for (w, a, _), s in zip(grid, seeds):
         exc = make_pulse(pulse, amplitude=a, omega=w, structure_kind=kind)
         points.append(_Point(st, exc, exc.duration + t_free, s, options))
+    _check_in_parent(points)
     cols = {"omega": [g[0] for g in grid], "amp": [g[1] for g in grid],
             "repeat": [g[2] for g in grid], "seed": list(seeds)}
     return _run(st, points, cols, executor, workers, progress, f"{st.name} {pulse} spectrum",
@@ -152,13 +180,13 @@ def record_spectrum(structure, record: Record, scale=np.linspace(0.5, 1.5, 5), *
     scales = check_values("scale", scale, positive=True)
     if not isinstance(record, Record):
         raise InputError(f"`record` = {record!r}: give a Record (multimass.read_record)")
-    if int(repeats) < 1:
-        raise InputError(f"`repeats` = {repeats!r}: must be ≥ 1")
+    repeats, seed, t_free = _common(repeats, seed, t_free)
     grid = [(s, r) for s in scales for r in range(int(repeats))]
     seeds = job_seeds(seed, len(grid))
     options = dict(impact=impact) | default_backend(sim_options)
     points = [_Point(st, record.scaled(s), record.duration + t_free, sd, options)
               for (s, _), sd in zip(grid, seeds)]
+    _check_in_parent(points)
     cols = {"scale": [g[0] for g in grid], "repeat": [g[1] for g in grid], "seed": list(seeds)}
     return _run(st, points, cols, executor, workers, progress, f"{st.name} record spectrum",
                 "record", options | {"record": record.name, "t_free": t_free, "seed": seed})

@@ -57,3 +57,35 @@ def test_bad_spectrum_input(kwargs, fragment):
     args = dict(pulse="cosine", omega=[15.0], amp=[3.0], executor="serial") | kwargs
     with pytest.raises(InputError, match=fragment):
         pulse_spectrum("S1", **args)
+
+
+def test_one_convention_for_the_mean_overturned_and_inaccurate_runs_apart():
+    # issue 12: the printed mean counted overturned runs as π/2 while the plot left them out
+    import pandas as pd
+
+    from multimass.cli.spectrum_cmd import _stats_line
+    from multimass.sweeps.spectra import Spectrum
+
+    table = pd.DataFrame({"scale": [1.0, 1.0, 1.0, 2.0, 2.0],
+                          "theta_max": [0.01, 0.03, 1.5707963, 0.02, 1.5707963],
+                          "status": ["completed", "completed", "overturned", "inaccurate",
+                                     "overturned"]})
+    stats = Spectrum("S1", "record", table).stats("scale")
+    one, two = stats.iloc[0], stats.iloc[1]
+    assert one["mean"] == pytest.approx(0.02) and one["max"] == pytest.approx(0.03)
+    assert (one.n, one.completed, one.overturned, one.inaccurate) == (3, 2, 1, 0)
+    assert np.isnan(two["mean"]) and (two.n, two.completed, two.overturned, two.inaccurate) == (2, 0, 1, 1)
+    line = _stats_line("scale", stats.replace({np.nan: None}).to_dict(orient="records")[0])
+    assert "mean 0.02000 rad" in line and "over 2 of 3 runs" in line and "1 overturned" in line
+    line = _stats_line("scale", stats.replace({np.nan: None}).to_dict(orient="records")[1])
+    assert "no completed run of 2" in line and "1 overturned, 1 inaccurate" in line
+
+
+def test_spectrum_options_are_checked_before_the_workers_start():
+    # issue 12: --t-free nan and --dt nan came back as a JobError from a worker
+    with pytest.raises(InputError, match="`t_free` = nan"):
+        pulse_spectrum("S1", "cosine", omega=15.0, amp=0.4 * G, t_free=float("nan"))
+    with pytest.raises(InputError, match="`rtol` = nan"):
+        pulse_spectrum("S1", "cosine", omega=15.0, amp=0.4 * G, rtol=float("nan"))
+    with pytest.raises(InputError, match="`repeats` = 0"):
+        pulse_spectrum("S1", "cosine", omega=15.0, amp=0.4 * G, repeats=0)

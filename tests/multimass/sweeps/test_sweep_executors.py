@@ -27,6 +27,7 @@ from multimass.sweeps import (
     job_seeds,
     run_jobs,
 )
+from tests.conftest import unavailable
 
 # --- job functions (top level: picklable by reference) -------------------------------
 
@@ -118,12 +119,15 @@ def pool2():
 
 @pytest.fixture(scope="module")
 def dask_client():
-    distributed = pytest.importorskip("distributed", reason="dask.distributed not installed")
+    try:
+        import distributed
+    except ImportError:
+        unavailable("dask.distributed not installed (pip install -e '.[test]')")
     try:
         cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                            dashboard_address=":0")
-    except Exception as exc:  # sandbox without sockets, etc.
-        pytest.skip(f"dask.distributed cannot start a LocalCluster here: {exc!r}")
+    except OSError as exc:  # a sandbox without sockets
+        unavailable(f"dask.distributed cannot start a LocalCluster here: {exc!r}")
     client = distributed.Client(cluster)
     yield client
     client.close()
@@ -479,3 +483,38 @@ def test_dask_closes_the_cluster_it_started(dask_client):
     ex.close()
     assert cluster.status.name == "closed"
     assert dask_client.status == "running"
+
+
+# --- issue 12: scripts without the __main__ guard ----------------------------------------
+
+UNGUARDED = """
+import multimass
+from multimass.sweeps import run_jobs
+
+def square(x):          # defined in the script: workers must import it from __main__
+    return x * x
+
+print(run_jobs(square, range(60), executor="process", workers=2))
+"""
+
+
+def test_an_unguarded_script_is_told_about_the_guard(tmp_path):
+    import subprocess
+
+    script = tmp_path / "unguarded.py"
+    script.write_text(UNGUARDED)
+    done = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True,
+                          text=True, timeout=300)
+    assert done.returncode != 0
+    assert 'if __name__ == "__main__":' in done.stderr and 'executor="serial"' in done.stderr
+
+
+def test_an_unreachable_dask_scheduler_is_an_input_error_naming_the_address():
+    ex = DaskExecutor(address="tcp://127.0.0.1:1", connect_timeout=1.0)
+    t0 = time.perf_counter()
+    with pytest.raises(InputError, match=r"no Dask scheduler answered at .*'tcp://127.0.0.1:1' "
+                                         r"within 1 s.*dask scheduler"):
+        run_jobs(abs, [1, 2], executor=ex)
+    assert time.perf_counter() - t0 < 20.0
+    with pytest.raises(InputError, match="`address` = ''"):
+        DaskExecutor(address="")
