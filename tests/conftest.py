@@ -1,5 +1,6 @@
 """Shared fixtures: paths to the repository and to the read-only shared data."""
 
+import os
 from pathlib import Path
 
 import pytest
@@ -9,11 +10,22 @@ SHARED = REPO.parent / "shared"
 GROUND_MOTIONS = SHARED / "data" / "ground_motions"
 
 
+IN_CI = os.environ.get("CI", "").lower() in ("1", "true", "yes")
+
+
+def unavailable(reason: str):
+    """Skip a test whose resource is missing here — but fail it in CI, where every
+    resource must be present (`.ci/run` sets CI=true; a skip there would hide a gap)."""
+    if IN_CI:
+        pytest.fail(f"{reason} (CI=true: a resource missing in CI is a failure, not a skip)")
+    pytest.skip(reason)
+
+
 @pytest.fixture(scope="session")
 def ground_motions() -> Path:
-    """Folder of the real records (../shared/data/ground_motions); skip if absent."""
+    """Folder of the real records (../shared/data/ground_motions); skip if absent (fail in CI)."""
     if not GROUND_MOTIONS.is_dir():
-        pytest.skip(f"shared ground-motion records not found at {GROUND_MOTIONS}")
+        unavailable(f"shared ground-motion records not found at {GROUND_MOTIONS}")
     return GROUND_MOTIONS
 
 

@@ -112,7 +112,7 @@ def _two_node_reference(H1, H2, m1, m2):
     S1-like file's numbers: Euler–Bernoulli element (textbook 4×4) between nodes 1 and 2,
     K_fp on u_1 and K_rot on Ω_1, rotations condensed out; Rayleigh C fitted to ζ_1, ζ_2 at
     the two undamped modes; M_L, C_L, K_L of paper 001, Eqs 19–21, written in full."""
-    sp = pytest.importorskip("sympy")
+    import sympy as sp                  # a dependency of the package
     R = lambda x: sp.Rational(str(x))                              # noqa: E731  exact decimals
     EI, Kfp, Krot = R(200e9) * R("183.3e-8"), R(5.0e8), R(2.0e6)
     B, J0, g, z1, z2 = R(0.305), R(10), R("9.81"), R("0.005"), R("0.015")

@@ -34,6 +34,7 @@ from multimass.fast import CompileReport, encode, warm_up
 from multimass.fast import _maths as mx
 
 EVENT_DT = 1e-7        # s, see the module docstring
+RECORD_EVENT_DT = 1e-6  # s, for a record with a kink at every sample (see the test)
 PEAK_TOL = 1e-6        # rad
 
 COLUMNS = [n for n in specimens.available() if getattr(specimens.load(n), "kind", "") == "column"]
@@ -161,13 +162,13 @@ def test_many_non_terminal_roots_in_one_segment():
     np.testing.assert_allclose(out[5][-1], ref.y[:, -1], rtol=1e-6, atol=1e-9)
 
 
-def _same(a, b, detail=""):
-    """Same status, event kinds and phases; times within EVENT_DT; peaks within PEAK_TOL."""
+def _same(a, b, detail="", event_dt=EVENT_DT):
+    """Same status, event kinds and phases; times within `event_dt`; peaks within PEAK_TOL."""
     assert a.status == b.status, detail
     assert [(e.kind, e.phase_before, e.phase_after) for e in a.events] == \
         [(e.kind, e.phase_before, e.phase_after) for e in b.events], detail
     dt = max(abs(x.time - y.time) for x, y in zip(a.events, b.events))
-    assert dt <= EVENT_DT, f"{detail}: event times differ by {dt:.3g} s"
+    assert dt <= event_dt, f"{detail}: event times differ by {dt:.3g} s"
     assert a.peaks.shape == b.peaks.shape, detail
     assert np.max(np.abs(a.peaks - b.peaks)) <= PEAK_TOL, detail
     assert b.options["backend"] == "compiled" and a.options["backend"] == "scipy"
@@ -220,11 +221,19 @@ def test_block_ricker_record_and_series():
     rec = Record.from_arrays(np.arange(0.0, 1.0, 0.01), 1.5 * a_th * rng.normal(size=100),
                              units="m/s2")
     a, b = _both(blk, rec, "CIM", 2.0, restitution="housner")
-    _same(a, b, "record")
-    # the same rows (output grid plus transitions); values are compared in the S1 test below:
-    # here ü_g has a kink at every sample, which costs both paths accuracy near overturning
+    # here ü_g has a kink at every sample (random, 1.5 g tan α): the step-size control of
+    # both paths works against the kinks, so their event times agree only to what the default
+    # rtol = 1e-8 buys on such input: measured (numpy 2.4, numba 0.68) 1.8e-7 s at the
+    # impact after a 0.39 s half-cycle, both paths within 2.3e-7 s of an rtol = 1e-12 run
+    tight = simulate(blk, rec, "CIM", 2.0, restitution="housner", rtol=1e-12, atol=1e-14,
+                     output_dt=None)
+    _same(a, b, "record", event_dt=RECORD_EVENT_DT)
+    for run in (a, b):
+        assert [e.kind for e in run.events] == [e.kind for e in tight.events]
+        assert max(abs(x.time - y.time) for x, y in zip(run.events, tight.events)) <= RECORD_EVENT_DT
+    # the same rows (output grid plus transitions); values are compared in the S1 test below
     assert a.series.shape == b.series.shape
-    np.testing.assert_allclose(a.series.t, b.series.t, atol=EVENT_DT)
+    np.testing.assert_allclose(a.series.t, b.series.t, atol=RECORD_EVENT_DT)
 
 
 def test_column_series_and_ledger_match():

@@ -176,7 +176,6 @@ def test_bad_block(kw):
         PoissonBlock(**kw)
 
 
-@pytest.mark.skipif(not hasattr(multimass, "simulate"), reason="engine not available")
 @pytest.mark.parametrize("case", ["free", "sine"])
 def test_agrees_with_the_engine_classical_impact(case):
     # the multi-mass engine's rigid block B6M with the classical impact and Housner's η

@@ -98,7 +98,6 @@ def test_energy_error_falls_with_tolerance():
     assert tight.energy_balance_error < loose.energy_balance_error
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("name", ["S1", "S2", "S3"])
 @pytest.mark.parametrize("impact", ["CIM", "DD2"])
 def test_energy_error_tight_tolerance_all(name, impact):

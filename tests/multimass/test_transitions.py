@@ -1,0 +1,135 @@
+"""Paper 001's uplift condition (Eq 8) and the Dirac-delta width (Eq 15), pinned by
+hand-computed states (issue 12: both were held only by a broad chatter count).
+
+The reference numbers are worked out by hand in the comments, from the paper's formulas,
+for a one-node structure whose matrices are written here, not built by the code.
+"""
+
+import math
+import types
+
+import numpy as np
+import pytest
+
+from impact_models import impact_model
+from multimass import kinematics as kin
+from multimass._events import phase_events
+from multimass._phase import Model
+from multimass.fast import _maths as mx
+from multimass.fast.path import FastPath
+from multimass.structure import Structure
+
+G = 9.81
+
+
+def one_node(c: float = 0.0) -> Structure:
+    """m = 100 kg at H = 1 m, K = 1e4 N/m, C = c; base m0 = 10 kg, J0 = 5 kg m², B = 0.3 m."""
+    return Structure(name="one", H=np.array([1.0]), m=np.array([100.0]), m0=10.0, J0=5.0,
+                     B=0.3, g=G, K=np.array([[1.0e4]]), C=np.array([[c]]))
+
+
+def test_eq8_moments_by_hand():
+    st = one_node(c=200.0)
+    u, ud, ag = np.array([0.03]), np.array([0.5]), 2.0
+    # Eq 3: m ü = −c u̇ − k u − m ü_g → ü = (−200·0.5 − 1e4·0.03)/100 − 2 = −4 − 2 = −6 m/s²
+    # M_o = Hᵀ M (ü + 1 ü_g) + m0 h0 ü_g = 1·100·(−6 + 2) + 0 = −400 N m
+    # M_res(+) = g (m_t B − 1ᵀ M u) = 9.81 (110·0.3 − 100·0.03) = 9.81·30 = 294.3 N m
+    # M_res(−) = g (m_t B + 1ᵀ M u) = 9.81·36 = 353.16 N m
+    M_o, res_r, res_l = kin.full_contact_moments(st, u, ud, ag)
+    assert M_o == pytest.approx(-400.0, rel=1e-14)
+    assert res_r == pytest.approx(294.3, rel=1e-14)
+    assert res_l == pytest.approx(353.16, rel=1e-14)
+
+
+def _uplift_values(st, u, ud, ag, theta_dot_min=0.01):
+    """The uplift event functions of both pivots at a full-contact state (solve_ivp path)."""
+    n = st.n
+    run = types.SimpleNamespace(st=st, mdl=Model.of(st), t=0.0, phase=0, hold_until=0.0,
+                                theta_dot_min=theta_dot_min, ag=lambda t: ag)
+    names, events = phase_events(run, 1e-9)
+    y = np.zeros(2 * n + 5)
+    y[:n], y[n + 1:2 * n + 1] = u, ud
+    return {name: ev(1.0, y) for name, ev in zip(names, events)}
+
+
+@pytest.mark.parametrize("u, ud, uplifts", [
+    # −M_o = K u H = 1e4 u (C = 0, h0 = 0); right uplift needs 1e4 u > 9.81 (33 − 100 u) and
+    # Hᵀ M u̇ > 0. u = 0.03: 300 > 294.3, so it uplifts. With the 1ᵀMu term's sign flipped
+    # (9.81 (33 + 100 u) = 353.16) it would not: this state pins the sign.
+    (0.03, 0.5, True),
+    (0.029, 0.5, False),       # 290 < 9.81·30.1 = 295.281
+    (0.03, -0.5, False),       # moment enough, angular momentum towards the wrong pivot
+])
+def test_eq8_uplift_about_the_right_pivot(u, ud, uplifts):
+    st = one_node()
+    v = _uplift_values(st, np.array([u]), np.array([ud]), 0.0)
+    m_ref = st.m_t * G * st.B                          # 110 · 9.81 · 0.3 = 323.73 N m
+    moment = (1.0e4 * u - G * (33.0 - 100.0 * u)) / m_ref
+    assert m_ref == pytest.approx(323.73)
+    assert v["uplift_right"] == pytest.approx(min(moment, 100.0 * ud / (st.J_p * 0.01)), rel=1e-12)
+    assert (v["uplift_right"] > 0.0) is uplifts
+    assert v["uplift_left"] < 0.0
+
+
+def test_eq8_left_pivot_mirrors_the_right():
+    st = one_node()
+    right = _uplift_values(st, np.array([0.03]), np.array([0.5]), 0.0)
+    left = _uplift_values(st, np.array([-0.03]), np.array([-0.5]), 0.0)
+    assert left["uplift_left"] == pytest.approx(right["uplift_right"], rel=1e-14)
+
+
+def test_eq8_the_compiled_path_computes_the_same_condition():
+    st = one_node()
+    fast = FastPath.of(st, impact_model("CIM", None, restitution=0.9), _Still(), "DOP853", 1e-9)
+    y = np.zeros(2 * st.n + 5)
+    y[0], y[2] = 0.03, 0.5
+    ep = np.zeros(mx.EP_SIZE)
+    ep[mx.EP_TDMIN], ep[mx.EP_OVERTURN] = 0.01, math.pi / 2
+    ep[mx.EP_MREF], ep[mx.EP_LREF] = st.m_t * G * st.B, st.J_p * 0.01
+    got = mx.event_value(mx.EV_UPLIFT_RIGHT, 1.0, y, -math.inf, 0.0, 0, fast.m, fast.H, fast.K,
+                         fast.C, fast.mp, ep, fast.kind, fast.par, fast.samples)
+    assert got == pytest.approx((300.0 - 294.3) / 323.73, rel=1e-12)
+
+
+class _Still:
+    """No ground motion, as an excitation the compiled path knows (a FreeRelease)."""
+
+    def __new__(cls):
+        from multimass import FreeRelease
+
+        return FreeRelease(0.0)
+
+
+def test_eq15_width_by_hand():
+    # n = E_ini (1 − r²) / (B √π (m_t g / 2 + C_p |θ̇_i|)), paper 001 Eq 15, with
+    # E_ini = 50 J, r = 0.9, B = 0.3 m, m_t = 110 kg, C_p = 1000 kg m/rad/s, θ̇_i = −0.2 rad/s:
+    # numerator 50·0.19 = 9.5; denominator 0.3·1.7724539·(539.55 + 200) = 393.2464…
+    model = impact_model("DD", None, restitution=0.9, C_p=1000.0)
+    n = model.width(50.0, 0.9, 0.3, 110.0, G, -0.2)
+    assert n == pytest.approx(9.5 / (0.3 * math.sqrt(math.pi) * 739.55), rel=1e-14)
+    assert n == pytest.approx(0.0241578, rel=1e-5)
+    # Eq 16: activation at |θ_i| = 2.576 n / √2
+    assert model.threshold(n) == pytest.approx(2.576 * 0.0241578 / math.sqrt(2), rel=1e-5)
+    # the structure's static support force bounds the force when θ̇_i → 0 (C_p term vanishes)
+    assert model.width(50.0, 0.9, 0.3, 110.0, G, 0.0) == pytest.approx(
+        9.5 / (0.3 * math.sqrt(math.pi) * 539.55), rel=1e-14)
+
+
+def test_eq15_and_eq16_in_a_run():
+    # S1 released from 0.11 rad with DD2: at each activation, the angle is 2.576 n/√2 with n
+    # from Eq 15 at the activation state, recomputed here from the recorded ledger energies
+    import multimass
+
+    st = multimass.column("S1")
+    r = multimass.simulate(st, multimass.FreeRelease(0.11), "DD2", 1.2, output_dt=2e-5)
+    acts = [e for e in r.events if e.kind == "dd_activate"]
+    assert len(acts) >= 2
+    df = r.series
+    for e in acts[:2]:
+        # E_ini: the mechanical energy of the last sample before the activation (≤ 20 µs
+        # before it, where only damping acts, ~1e-8 of E); after it F_i does work at once
+        before = df[df.t < e.time].iloc[-1]
+        E_ini = before.kinetic + before.gravitational + before.elastic
+        n = E_ini * (1 - e.restitution**2) / (st.B * math.sqrt(math.pi)
+                                              * (st.m_t * st.g / 2 + 1750.0 * abs(e.thetadot_minus)))
+        assert abs(e.theta) == pytest.approx(2.576 * n / math.sqrt(2), rel=1e-6)
