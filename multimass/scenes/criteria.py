@@ -177,7 +177,7 @@ def column_indicators(scene) -> dict:
     shift = np.abs(fu / fn - 1.0)
     try:                                    # the damped Foss analysis, for the MAC values
         mac = np.diag(modal.analyse(st).mac_full_vs_compound()).tolist()
-    except modal.ModalError:                # e.g. an overdamped high mode
+    except modal.ModalError:                # a structure the modal analysis cannot take
         mac = None
     n_c = int(np.argmin(shift > COUPLING_SHIFT)) if not np.all(shift > COUPLING_SHIFT) else n
     r = _mean_restitution(scene)
