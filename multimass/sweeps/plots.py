@@ -107,7 +107,7 @@ def plot_spectrum(table, x: str, path, xlabel: str, title: str, y: str = "theta_
     `multimass.sweeps.spectra.Spectrum`). The axis turns logarithmic when θ_max
     spans over two decades.
     """
-    fig = Figure(figsize=(7.5, 4.5), layout="constrained")
+    fig = Figure(figsize=(9.0, 4.5), layout="constrained")
     ax = fig.subplots()
     ok = table[table.status == "completed"]
     over = table[table.status == "overturned"]
@@ -136,7 +136,8 @@ def plot_spectrum(table, x: str, path, xlabel: str, title: str, y: str = "theta_
     ax.set_xlabel(xlabel)
     ax.set_ylabel("θ_max (rad)")
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8, loc="upper left")
+    # outside the axes, right: a legend inside always ends up on some spectrum's points
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     ax.set_title(title)
     path = Path(path)
     fig.savefig(path, dpi=120)
