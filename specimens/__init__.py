@@ -1,6 +1,8 @@
 """What is simulated: validated, immutable specimen descriptions in SI units.
 
-Specimens are TOML files; the bundled ones live in ``specimens/data``.
+Specimens are TOML files; the bundled ones live in ``specimens/data``. Every value is
+validated on loading — its type, its sign and its physical plausibility
+(`specimens.ranges`: a modulus typed in GPa or a height in mm is refused with the fix).
 
 >>> import specimens
 >>> s1 = specimens.load("S1")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import tomllib
 from collections.abc import Callable, Mapping
 from importlib import resources
@@ -10,6 +11,7 @@ from pathlib import Path
 from .beam import beam_from_mapping
 from .block import block_from_mapping
 from .column import column_from_mapping
+from ._fields import show
 from .errors import SpecimenError
 
 __all__ = ["load", "available", "from_mapping", "register_kind"]
@@ -40,12 +42,28 @@ def available() -> list[str]:
 
 
 def from_mapping(data: Mapping, source: str = "<mapping>"):
-    """Validate an already-parsed specimen mapping and build its specimen object."""
+    """Validate an already-parsed specimen mapping and build its specimen object.
+
+    Parameters
+    ----------
+    data : mapping
+        A parsed specimen TOML document (``kind``, ``name`` and the tables of its kind).
+    source : str, optional
+        Where it came from, used in error messages.
+
+    Raises
+    ------
+    SpecimenError
+        If `data` is not a mapping, or its ``kind`` or any field is invalid.
+    """
+    if not isinstance(data, Mapping):
+        raise SpecimenError(f"{source}: expected a mapping of specimen fields (a parsed TOML "
+                            f"document), got {type(data).__name__} {show(data)}")
     if "kind" not in data:
         raise SpecimenError(f"{source}: missing key `kind`; add e.g. kind = \"column\" at the top")
     kind = data["kind"]
-    if kind not in _KINDS:
-        raise SpecimenError(f"{source}: `kind` = {kind!r}: unknown kind; use one of "
+    if not isinstance(kind, str) or kind not in _KINDS:
+        raise SpecimenError(f"{source}: `kind` = {show(kind)}: unknown kind; use one of "
                             + ", ".join(repr(k) for k in sorted(_KINDS)))
     return _KINDS[kind](data, source)
 
@@ -71,24 +89,39 @@ def load(name_or_path: str | Path):
         If the name is unknown, the file is missing or not TOML, or its
         contents are invalid (the message names the field and the fix).
     """
-    if isinstance(name_or_path, (str, Path)) and not str(name_or_path).strip():
-        raise SpecimenError("specimen name is empty; give a bundled name "
-                            f"({', '.join(available())}) or a TOML file path")
-    path = Path(name_or_path)
-    bundled = {k.lower(): v for k, v in _bundled().items()}
-    if isinstance(name_or_path, str) and name_or_path.lower() in bundled and not path.exists():
-        path = bundled[name_or_path.lower()]
-    elif not path.exists():
-        raise SpecimenError(
-            f"specimen {str(name_or_path)!r}: no such bundled specimen or file; use one of "
-            f"{', '.join(available())} or the path of a TOML file")
-    if path.is_dir():
-        raise SpecimenError(f"specimen {str(path)!r} is a directory; give a TOML file")
+    path = _locate(name_or_path)
     try:
         with path.open("rb") as fh:
             data = tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
         raise SpecimenError(f"{path}: not a valid TOML file ({exc}); check its syntax") from exc
     except UnicodeDecodeError as exc:
-        raise SpecimenError(f"{path}: not a text TOML file ({exc})") from exc
+        raise SpecimenError(f"{path}: not a UTF-8 text file ({exc}); give a specimen TOML "
+                            "file saved as UTF-8") from exc
+    except OSError as exc:
+        raise SpecimenError(f"{path}: cannot be read ({exc.strerror or exc}); give a readable "
+                            "specimen TOML file") from exc
     return from_mapping(data, str(path))
+
+
+def _locate(name_or_path) -> Path:
+    """The file of a bundled name or a path; SpecimenError if there is none."""
+    names = ", ".join(available())
+    if isinstance(name_or_path, bytes) or not isinstance(name_or_path, (str, os.PathLike)):
+        raise SpecimenError(f"`specimen` = {show(name_or_path)}: give a bundled name ({names}), "
+                            "the path of a specimen TOML file, or a loaded specimen")
+    text = os.fspath(name_or_path)
+    if not isinstance(text, str) or not text.strip() or "\0" in text:
+        raise SpecimenError(f"`specimen` = {show(text)}: not a usable name; give a bundled "
+                            f"name ({names}) or a TOML file path")
+    path = Path(text)
+    bundled = {k.lower(): v for k, v in _bundled().items()}
+    if isinstance(name_or_path, str) and text.lower() in bundled and not path.exists():
+        return bundled[text.lower()]
+    if not path.exists():
+        raise SpecimenError(f"specimen {text!r}: no such bundled specimen or file; use one of "
+                            f"{names} or the path of a TOML file")
+    if path.is_dir():
+        raise SpecimenError(f"specimen {text!r} is a directory; give a specimen TOML file "
+                            "(e.g. specimens/data/S1.toml)")
+    return path
