@@ -12,18 +12,23 @@ Conventions (paper 001, Fig 1), stated once here and tested:
 
 from __future__ import annotations
 
+import math
+import numbers
+import os
 from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
 import scipy.linalg as sla
 
-from specimens import BlockSpecimen, ColumnSpecimen
+from specimens import BlockSpecimen, ColumnSpecimen, SpecimenError, available
 from specimens import load as load_specimen
+from specimens.ranges import check as plausible
 
-from .beam import column_stiffness, condense
 from .damping import rayleigh_damping
 from .errors import InputError
+from .structure_checks import (check_damping, check_derived, check_fields, check_frequencies,
+                               full_contact)
 
 __all__ = ["Structure", "column", "rigid_block", "from_specimen"]
 
@@ -155,12 +160,43 @@ class Structure:
                 "alpha_cg": self.alpha_cg, "p_l": self.p_l}
 
 
+def _cut(value, limit: int = 80) -> str:
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit - 1] + "…"
+
+
+def _kind_hint(cls) -> str:
+    """'column (kind = "column"; S1, S2, S3)': the kind and its bundled specimens."""
+    names = [n for n in available() if isinstance(load_specimen(n), cls)]
+    return f'{cls.kind} (kind = "{cls.kind}"; {", ".join(names)})'
+
+
+def _specimen(specimen, cls, builder: str):
+    """(specimen object of type `cls`, where) from an object, a bundled name or a path."""
+    if isinstance(specimen, cls):
+        return specimen, f"specimen {specimen.name!r}"
+    if isinstance(specimen, (str, os.PathLike)) and not isinstance(specimen, bytes):
+        spec = load_specimen(specimen)
+        where = str(specimen)
+    elif hasattr(specimen, "kind") and hasattr(specimen, "name"):
+        spec, where = specimen, f"specimen {getattr(specimen, 'name', '?')!r}"
+    else:
+        raise InputError(f"`specimen` = {_cut(specimen)}: give a bundled name, the path of a "
+                         f"specimen TOML file or a loaded specimen (specimens.load); `{builder}` "
+                         f"needs a {_kind_hint(cls)}")
+    if not isinstance(spec, cls):
+        raise InputError(f"`specimen` = {_cut(getattr(spec, 'name', spec))} is a "
+                         f"{getattr(spec, 'kind', type(spec).__name__)!r} specimen; `{builder}` "
+                         f"needs a {_kind_hint(cls)}")
+    return spec, where
+
+
 def column(specimen: ColumnSpecimen | str, *, E_s: float | None = None) -> Structure:
     """Build the multi-mass structure of a column specimen.
 
     Parameters
     ----------
-    specimen : ColumnSpecimen or str
+    specimen : ColumnSpecimen, str or path
         A loaded specimen, a bundled name (``"S1"``) or a TOML path.
     E_s : float, optional
         Override of the specimen's Young's modulus (Pa), e.g. for sensitivity
@@ -171,21 +207,35 @@ def column(specimen: ColumnSpecimen | str, *, E_s: float | None = None) -> Struc
     Structure
         With condensed K (paper 001, Eq 2) and Rayleigh C fitted to ζ_n1, ζ_n2
         at the first two full-contact modes.
+
+    Raises
+    ------
+    InputError
+        If `specimen` is not a column specimen, a name or a path, or `E_s` is
+        not a plausible Young's modulus.
+    SpecimenError
+        If the file is invalid, or the assembled model is not usable: K not
+        finite and positive definite; a first frequency whose 1-g static drift
+        g/ω1² exceeds `MAX_DRIFT_1G` x the height; a highest frequency above
+        `MAX_FREQ_HZ`; Rayleigh damping < 0 at some mode. The message names
+        the input to fix.
     """
-    spec = load_specimen(specimen) if not isinstance(specimen, ColumnSpecimen) else specimen
-    if not isinstance(spec, ColumnSpecimen):
-        raise InputError(f"`specimen` = {getattr(spec, 'name', spec)!r} is a {spec.kind!r} "
-                         "specimen; `column` needs a column specimen (kind = \"column\")")
-    E = spec.E_s if E_s is None else float(E_s)
-    if not E > 0.0:
-        raise InputError(f"`E_s` = {E_s!r}: Young's modulus must be > 0 (Pa)")
-    H = np.asarray(spec.heights, dtype=float)
+    spec, where = _specimen(specimen, ColumnSpecimen, "column")
+    check_fields(spec, where)
+    E = spec.E_s
+    if E_s is not None:
+        try:
+            E = plausible(where, "E_s", E_s, "youngs_modulus")
+        except SpecimenError as err:
+            raise InputError(str(err)) from None
+    Ks, K, omega = full_contact(spec, E, where)
+    check_frequencies(spec, E, omega, where)
     m = np.asarray(spec.masses, dtype=float)
-    Ks = column_stiffness(H, E * spec.I_s, spec.K_fp, spec.K_rot)
-    K = condense(Ks)
     C, coeffs = rayleigh_damping(np.diag(m), K, spec.zeta_1, spec.zeta_2)
-    return Structure(name=spec.name, H=H, m=m, m0=spec.m0, J0=spec.J0, B=spec.B, g=spec.g,
-                     K=K, C=C, rayleigh=coeffs, K_s=Ks, specimen=spec)
+    check_damping(spec, omega, coeffs, C, where)
+    return check_derived(Structure(name=spec.name, H=np.asarray(spec.heights, dtype=float), m=m,
+                              m0=spec.m0, J0=spec.J0, B=spec.B, g=spec.g, K=K, C=C,
+                              rayleigh=coeffs, K_s=Ks, specimen=spec), where)
 
 
 def rigid_block(specimen: BlockSpecimen | str) -> Structure:
@@ -195,15 +245,23 @@ def rigid_block(specimen: BlockSpecimen | str) -> Structure:
     h0 = h/2, J0 = m (b² + h²)/12 (about the centre of gravity), B = b/2.
     Then J_p = (4/3) m R² and the rocking equation reduces to Housner's
     (paper 004, Eqs 1–2).
+
+    Raises
+    ------
+    InputError
+        If `specimen` is not a block specimen, a name or a path.
+    SpecimenError
+        If the file is invalid or the block's values are not finite and positive.
     """
-    spec = load_specimen(specimen) if not isinstance(specimen, BlockSpecimen) else specimen
-    if not isinstance(spec, BlockSpecimen):
-        raise InputError(f"`specimen` = {spec.name!r} is a {spec.kind!r} specimen; "
-                         "`rigid_block` needs a block specimen (kind = \"block\")")
+    spec, where = _specimen(specimen, BlockSpecimen, "rigid_block")
+    for name in ("b", "h", "mass", "g"):
+        x = getattr(spec, name)
+        if isinstance(x, bool) or not isinstance(x, numbers.Real) or not 0 < x < math.inf:
+            raise SpecimenError(f"{where}: `{name}` = {_cut(x)}: must be a finite number > 0")
     empty = np.zeros((0, 0))
-    return Structure(name=spec.name, H=np.zeros(0), m=np.zeros(0), m0=spec.mass,
-                     J0=spec.mass * (spec.b**2 + spec.h**2) / 12.0, B=0.5 * spec.b,
-                     g=spec.g, K=empty, C=empty, h0=0.5 * spec.h, specimen=spec)
+    return check_derived(Structure(name=spec.name, H=np.zeros(0), m=np.zeros(0), m0=spec.mass,
+                              J0=spec.mass * (spec.b**2 + spec.h**2) / 12.0, B=0.5 * spec.b,
+                              g=spec.g, K=empty, C=empty, h0=0.5 * spec.h, specimen=spec), where)
 
 
 def from_specimen(specimen) -> Structure:
@@ -212,10 +270,25 @@ def from_specimen(specimen) -> Structure:
     Parameters
     ----------
     specimen : specimen object, bundled name or TOML path
+
+    Raises
+    ------
+    InputError
+        If `specimen` is none of these, or a beam (a base for `nscd`, not a structure).
+    SpecimenError
+        As `column` and `rigid_block`.
     """
-    spec = load_specimen(specimen) if isinstance(specimen, (str, bytes)) or hasattr(specimen, "__fspath__") else specimen
+    if isinstance(specimen, (str, os.PathLike)) and not isinstance(specimen, bytes):
+        spec = load_specimen(specimen)
+    else:
+        spec = specimen
     if isinstance(spec, ColumnSpecimen):
         return column(spec)
     if isinstance(spec, BlockSpecimen):
         return rigid_block(spec)
-    raise InputError(f"`specimen` = {spec!r}: not a column or block specimen")
+    if getattr(spec, "kind", None) == "beam":
+        raise InputError(f"`specimen` = {spec.name!r} is a beam: a flexible base for a block "
+                         "(nscd.simulate(block, beam=...), `multimass nscd BLOCK --beam ...`), "
+                         "not a rocking structure; give a column or a block")
+    raise InputError(f"`specimen` = {_cut(specimen)}: give a column or block specimen, a "
+                     f"bundled name ({', '.join(available())}) or the path of a specimen TOML file")
