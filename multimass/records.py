@@ -16,78 +16,17 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from .errors import InputError
 from .excitations import Excitation
-from .units import canonical_units, to_mps2
+from .samples import (DT_RTOL, check_samples, check_scale, float_array, scaled_to_mps2,
+                      units_of)
+from .textfile import as_path, read_text
+from .units import canonical_units
 
 __all__ = ["Record", "read_two_column", "read_at2", "read_record"]
-
-#: Relative tolerance on the time step: |Δt_k − dt| ≤ DT_RTOL · dt for every step.
-DT_RTOL = 1e-6
-
-
-# ---------------------------------------------------------------------------- checks
-def _where(source: str, lines, k: int) -> str:
-    """'file, line L' for sample k when line numbers are known, else 'file, sample k'."""
-    return f"{source}, line {lines[k]}" if lines is not None else f"{source}, sample {k}"
-
-
-def _check_samples(time: np.ndarray, accel: np.ndarray, source: str, lines=None) -> float:
-    """Validate a record's samples; return its time step dt (s)."""
-    if time.ndim != 1 or accel.ndim != 1 or time.size != accel.size:
-        raise InputError(f"{source}: `time` (shape {time.shape}) and `accel` (shape "
-                         f"{accel.shape}) must be 1-D arrays of the same length")
-    if time.size < 2:
-        raise InputError(f"{source}: {time.size} sample(s); a record needs at least 2 "
-                         f"samples `t a` to define a time step")
-    for label, values in (("time", time), ("acceleration", accel)):
-        bad = np.flatnonzero(~np.isfinite(values))
-        if bad.size:
-            k = int(bad[0])
-            raise InputError(f"{_where(source, lines, k)}: {label} = {float(values[k])!r} is not a "
-                             f"finite number; fix or remove the sample")
-    if time[0] < 0.0:
-        raise InputError(f"{_where(source, lines, 0)}: `time` starts at {float(time[0])!r} s < 0; "
-                         f"shift the time column so that it starts at 0 or later")
-    steps = np.diff(time)
-    bad = np.flatnonzero(steps <= 0.0)
-    if bad.size:
-        k = int(bad[0]) + 1
-        raise InputError(f"{_where(source, lines, k)}: `time` = {float(time[k])!r} s does not increase "
-                         f"(previous sample at {float(time[k - 1])!r} s); times must be strictly "
-                         f"increasing: sort the samples or remove duplicates")
-    ref = float(np.sort(steps)[(steps.size - 1) // 2])  # the lower median: an actual step
-    bad = np.flatnonzero(np.abs(steps - ref) > DT_RTOL * ref)
-    if bad.size:
-        k = int(bad[0]) + 1
-        raise InputError(f"{_where(source, lines, k)}: non-uniform time step: `time` = "
-                         f"{float(time[k])!r} s is {float(steps[k - 1])!r} s after the previous sample, the "
-                         f"usual step is {ref!r} s; a record needs a uniform step (relative "
-                         f"tolerance {DT_RTOL:g}): resample it onto a uniform grid first")
-    return float((time[-1] - time[0]) / (time.size - 1))
-
-
-def _check_scale(source: str, scale) -> float:
-    if isinstance(scale, bool) or not isinstance(scale, (int, float, np.integer, np.floating)):
-        raise InputError(f"{source}: `scale` = {scale!r}: expected a number > 0")
-    x = float(scale)
-    if not math.isfinite(x) or x <= 0.0:
-        raise InputError(f"{source}: `scale` = {scale!r}: must be a finite number > 0 (a "
-                         f"factor on the record's amplitude; to reverse the record's sign, "
-                         f"mirror the response instead)")
-    return x
-
-
-def _units(source: str, units) -> str:
-    try:
-        return canonical_units(units)
-    except InputError as err:
-        raise InputError(f"{source}: {err}") from None
-
 
 # ---------------------------------------------------------------------------- the record
 @dataclass(frozen=True, eq=False)
@@ -126,14 +65,18 @@ class Record(Excitation):
     kind = "record"
 
     def __post_init__(self):
-        time = np.array(self.time, dtype=float)
-        accel = np.array(self.accel, dtype=float)
-        dt = _check_samples(time, accel, self.source)
+        for label in ("name", "units", "source"):
+            if not isinstance(getattr(self, label), str):
+                raise InputError(f"Record: `{label}` = {getattr(self, label)!r:.60}: give a string")
+        time = float_array(self.source, "time", self.time).copy()
+        accel = float_array(self.source, "accel", self.accel).copy()
+        dt = check_samples(time, accel, self.source)
         if self.dt is not None and not (
-                isinstance(self.dt, (int, float)) and abs(self.dt - dt) <= DT_RTOL * dt):
+                isinstance(self.dt, (int, float)) and not isinstance(self.dt, bool)
+                and abs(self.dt - dt) <= DT_RTOL * dt):
             raise InputError(f"{self.source}: `dt` = {self.dt!r} s disagrees with the step of "
                              f"`time` ({dt!r} s); omit `dt` or correct it")
-        _check_scale(self.source, self.scale)
+        check_scale(self.source, self.scale)
         time.flags.writeable = False
         accel.flags.writeable = False
         object.__setattr__(self, "time", time)
@@ -151,15 +94,19 @@ class Record(Excitation):
     def from_arrays(cls, time, accel, units: str, scale: float = 1.0, name: str = "record",
                     source: str = "arrays") -> "Record":
         """A record from arrays of times (s) and accelerations in `units`, times `scale`."""
-        units_c = _units(source, units)
-        scale = _check_scale(source, scale)
-        return cls(time=np.asarray(time, dtype=float),
-                   accel=to_mps2(np.asarray(accel, dtype=float), units_c) * scale,
+        if not isinstance(source, str):
+            raise InputError(f"Record.from_arrays: `source` = {source!r:.60}: give a string")
+        units_c = units_of(source, units)
+        scale = check_scale(source, scale)
+        time = float_array(source, "time", time)
+        accel = float_array(source, "accel", accel)
+        check_samples(time, accel, source)
+        return cls(time=time, accel=scaled_to_mps2(source, accel, units_c, scale),
                    name=name, units=units, scale=scale, source=source)
 
     def scaled(self, factor: float) -> "Record":
         """The same record scaled again by `factor` (scale factors multiply)."""
-        factor = _check_scale(self.source, factor)
+        factor = check_scale(self.source, factor)
         return Record(time=self.time, accel=self.accel * factor, dt=self.dt, name=self.name,
                       units=self.units, scale=self.scale * factor, source=self.source)
 
@@ -243,7 +190,8 @@ class Record(Excitation):
         x = (t - t_start) * inv_dt
         i = np.clip(np.floor(x), 0, last).astype(np.intp)
         a = self.accel
-        out = a[i] + (x - i) * (a[i + 1] - a[i])
+        with np.errstate(over="ignore", invalid="ignore"):   # far outside: masked below
+            out = a[i] + (x - i) * (a[i + 1] - a[i])
         return np.where((t >= t_start) & (t <= t_end), out, 0.0)
 
     def describe(self) -> dict:
@@ -253,9 +201,20 @@ class Record(Excitation):
 
 
 # ---------------------------------------------------------------------------- readers
-def _read_lines(path: Path) -> list[str]:
-    with open(path, encoding="utf-8", errors="replace") as f:
-        return f.read().splitlines()
+_TWO_COLUMN = "a record file of two columns `t a` (time in s, acceleration)"
+_AT2 = "a PEER .AT2 acceleration file"
+_SUFFIXES = (".at2", ".dat", ".txt", ".csv")
+
+
+def _read_lines(path, what: str) -> list[str]:
+    """Lines of a UTF-8 text file; InputError if it is missing, a folder, empty or binary."""
+    return read_text(path, what=what, suffixes=_SUFFIXES).splitlines()
+
+
+def _name(source: str, name) -> None:
+    if name is not None and not isinstance(name, str):
+        raise InputError(f"{source}: `name` = {name!r}: give a string, or omit it to use the "
+                         f"file's stem")
 
 
 def read_two_column(path, units: str, scale: float = 1.0, name: str | None = None) -> Record:
@@ -286,12 +245,13 @@ def read_two_column(path, units: str, scale: float = 1.0, name: str | None = Non
         two columns, non-finite values, fewer than 2 samples, non-increasing or
         non-uniform time, a bad `scale`.
     """
-    path = Path(path)
+    path = as_path(path, what=_TWO_COLUMN)
     source = str(path)
-    units_c = _units(source, units)
-    scale = _check_scale(source, scale)
+    units_c = units_of(source, units)
+    scale = check_scale(source, scale)
+    _name(source, name)
     times, values, linenos = [], [], []
-    for lineno, line in enumerate(_read_lines(path), start=1):
+    for lineno, line in enumerate(_read_lines(path, _TWO_COLUMN), start=1):
         text = line.strip()
         if not text or text.startswith("#"):
             continue
@@ -310,8 +270,8 @@ def read_two_column(path, units: str, scale: float = 1.0, name: str | None = Non
         linenos.append(lineno)
     time = np.array(times)
     accel = np.array(values)
-    _check_samples(time, accel, source, linenos)
-    return Record(time=time, accel=to_mps2(accel, units_c) * scale,
+    check_samples(time, accel, source, linenos)
+    return Record(time=time, accel=scaled_to_mps2(source, accel, units_c, scale),
                   name=name or path.stem, units=units, scale=scale, source=source)
 
 
@@ -389,10 +349,11 @@ def read_at2(path, scale: float = 1.0, name: str | None = None) -> Record:
         displacement file, unreadable or non-finite values, NPTS disagreeing with the
         number of values, a bad `scale`.
     """
-    path = Path(path)
+    path = as_path(path, what=_AT2)
     source = str(path)
-    scale = _check_scale(source, scale)
-    lines = _read_lines(path)
+    scale = check_scale(source, scale)
+    _name(source, name)
+    lines = _read_lines(path, _AT2)
     units, npts, dt = _at2_header(source, lines)
     values = []
     for lineno, line in enumerate(lines[4:], start=5):
@@ -410,7 +371,7 @@ def read_at2(path, scale: float = 1.0, name: str | None = None) -> Record:
         raise InputError(f"{source}: `NPTS` = {npts} in the header (line 4) but {len(values)} "
                          f"values follow; the file may be truncated or NPTS wrong: correct it")
     time = dt * np.arange(npts)
-    accel = to_mps2(np.array(values), units) * scale
+    accel = scaled_to_mps2(source, np.array(values), units, scale)
     return Record(time=time, accel=accel, name=name or path.stem, units=units, scale=scale,
                   source=source)
 
@@ -434,10 +395,10 @@ def read_record(path, units: str | None = None, scale: float = 1.0,
     -------
     Record
     """
-    path = Path(path)
+    path = as_path(path, what=f"{_AT2} or {_TWO_COLUMN}")
     if path.suffix.lower() == ".at2":
         record = read_at2(path, scale=scale, name=name)
-        if units is not None and _units(str(path), units) != record.units:
+        if units is not None and units_of(str(path), units) != record.units:
             raise InputError(f"{path}: `units` = {units!r} but the .AT2 header says "
                              f"{record.units!r}; omit `units` for .AT2 files")
         return record

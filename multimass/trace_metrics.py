@@ -7,9 +7,11 @@
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
+import pandas as pd
 
 from .errors import InputError
 from .traces import Trace, _kind
@@ -86,6 +88,32 @@ def _structure(structure):
     return structure if isinstance(structure, Structure) else from_specimen(structure)
 
 
+def _check_trace(trace) -> None:
+    if not isinstance(trace, Trace):
+        raise InputError(f"`trace` = {trace!r:.60}: give a Trace, e.g. "
+                         "multimass.traces.read_trace('test.csv')")
+
+
+def _check_response(response) -> pd.DataFrame:
+    """The recorded series of a simulation result; InputError for anything else."""
+    df = getattr(response, "series", None)
+    if not isinstance(df, pd.DataFrame) or "t" not in df.columns:
+        raise InputError(f"`response` = {response!r:.60}: give the result of multimass.simulate "
+                         "(a Response with a recorded series)")
+    if df.empty or len(df) < 2:
+        raise InputError("`response` has no recorded series: simulate with `output_dt` set "
+                         "(e.g. the default 1e-3 s)")
+    return df
+
+
+def _check_offset(t_offset) -> float:
+    if isinstance(t_offset, bool) or not isinstance(t_offset, numbers.Real) \
+            or not math.isfinite(t_offset):
+        raise InputError(f"`t_offset` = {t_offset!r:.60}: give the trace time of the "
+                         "simulation's t = 0 in s (a finite number, e.g. trace.time[0])")
+    return float(t_offset)
+
+
 def channel_columns(trace: Trace, structure) -> dict[str, str]:
     """The `Response.series` column matching each trace channel.
 
@@ -98,6 +126,7 @@ def channel_columns(trace: Trace, structure) -> dict[str, str]:
         Naming the column: an unknown sensor, a node outside 1..N, or an
         acceleration channel for a rigid block (only θ can be compared).
     """
+    _check_trace(trace)
     st = _structure(structure)
     out = {}
     for name in trace.channels:
@@ -159,15 +188,17 @@ def align(trace: Trace, response, structure, name: str, *, t_offset: float = 0.0
     t, measured, simulated : ndarray
         Trace times (s) in the overlap and both signals there, in SI units.
     """
-    if name not in trace.channels:
-        raise InputError(f"`name` = {name!r}: not a channel of {trace.source}; channels: "
+    _check_trace(trace)
+    df = _check_response(response)
+    t_offset = _check_offset(t_offset)
+    if not isinstance(name, str) or name not in trace.channels:
+        raise InputError(f"`name` = {name!r:.60}: not a channel of {trace.source}; channels: "
                          f"{', '.join(trace.channels)}")
     column = channel_columns(trace, structure)[name]
-    df = response.series
-    if df.empty or len(df) < 2:
-        raise InputError("`response` has no recorded series: simulate with `output_dt` set "
-                         "(e.g. the default 1e-3 s)")
-    tau = df["t"].to_numpy(dtype=float) + float(t_offset)
+    if column not in df.columns:
+        raise InputError(f"`response` has no column {column!r} for channel `{name}`: was it "
+                         f"simulated with `structure` ({_structure(structure).name!r})?")
+    tau = df["t"].to_numpy(dtype=float) + t_offset
     tol = 1e-9 * max(1.0, abs(tau[-1]))
     mask = (trace.time >= tau[0] - tol) & (trace.time <= tau[-1] + tol)
     if np.count_nonzero(mask) < 2:
@@ -210,9 +241,16 @@ def compare_trace(trace: Trace, response, structure, *,
     Raises
     ------
     InputError
-        An unknown sensor or node, an acceleration channel for a rigid block, an
-        empty series, or fewer than 2 trace samples inside the simulated span.
+        `trace` not a Trace, `response` not a simulation result with a recorded
+        series, `t_offset` not a finite number; an unknown sensor or node, an
+        acceleration channel for a rigid block, or fewer than 2 trace samples
+        inside the simulated span.
+    SpecimenError
+        If `structure` names an invalid specimen file.
     """
+    _check_trace(trace)
+    _check_response(response)
+    _check_offset(t_offset)
     columns = channel_columns(trace, structure)
     out = {}
     for name in trace.channels:

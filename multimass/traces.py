@@ -26,14 +26,16 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from pathlib import Path
 from types import MappingProxyType
 
 import numpy as np
 
 from .errors import InputError
 from .excitations import FreeRelease
+from .samples import finite_float, float_array
+from .textfile import as_path, read_text
 from .units import G, canonical_units, to_mps2
 
 __all__ = ["Trace", "read_trace", "ACCEPTED_COLUMNS"]
@@ -43,6 +45,7 @@ ACCEPTED_COLUMNS = ("`t [s]` or `time [s]` (s or ms); `theta [rad]` (rad or deg)
                     "`a_<sensor> [g]` (e.g. a_A2), `a<k>` or `a_node<k>` (1-based node k) "
                     "in g, m/s2, cm/s2 (gal) or mm/s2")
 
+_WHAT = "a trace CSV file with units in its header, e.g. `t [s],theta [deg],a_A2 [g]`"
 _TIME_UNITS = {"s": 1.0, "sec": 1.0, "ms": 1e-3}
 _ANGLE_UNITS = {"rad": 1.0, "radian": 1.0, "radians": 1.0,
                 "deg": math.pi / 180.0, "degree": math.pi / 180.0, "degrees": math.pi / 180.0}
@@ -141,9 +144,27 @@ class Trace:
     _factors: dict = field(default=None, init=False, repr=False)
 
     def __post_init__(self):
-        time = np.array(self.time, dtype=float)
-        chans = {str(k): np.array(v, dtype=float) for k, v in dict(self.channels).items()}
-        units = {str(k): str(v) for k, v in dict(self.units).items()}
+        if not isinstance(self.source, str):
+            raise InputError(f"Trace: `source` = {self.source!r:.60}: give a string")
+        for label in ("channels", "units"):
+            if not isinstance(getattr(self, label), Mapping):
+                raise InputError(f"{self.source}: `{label}` = {getattr(self, label)!r:.60}: give a "
+                                 f"mapping of channel name to {'values' if label == 'channels' else 'unit'}")
+        if not isinstance(self.time_units, str):
+            raise InputError(f"{self.source}: `time_units` = {self.time_units!r:.60}; accepted: s, ms")
+        g = finite_float(self.g)
+        if g is None or g <= 0.0:
+            raise InputError(f"{self.source}: `g` = {self.g!r:.60}: give the acceleration of gravity "
+                             "in m/s^2 (a finite number > 0, e.g. 9.81)")
+        object.__setattr__(self, "g", g)
+        time = float_array(self.source, "time", self.time).copy()
+        chans = {str(k): float_array(self.source, f"channels[{k!r}]", v).copy()
+                 for k, v in self.channels.items()}
+        units = {str(k): v for k, v in self.units.items()}
+        bad = next((k for k, v in units.items() if not isinstance(v, str)), None)
+        if bad is not None:
+            raise InputError(f"{self.source}: `units[{bad!r}]` = {units[bad]!r:.60}: give the unit "
+                             "as a string, e.g. 'deg' or 'g'")
         if not chans:
             raise InputError(f"{self.source}: no channel; accepted columns: {ACCEPTED_COLUMNS}")
         if str(self.time_units).lower() not in _TIME_UNITS:
@@ -215,18 +236,35 @@ def read_trace(path, *, g: float = G) -> Trace:
         of cells, an unreadable or non-finite value, fewer than 2 rows, time not
         strictly increasing.
     """
-    path = Path(path)
-    source = str(path)
-    with open(path, encoding="utf-8", errors="replace") as f:
-        rows = [(n, line.strip()) for n, line in enumerate(f.read().splitlines(), start=1)]
+    g_value = finite_float(g)
+    if g_value is None or g_value <= 0.0:
+        raise InputError(f"`g` = {g!r:.60}: give the acceleration of gravity in m/s^2 (a finite "
+                         "number > 0, e.g. 9.81)")
+    g = g_value
+    source = str(as_path(path, what=_WHAT))
+    text = read_text(path, what=_WHAT, suffixes=(".csv", ".txt"))
+    rows = [(n, line.strip()) for n, line in enumerate(text.splitlines(), start=1)]
     rows = [(n, line) for n, line in rows if line and not line.startswith("#")]
     if not rows:
         raise InputError(f"{source}: empty file; expected a header such as "
                          f"`t [s],theta [rad],a_A2 [g]` and rows of numbers")
     header_line, header = rows[0]
     names, factors, written = _parse_header(header, f"{source}, line {header_line}", g)
+    values, linenos = _parse_rows(rows[1:], names, source)
+    with np.errstate(over="ignore"):      # a value x its unit beyond the float range: _check
+        data = np.array(values, dtype=float).reshape(len(values), len(names)) * np.array(factors)
+    i_time = next(i for i, name in enumerate(names) if _kind(name)[0] == "time")
+    chans = {name: data[:, i] for i, name in enumerate(names) if i != i_time}
+    _check(data[:, i_time], chans, source, linenos)
+    return Trace(time=data[:, i_time], channels=chans,
+                 units={k: written[k] for k in chans}, source=source,
+                 time_units=written[names[i_time]], g=g)
+
+
+def _parse_rows(rows, names: list[str], source: str) -> tuple[list[list[float]], list[int]]:
+    """(values, line numbers) of the data rows: one number per header column."""
     values, linenos = [], []
-    for n, line in rows[1:]:
+    for n, line in rows:
         cells = [c.strip() for c in line.split(",")]
         if len(cells) != len(names):
             raise InputError(f"{source}, line {n}: {len(cells)} cell(s) but the header has "
@@ -240,13 +278,7 @@ def read_trace(path, *, g: float = G) -> Trace:
                                  f"as a number; fix the value or comment the row out with #") from None
         values.append(row)
         linenos.append(n)
-    data = np.array(values, dtype=float).reshape(len(values), len(names)) * np.array(factors)
-    i_time = next(i for i, name in enumerate(names) if _kind(name)[0] == "time")
-    chans = {name: data[:, i] for i, name in enumerate(names) if i != i_time}
-    _check(data[:, i_time], chans, source, linenos)
-    return Trace(time=data[:, i_time], channels=chans,
-                 units={k: written[k] for k in chans}, source=source,
-                 time_units=written[names[i_time]], g=g)
+    return values, linenos
 
 
 def _parse_header(header: str, where: str, g: float):

@@ -44,10 +44,8 @@ Questions and their answers:
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, field
 from functools import cached_property
-from pathlib import Path
 
 from ..errors import InputError
 from ..excitations import Excitation, FreeRelease
@@ -355,18 +353,14 @@ class Scene:
 
     @classmethod
     def from_toml(cls, path) -> "Scene":
-        """Read and validate a scene file (module docstring); paths resolve against its folder."""
-        from .toml_scene import scene_from_mapping
+        """Read and validate a scene file (module docstring); paths resolve against its folder.
 
-        p = Path(path)
-        try:
-            data = tomllib.loads(p.read_text())
-        except FileNotFoundError:
-            raise InputError(f"`scene` = {str(path)!r}: no such file; give the path of a scene "
-                             "TOML file (see examples/scenes/)") from None
-        except tomllib.TOMLDecodeError as exc:
-            raise InputError(f"{p}: not valid TOML ({exc}); fix the syntax") from None
-        return scene_from_mapping(data, str(p), p.parent)
+        A missing, empty, binary or non-UTF-8 file, a directory or bad TOML syntax is an
+        `InputError` naming the path (`multimass.scenes.toml_scene.scene_from_file`).
+        """
+        from .toml_scene import scene_from_file
+
+        return scene_from_file(path)
 
     def describe(self) -> dict:
         """A JSON-ready description of the scene."""

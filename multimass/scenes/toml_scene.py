@@ -1,17 +1,40 @@
-"""Reading a scene from a parsed TOML mapping (schema in `multimass.scenes.scene`)."""
+"""Reading a scene from a TOML file or a parsed mapping (schema in `multimass.scenes.scene`)."""
 
 from __future__ import annotations
 
 import math
+import tomllib
 from pathlib import Path
 
 from ..errors import InputError
 from ..excitations import CosinePulse, CosineWave, FreeRelease, Ricker, SineWave
 from ..records import read_record
+from ..textfile import as_path, read_text
 from ..units import parse_acceleration
 from .scene import _ABS_KEYS, Question, Scene, Tolerance, _fail, _keys, _number
 
-__all__ = ["scene_from_mapping", "resolve_path"]
+__all__ = ["scene_from_file", "scene_from_mapping", "resolve_path"]
+
+_WHAT = "a scene TOML file (see examples/scenes/)"
+
+
+def scene_from_file(path) -> Scene:
+    """Read and validate a scene file; relative paths inside it resolve against its folder.
+
+    Raises
+    ------
+    InputError
+        If `path` is not a readable UTF-8 TOML file (missing, a directory, empty,
+        binary, not UTF-8, bad syntax) or the scene inside is invalid.
+    """
+    p = as_path(path, what=_WHAT, argument="scene")
+    text = read_text(p, what=_WHAT, argument="scene", suffixes=(".toml",))
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{p}: not valid TOML ({exc}); fix the syntax") from None
+    return scene_from_mapping(data, str(p), p.parent)
+
 
 _EXC_KEYS = {
     "free_release": ({"theta0_rad", "theta0_deg", "u0_m"}, set()),

@@ -152,7 +152,7 @@ def test_comments_commas_and_blank_lines(tmp_path):
     ("0 0\n0.01 1\n0.01 2\n", r"bad.txt, line 3: `time` = 0.01 s does not increase"),
     ("0 0\n0.01 1\n0.02 2\n0.035 3\n0.045 4\n", r"bad.txt, line 4: non-uniform time step"),
     ("# only one\n0 0\n", r"bad.txt: 1 sample\(s\); a record needs at least 2"),
-    ("", r"bad.txt: 0 sample\(s\)"),
+    ("# comments only\n", r"bad.txt: 0 sample\(s\)"),
     ("-0.01 0\n0 1\n", r"bad.txt, line 1: `time` starts at -0.01 s < 0; shift"),
 ])
 def test_bad_two_column_files(tmp_path, text, match):
@@ -242,5 +242,75 @@ def test_record_constructor_validates(kwargs, match):
         Record(**kwargs)
 
 
+def _write_bytes(folder, name, data: bytes):
+    path = folder / name
+    path.write_bytes(data)
+    return path
+
+
 def test_errors_are_value_errors():
     assert issubclass(InputError, ValueError)
+
+
+# ---------------------------------------------------------------------------- the file itself
+READERS = [
+    pytest.param(lambda p: read_two_column(p, units="g"), "two columns `t a`", id="read_two_column"),
+    pytest.param(lambda p: read_at2(p), "PEER .AT2", id="read_at2"),
+    pytest.param(lambda p: read_record(p, units="g"), "two columns `t a`", id="read_record"),
+]
+
+
+@pytest.mark.parametrize("read, kind", READERS)
+@pytest.mark.parametrize("make, problem", [
+    (lambda d: d / "missing.txt", "no such file"),
+    (lambda d: d, "is a directory"),
+    (lambda d: _write(d, "empty.txt", ""), "the file is empty"),
+    (lambda d: _write(d, "blank.txt", "\n  \n"), "the file is empty"),
+    (lambda d: _write_bytes(d, "bin.txt", bytes(range(256))), r"a binary file \(NUL byte at offset 0\)"),
+    (lambda d: _write_bytes(d, "latin.txt", "0 0\n# Málaga\n".encode("latin-1")),
+     r"not UTF-8 text \(byte 0xe1 on line 2\); save it as UTF-8"),
+], ids=["missing", "directory", "empty", "blank", "binary", "latin-1"])
+def test_a_bad_file_is_named_with_what_to_give(tmp_path, read, kind, make, problem):
+    path = make(tmp_path)
+    with pytest.raises(InputError, match=problem) as info:
+        read(path)
+    assert str(path) in str(info.value) and kind in str(info.value)
+
+
+def test_a_directory_lists_its_record_files(tmp_path):
+    _write(tmp_path, "elcentro.AT2", "x")
+    _write(tmp_path, "notes.md", "x")
+    with pytest.raises(InputError, match=r"files there: elcentro.AT2\)"):
+        read_two_column(tmp_path, units="g")
+
+
+@pytest.mark.parametrize("path", [None, 123, b"r.txt", "", "   ", "r\0.txt"])
+def test_path_must_be_a_path(path):
+    with pytest.raises(InputError, match="`path` = "):
+        read_record(path, units="g")
+
+
+def test_utf8_with_byte_order_mark_reads(tmp_path):
+    # Excel's "CSV UTF-8" starts with a byte-order mark; it is not part of the first number
+    path = _write_bytes(tmp_path, "bom.txt", "\ufeff0 1\n0.01 2\n".encode("utf-8"))
+    assert read_two_column(path, units="m/s2").accel.tolist() == [1.0, 2.0]
+
+
+def test_name_must_be_a_string(tmp_path):
+    path = _write(tmp_path, "r.txt", "0 0\n0.01 1\n")
+    with pytest.raises(InputError, match="`name` = 5"):
+        read_two_column(path, units="g", name=5)
+
+
+@pytest.mark.parametrize("time, accel, match", [
+    (["0", "0.01"], [1.0, 2.0], r"`time` holds 'str"),         # no silent '10' -> 10.0
+    ([0.0, 0.01], [True, False], r"`accel` holds 'bool'"),
+    ([0.0, 0.01], [1.0, None], r"`accel` holds 'object'"),
+    ([0.0, 0.01], "12", r"`accel` = '12': expected an array of numbers"),
+    ([[0.0, 0.01], [0.02]], [1.0, 2.0], r"`time` is not a rectangular array"),
+])
+def test_arrays_hold_numbers_only(time, accel, match):
+    with pytest.raises(InputError, match=match):
+        Record.from_arrays(time, accel, units="m/s2")
+    with pytest.raises(InputError, match=match):
+        Record(time=time, accel=accel)

@@ -263,3 +263,80 @@ def test_metrics_never_nan_for_a_zero_signal(s1):
     # closed form: error samples [0, 0.5] over 1 s; trapezoid of e² = (0 + 0.25) / 2
     assert m.peak_error == 0.5 and m.rms_error == pytest.approx(math.sqrt(0.125), rel=1e-15)
     assert m.to_dict()["channel"] == "theta"
+
+
+# ---------------------------------------------------------------------------- the file itself
+@pytest.mark.parametrize("make, problem", [
+    (lambda d: d / "missing.csv", "no such file"),
+    (lambda d: d, "is a directory"),
+    (lambda d: _bytes(d, "empty.csv", b""), "the file is empty"),
+    (lambda d: _bytes(d, "bin.csv", b"t [s],theta [rad]\n\x00\x01"), r"a binary file \(NUL byte at offset 18\)"),
+    (lambda d: _bytes(d, "latin.csv", "# Málaga\nt [s],theta [rad]\n".encode("latin-1")),
+     r"not UTF-8 text \(byte 0xe1 on line 1\)"),
+], ids=["missing", "directory", "empty", "binary", "latin-1"])
+def test_a_bad_trace_file_is_named_with_what_to_give(tmp_path, make, problem):
+    path = make(tmp_path)
+    with pytest.raises(InputError, match=problem) as info:
+        read_trace(path)
+    assert str(path) in str(info.value) and "a trace CSV file with units in its header" in str(info.value)
+
+
+def test_a_directory_lists_its_csv_files(tmp_path):
+    _bytes(tmp_path, "run1.csv", b"x")
+    with pytest.raises(InputError, match=r"is a directory.*files there: run1.csv\)"):
+        read_trace(tmp_path)
+
+
+def test_excel_byte_order_mark_is_not_part_of_the_header(tmp_path):
+    # Excel's "CSV UTF-8" writes a byte-order mark before the first header cell
+    path = _bytes(tmp_path, "excel.csv", "\ufefft [s],theta [rad]\n0,0.1\n1,0.2\n".encode("utf-8"))
+    assert read_trace(path).channels["theta"].tolist() == [0.1, 0.2]
+
+
+@pytest.mark.parametrize("path", [None, 3.5, b"t.csv", ""])
+def test_trace_path_must_be_a_path(path):
+    with pytest.raises(InputError, match="`path` = "):
+        read_trace(path)
+
+
+@pytest.mark.parametrize("g", [0.0, -9.81, float("nan"), "9.81", True])
+def test_trace_gravity_is_a_positive_number(tmp_path, g):
+    path = tmp_path / "t.csv"
+    path.write_text("t [s],a_A2 [g]\n0,1\n1,2\n")
+    with pytest.raises(InputError, match="`g` = "):
+        read_trace(path, g=g)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(channels={"theta": ["0", "1"]}), r"`channels\['theta'\]` holds 'str"),     # no '1' -> 1.0
+    (dict(channels={"theta": [0, 1]}, units={"theta": 1}), r"`units\['theta'\]` = 1: give the unit"),
+    (dict(channels=[("theta", [0, 1])]), r"`channels` = .*give a mapping"),
+    (dict(time_units=1), r"`time_units` = 1"),
+])
+def test_trace_arrays_are_checked_before_use(kwargs, match):
+    args = dict(time=[0.0, 1.0], channels={"theta": [0, 1]}, units={"theta": "rad"}) | kwargs
+    with pytest.raises(InputError, match=match):
+        Trace(**args)
+
+
+def test_compare_trace_arguments(s1):
+    trace = Trace(time=[0.0, 1.0], channels={"theta": [0.0, 1.0]}, units={"theta": "rad"})
+    resp = fake_response([0.0, 1.0], theta=[0.0, 1.0])
+    with pytest.raises(InputError, match=r"`response` = None: give the result of multimass.simulate"):
+        compare_trace(trace, None, s1)
+    with pytest.raises(InputError, match=r"`trace` = 'x.csv': give a Trace.*read_trace"):
+        compare_trace("x.csv", resp, s1)
+    with pytest.raises(InputError, match=r"`specimen` = None: give a column or block specimen"):
+        compare_trace(trace, resp, None)
+    for bad in (float("nan"), "0", True):
+        with pytest.raises(InputError, match=r"`t_offset` = "):
+            compare_trace(trace, resp, s1, t_offset=bad)
+    trace_a = Trace(time=[0.0, 1.0], channels={"a3": [0.0, 1.0]}, units={"a3": "g"})
+    with pytest.raises(InputError, match=r"`response` has no column 'a3' for channel `a3`"):
+        compare_trace(trace_a, resp, s1)
+
+
+def _bytes(folder, name, data: bytes):
+    path = folder / name
+    path.write_bytes(data)
+    return path
