@@ -43,10 +43,19 @@ TWO_PI = 2.0 * math.pi
 def _finite(name: str, value, what: str) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
         raise InputError(f"`{name}` = {value!r}: expected a number ({what})")
-    x = float(value)
+    try:
+        x = float(value)
+    except OverflowError:                    # an int beyond the float range, e.g. 10**400
+        x = math.inf
     if not math.isfinite(x):
         raise InputError(f"`{name}` = {value!r}: expected a finite number ({what})")
     return x
+
+
+def _finite_duration(cls_name: str, duration: float, fix: str) -> None:
+    """A pulse must end: ω = 5e-324 or t0 = 1e308 make an infinite or overflowing duration."""
+    if not math.isfinite(duration):
+        raise InputError(f"{cls_name}: the pulse would last {duration!r} s; {fix}")
 
 
 def _amplitude(name: str, value) -> float:
@@ -272,6 +281,8 @@ class _SingleWave(_Pulse):
     def __post_init__(self):
         object.__setattr__(self, "amplitude", _amplitude("amplitude", self.amplitude))
         object.__setattr__(self, "omega", _positive("omega", self.omega, "rad/s"))
+        _finite_duration(type(self).__name__, self.duration,
+                         f"`omega` = {self.omega!r} rad/s is too small; give ω in rad/s")
 
     @property
     def duration(self) -> float:
@@ -359,6 +370,8 @@ class CosinePulse(_Pulse):
     def __post_init__(self):
         object.__setattr__(self, "amplitude", _amplitude("amplitude", self.amplitude))
         object.__setattr__(self, "omega", _positive("omega", self.omega, "rad/s"))
+        _finite_duration("CosinePulse", self.duration,
+                         f"`omega` = {self.omega!r} rad/s is too small; give ω in rad/s")
 
     @property
     def duration(self) -> float:
@@ -418,18 +431,20 @@ class Ricker(_Pulse):
             object.__setattr__(self, "t0", RICKER_X0 / self.omega)
         else:
             object.__setattr__(self, "t0", _positive("t0", self.t0, "the centre time in s"))
+        _finite_duration("Ricker", self.duration, f"`t0` = {self.t0!r} s (or ω) gives no finite "
+                                                  "window [0, 2 t0]; give t0 in s")
 
     @property
     def duration(self) -> float:
         return 2.0 * self.t0
 
     def _shape(self, t):
-        x2 = (self.omega * (t - self.t0)) ** 2
-        return self.amplitude * (1.0 - 0.5 * x2) * np.exp(-0.25 * x2)  # Ricker wavelet
+        x2 = (self.omega * (t - self.t0)) ** 2      # the bracket is bounded by 1: no inf·0
+        return self.amplitude * ((1.0 - 0.5 * x2) * np.exp(-0.25 * x2))  # Ricker wavelet
 
     def _shape_scalar(self, t: float) -> float:
         x2 = (self.omega * (t - self.t0)) ** 2
-        return self.amplitude * (1.0 - 0.5 * x2) * math.exp(-0.25 * x2)  # Ricker wavelet
+        return self.amplitude * ((1.0 - 0.5 * x2) * math.exp(-0.25 * x2))  # Ricker wavelet
 
     def describe(self) -> dict:
         return {"kind": self.kind, "amplitude": self.amplitude, "omega": self.omega,
