@@ -8,8 +8,9 @@ finite-element beam (paper 002, Mudrić et al. 2024).
 """
 
 from .fe_beam import BeamModel, build_beam
-from .model import System, build_system, flexible_modulus
-from .simulate import NSCDResult, run_system, simulate
+from .model import System, build_system, flexible_modulus, min_modulus
+from .result import NSCDResult
+from .simulate import estimate_cost, run_system, simulate
 
 __all__ = [
     "BeamModel",
@@ -17,7 +18,9 @@ __all__ = [
     "System",
     "build_beam",
     "build_system",
+    "estimate_cost",
     "flexible_modulus",
+    "min_modulus",
     "run_system",
     "simulate",
 ]

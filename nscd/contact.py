@@ -115,7 +115,11 @@ def gauss_seidel(W, Ubar, P, sliding, nc, mu, tol, max_iter, p_scale):
     -------
     iterations : int
     converged : bool
+    residual : float
+        The largest change of an impulse in the last sweep, relative to
+        max(|P|, p_scale): ≤ tol when converged.
     """
+    residual = 0.0
     for it in range(1, max_iter + 1):
         change, size = 0.0, p_scale
         for h in range(nc):
@@ -130,6 +134,7 @@ def gauss_seidel(W, Ubar, P, sliding, nc, mu, tol, max_iter, p_scale):
             size = max(size, abs(pn), abs(pt))
             P[h, 0], P[h, 1] = pn, pt
             sliding[h] = sl
+        residual = change / size
         if nc == 1 or change <= tol * size:
-            return it, True
-    return max_iter, False
+            return it, True, residual
+    return max_iter, False, residual

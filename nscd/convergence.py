@@ -1,227 +1,193 @@
-"""Convergence studies of the Moreau–Jean simulation and detection of
-non-convergence (paper 002, Sections 6.1 and 6.3, Figs 10–11 and 16–19).
+"""Convergence studies of the Moreau–Jean simulation (paper 002, Sections 6.1 and
+6.3, Figs 10–11 and 16–19): a block run at successive refinements of the time
+step or the mesh, each judged by `nscd.verdicts`.
 
-A study runs one block at successive refinements (time step or mesh) and
-compares scalar measures between neighbouring levels: the first post-impact
-peak, the first ten peaks, the rest time and the whole angle history. A
-measure is "converged" when its last difference is within tolerance,
-"converging" when it is not yet but the differences shrink at least as fast
-as an order-1/2 method would (half the scheme's first order), and "not
-converged" when they do not decrease, or more slowly — the loss of
-convergence paper 002 reports for flexible beams is flagged, not silently
-plotted. The rest time is "undetermined" when the two finest runs are still
-rocking at t_end; a study's status is its worst determined verdict.
+Every study validates all its runs and estimates their total cost before the
+first starts: levels must be distinct, positive and (for the verdicts) share
+one refinement ratio; the study is refused if it would exceed its budget
+(``max_hours``, one hour by default, for the whole study). Each run then shows
+its own progress bar when it is estimated above a few seconds, and
+``report(line)`` is called after each.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+import sys
+from dataclasses import dataclass
 
 import numpy as np
 
-from impact_models import housner_eta
-
 from multimass.errors import InputError
+from multimass.progress import PROGRESS_AFTER_S, RunCost, budget_seconds, format_duration
+from multimass.validation import positive
 
-from .model import flexible_modulus, load_block
-from .simulate import NSCDResult, simulate
+from .model import check_elements, check_exponent, check_inputs, flexible_modulus, load_block
+from .result import NSCDResult
+from .simulate import REST_FRACTION, check_run, estimate_cost, execute
+from .verdicts import (MIN_ORDER, TOLERANCES, Study, Verdict, compare_runs, housner_first_peak,
+                       judge)
 
 __all__ = ["Verdict", "Study", "FirstPeakStudy", "judge", "compare_runs", "housner_first_peak",
-           "dt_study", "mesh_study", "first_peak_study", "flexibility_study", "TOLERANCES",
-           "MIN_ORDER"]
-
-#: smallest observed order for "converging": d_last ≤ d_prev · ratio^(−MIN_ORDER)
-MIN_ORDER = 0.5
-#: default tolerances of the measures (deg, deg, s, deg)
-TOLERANCES = {"first_peak_deg": 0.02, "peaks_deg": 0.05, "rest_time_s": 0.05, "history_deg": 0.5}
-_UNITS = {"first_peak_deg": "deg", "peaks_deg": "deg", "rest_time_s": "s", "history_deg": "deg"}
-N_PEAKS_COMPARED = 10
-
-
-def housner_first_peak(block, theta0: float) -> float:
-    """Exact first post-impact peak (rad) of a rigid block with Housner's restitution.
-
-    Energy from rest at θ0 to the impact, ω⁺ = η_H ω⁻ (paper 004, Eq 9), then
-    energy to the next rest: cos(α − θ1) = cos α + η_H² (cos(α − |θ0|) − cos α).
-    """
-    blk = load_block(block)
-    a, th0 = blk.alpha, abs(theta0)
-    eta = housner_eta(a)
-    return a - math.acos(math.cos(a) + eta**2 * (math.cos(a - th0) - math.cos(a)))
-
-
-@dataclass(frozen=True)
-class Verdict:
-    """Successive differences of one measure along a refinement and the verdict."""
-
-    measure: str
-    unit: str
-    levels: tuple
-    values: tuple
-    differences: tuple[float, ...]
-    tolerance: float
-    status: str
-    reason: str = ""
-    observed_order: tuple = ()
-
-    def to_dict(self) -> dict:
-        inf = [None if not math.isfinite(d) else d for d in self.differences]
-        return {"measure": self.measure, "unit": self.unit, "levels": list(self.levels),
-                "values": list(self.values), "differences": inf, "tolerance": self.tolerance,
-                "status": self.status, "reason": self.reason,
-                "observed_order": list(self.observed_order)}
-
-
-def judge(measure: str, levels, values, differences, tolerance: float,
-          ratio: float | None = None) -> Verdict:
-    """Verdict on successive differences d_k between refinement levels k and k+1.
-
-    "converged" if the last difference ≤ `tolerance`; otherwise "converging"
-    if the last two differences shrink at least as an order-`MIN_ORDER`
-    method's would, d_last ≤ d_prev · ratio^(−1/2) (0.71 for halving, 0.32
-    for a decade; any decrease if `ratio` is None); else "not converged":
-    the differences do not decrease, or too slowly to trust the finest level
-    (also with a single difference above tolerance: nothing shows a
-    decrease). `ratio` (> 1) is the refinement ratio; the observed order is
-    p = log(d_k / d_(k+1)) / log(ratio).
-    """
-    d = [float(x) for x in differences]
-    q = d[-1] / d[-2] if len(d) >= 2 and d[-2] > 0 else math.inf
-    q_max = ratio ** -MIN_ORDER if ratio is not None and ratio > 1 else 1.0
-    if d and d[-1] <= tolerance:
-        status, reason = "converged", f"last difference {d[-1]:.3g} within tolerance {tolerance:g}"
-    elif len(d) < 2:
-        status, reason = "not converged", "one refinement above tolerance: no decrease shown"
-    elif q <= q_max and q < 1.0:
-        status, reason = "converging", f"differences shrink (ratio {q:.2f}) but exceed tolerance"
-    elif q < 1.0:
-        status, reason = "not converged", f"differences shrink too slowly (ratio {q:.2f} > {q_max:.2f})"
-    else:
-        status, reason = "not converged", f"differences do not decrease (ratio {q:.2f})"
-    order = ()
-    if ratio is not None and ratio > 1:
-        order = tuple(math.log(d[k] / d[k + 1]) / math.log(ratio)
-                      if 0 < d[k + 1] < math.inf and 0 < d[k] < math.inf else None
-                      for k in range(len(d) - 1))
-    return Verdict(measure, _UNITS.get(measure, ""), tuple(levels), tuple(values), tuple(d),
-                   tolerance, status, reason, order)
-
-
-def _history_difference(a: NSCDResult, b: NSCDResult) -> float:
-    """max |θ_a(t) − θ_b(t)| (deg) on the coarser record's times, over the common span."""
-    t = a.t if a.t.size <= b.t.size else b.t
-    t = t[t <= min(a.t[-1], b.t[-1])]
-    return float(np.degrees(np.max(np.abs(np.interp(t, a.t, a.theta) - np.interp(t, b.t, b.theta)))))
-
-
-def _peaks_difference(a: NSCDResult, b: NSCDResult) -> float:
-    k = min(N_PEAKS_COMPARED, len(a.peaks_deg), len(b.peaks_deg))
-    if k == 0:
-        return 0.0 if len(a.peaks_deg) == len(b.peaks_deg) else math.inf
-    return float(np.max(np.abs(np.subtract(a.peaks_deg[:k], b.peaks_deg[:k]))))
-
-
-def _scalar_difference(x, y) -> float:
-    if x is None and y is None:
-        return 0.0
-    if x is None or y is None:     # one still rocking, the other at rest: not comparable
-        return math.inf
-    return abs(x - y)
-
-
-def compare_runs(levels, runs: list[NSCDResult], ratio: float | None = None,
-                 tolerances: dict | None = None) -> list[Verdict]:
-    """Verdicts of the four measures along runs ordered coarse → fine."""
-    tol = {**TOLERANCES, **(tolerances or {})}
-    pairs = list(zip(runs[:-1], runs[1:]))
-    rest = judge("rest_time_s", levels, [r.rest_time_s for r in runs],
-                 [_scalar_difference(a.rest_time_s, b.rest_time_s) for a, b in pairs],
-                 tol["rest_time_s"], ratio)
-    if len(runs) >= 2 and runs[-1].rest_time_s is None and runs[-2].rest_time_s is None:
-        rest = replace(rest, status="undetermined",
-                       reason="still rocking at t_end at the two finest levels; extend t_end")
-    return [
-        judge("first_peak_deg", levels, [r.first_peak_deg for r in runs],
-              [_scalar_difference(a.first_peak_deg, b.first_peak_deg) for a, b in pairs],
-              tol["first_peak_deg"], ratio),
-        judge("peaks_deg", levels, [len(r.peaks_deg) for r in runs],
-              [_peaks_difference(a, b) for a, b in pairs], tol["peaks_deg"], ratio),
-        rest,
-        judge("history_deg", levels, [None] * len(runs),
-              [_history_difference(a, b) for a, b in pairs], tol["history_deg"], ratio),
-    ]
-
-
-@dataclass(frozen=True)
-class Study:
-    """Runs of one block along one refinement (dt or mesh), with verdicts."""
-
-    kind: str
-    block: str
-    levels: tuple
-    runs: tuple[NSCDResult, ...]
-    verdicts: tuple[Verdict, ...]
-    settings: dict = field(default_factory=dict)
-
-    @property
-    def status(self) -> str:
-        """The worst verdict over the measures ("undetermined" ones are left out)."""
-        order = ("not converged", "converging", "converged")
-        return min((v.status for v in self.verdicts if v.status in order), key=order.index,
-                   default="undetermined")
-
-    def to_dict(self) -> dict:
-        return {"kind": self.kind, "block": self.block, "levels": list(self.levels),
-                "status": self.status, "settings": self.settings,
-                "verdicts": [v.to_dict() for v in self.verdicts],
-                "runs": [r.summary() for r in self.runs]}
+           "dt_study", "mesh_study", "first_peak_study", "flexibility_study", "check_levels",
+           "TOLERANCES", "MIN_ORDER"]
 
 
 def _theta0(block, theta0):
     blk = load_block(block)
     if theta0 is not None:
-        return float(theta0)
+        return theta0
     if blk.reference.theta0_deg is None:
         raise InputError(f"`theta0` is required: block {blk.name!r} has no reference "
                          "theta0_deg; give the release angle in rad")
     return math.radians(blk.reference.theta0_deg)
 
 
-def _study(kind, block, levels, ratio, run, label, progress, settings) -> Study:
-    """Run `run(level)` for each level (reported through `progress`) and compare the runs."""
+def check_levels(name: str, values, *, kind: str, min_levels: int = 2,
+                 geometric: bool = True) -> tuple:
+    """Refinement levels, validated and sorted coarse → fine.
+
+    Parameters
+    ----------
+    name : str
+        The argument named in messages (e.g. ``"dts"`` or ``"--meshes"``).
+    values : sequence
+        Time steps (s) for ``kind="dt"``, element counts for ``kind="mesh"``.
+    min_levels : int
+        Fewest levels (a verdict compares at least two).
+    geometric : bool
+        Require a constant refinement ratio (within 1 %): the verdicts compare
+        successive differences, whose expected ratio is ratio^(−order).
+
+    Raises
+    ------
+    InputError
+        Not a list, too few levels, a level not a positive finite number (a
+        whole number in 3..`MAX_ELEMENTS` for meshes), repeated levels, or
+        levels without a constant ratio.
+    """
+    if isinstance(values, (str, bytes)) or not hasattr(values, "__len__"):
+        raise InputError(f"`{name}` = {values!r}: give a list of levels, e.g. "
+                         + ("1e-3 1e-4 1e-5" if kind == "dt" else "3 6 12"))
+    if kind == "dt":
+        levels = [positive(f"{name}[{i}]", v, "a time step in s") for i, v in enumerate(values)]
+    else:
+        levels = [check_elements(v, f"{name}[{i}]") for i, v in enumerate(values)]
+    if len(levels) < min_levels:
+        raise InputError(f"`{name}` = {list(values)!r}: give at least {min_levels} levels "
+                         "(a study compares successive refinements)")
+    if len(set(levels)) != len(levels):
+        raise InputError(f"`{name}` = {list(values)!r}: a level is repeated; give distinct levels")
+    levels = sorted(levels, reverse=(kind == "dt"))
+    ratios = [a / b if kind == "dt" else b / a for a, b in zip(levels[:-1], levels[1:])]
+    if geometric and any(abs(r / ratios[0] - 1.0) > 0.01 for r in ratios):
+        raise InputError(f"`{name}` = {list(values)!r}: the refinement ratios "
+                         f"{', '.join(f'{r:.3g}' for r in ratios)} differ; the verdicts compare "
+                         "successive differences and need one ratio, e.g. "
+                         + ("1e-3 1e-4 1e-5 (10) or 4e-4 2e-4 1e-4 (2)" if kind == "dt"
+                            else "3 6 12 or 6 12 24 (2)"))
+    return tuple(levels)
+
+
+def _ratio(kind: str, levels) -> float:
+    return levels[0] / levels[1] if kind == "dt" else levels[1] / levels[0]
+
+
+@dataclass(frozen=True)
+class _Plan:
+    """One validated run of a study: its label, inputs, options and estimated cost."""
+
+    label: str
+    inp: object
+    opts: object
+    seconds: float
+    memory: float
+
+
+def _plan(label, block, *, theta0, dt, t_end, E, n_elements, beam="beam_mudric2024",
+          theta_method=1.0, mu=None, restitution=0.0, x_centre=None, gs_tol=1e-8,
+          gs_max_iter=5000, record_every=None, rest_fraction=REST_FRACTION,
+          names=None) -> _Plan:
+    """Validate one run and estimate its cost, before any run of the study starts."""
+    inp = check_inputs(block, beam, theta0=theta0, dt=dt, E=E, n_elements=n_elements,
+                       theta_method=theta_method, mu=mu, restitution=restitution,
+                       x_centre=x_centre, names=names)
+    o = check_run(t_end, inp.dt, gs_tol=gs_tol, gs_max_iter=gs_max_iter,
+                  record_every=record_every, rest_fraction=rest_fraction, names=names)
+    c = estimate_cost(inp.n_elements, inp.dt, o.t_end, o.stride)
+    return _Plan(label, inp, o, c.seconds, c.memory)
+
+
+def _execute(plans: list[_Plan], what: str, *, report, progress, max_hours) -> list[NSCDResult]:
+    """Check the total cost of `plans` against the budget, then run them in order.
+
+    Each run shows its own progress bar (automatic: when it is estimated above a
+    few seconds); `report(line)` is called after each run.
+    """
+    if progress is not None and not isinstance(progress, bool):
+        raise InputError(f"`progress` = {progress!r}: expected True, False or None")
+    total = sum(p.seconds for p in plans)
+    RunCost(float(sum(p.opts.n_steps for p in plans)), total, max(p.memory for p in plans),
+            f"{len(plans)} runs, the longest {format_duration(max(p.seconds for p in plans))}"
+            ).check(what, "use fewer or coarser levels, or a shorter t_end",
+                    max_seconds=budget_seconds(max_hours))
+    if progress or (progress is None and total >= PROGRESS_AFTER_S):
+        print(f"{what}: {len(plans)} runs, estimated {format_duration(total)}", file=sys.stderr)
     runs = []
-    for level in levels:
-        runs.append(run(level))
-        if progress:
-            progress(f"{label(level)} done ({runs[-1].wall_time_s:.1f} s)")
+    for k, p in enumerate(plans, 1):
+        runs.append(execute(p.inp, p.opts, progress=progress, estimated=p.seconds,
+                            desc=f"{p.inp.block.name} {p.label} ({k}/{len(plans)})"))
+        if report:
+            r = runs[-1]
+            note = "" if r.status in _NORMAL else f": {r.status}"
+            report(f"{p.inp.block.name} {p.label} done ({r.wall_time_s:.1f} s){note}")
+    return runs
+
+
+_NORMAL = ("completed", "overturned")
+
+
+def _study(kind, block, levels, plans, what, settings, report, progress, max_hours) -> Study:
+    runs = _execute(plans, what, report=report, progress=progress, max_hours=max_hours)
     return Study(kind, load_block(block).name, tuple(levels), tuple(runs),
-                 tuple(compare_runs(levels, runs, ratio)),
+                 tuple(compare_runs(levels, runs, _ratio(kind, levels))),
                  {"E_Pa": runs[0].params["E_Pa"], **settings})
 
 
 def dt_study(block, dts=(1e-3, 1e-4, 1e-5, 1e-6), *, E=None, n_elements=6, t_end=4.0,
-             theta0=None, progress=None, **kw) -> Study:
-    """Time-step refinement (paper 002, Fig 10; dt from 1e-3 to 1e-6 s)."""
+             theta0=None, report=None, progress=None, max_hours=None, names=None,
+             **kw) -> Study:
+    """Time-step refinement (paper 002, Fig 10; dt from 1e-3 to 1e-6 s).
+
+    `dts` (≥ 2 distinct positive steps with one refinement ratio) are sorted
+    coarse → fine. All runs are validated and their total cost estimated
+    before the first starts; `max_hours` is the budget of the whole study.
+    `report(line)` is called after each run; `progress` as in `simulate`;
+    `kw` are further arguments of `simulate` (beam, theta_method, mu, ...).
+    """
+    dts = check_levels(_name(names, "dts"), dts, kind="dt")
     th0 = _theta0(block, theta0)
-    dts = sorted(dts, reverse=True)
-    return _study("dt", block, dts, dts[0] / dts[1] if len(dts) > 1 else None,
-                  lambda dt: simulate(block, theta0=th0, dt=dt, t_end=t_end, E=E,
-                                      n_elements=n_elements, **kw),
-                  lambda dt: f"dt = {dt:g} s", progress,
-                  {"n_elements": n_elements, "t_end_s": t_end, "theta0_deg": math.degrees(th0)})
+    plans = [_plan(f"dt = {dt:g} s", block, theta0=th0, dt=dt, t_end=t_end, E=E,
+                   n_elements=n_elements, names=names, **kw) for dt in dts]
+    return _study("dt", block, dts, plans, f"dt study of {load_block(block).name}",
+                  {"n_elements": plans[0].inp.n_elements, "t_end_s": plans[0].opts.t_end,
+                   "theta0_deg": math.degrees(plans[0].inp.theta0)}, report, progress, max_hours)
 
 
 def mesh_study(block, meshes=(3, 6, 12), *, dt=1e-5, E=None, t_end=4.0, theta0=None,
-               progress=None, **kw) -> Study:
-    """Mesh refinement (paper 002, Fig 11: 3, 6 and 12 elements)."""
+               report=None, progress=None, max_hours=None, names=None, **kw) -> Study:
+    """Mesh refinement (paper 002, Fig 11: 3, 6 and 12 elements); see `dt_study`."""
+    meshes = check_levels(_name(names, "meshes"), meshes, kind="mesh")
     th0 = _theta0(block, theta0)
-    meshes = sorted(meshes)
-    return _study("mesh", block, meshes, meshes[1] / meshes[0] if len(meshes) > 1 else None,
-                  lambda n: simulate(block, theta0=th0, dt=dt, t_end=t_end, E=E, n_elements=n,
-                                     **kw),
-                  lambda n: f"{n} elements", progress,
-                  {"dt_s": dt, "t_end_s": t_end, "theta0_deg": math.degrees(th0)})
+    plans = [_plan(f"{n} elements", block, theta0=th0, dt=dt, t_end=t_end, E=E, n_elements=n,
+                   names=names, **kw) for n in meshes]
+    return _study("mesh", block, meshes, plans, f"mesh study of {load_block(block).name}",
+                  {"dt_s": plans[0].inp.dt, "t_end_s": plans[0].opts.t_end,
+                   "theta0_deg": math.degrees(plans[0].inp.theta0)}, report, progress, max_hours)
+
+
+def _name(names, key):
+    return (names or {}).get(key, key)
 
 
 @dataclass(frozen=True)
@@ -236,55 +202,91 @@ class FirstPeakStudy:
     errors_deg: dict
     fitted_order: dict
     successive_order: dict
+    warnings: tuple = ()
 
     def to_dict(self) -> dict:
         return {k: (list(v) if isinstance(v, tuple) else v) for k, v in self.__dict__.items()}
 
 
+def _run_warnings(labels, runs) -> list[str]:
+    """Warnings of a first-peak study's runs: failed or inaccurate runs, missing peaks."""
+    out = []
+    for label, r in zip(labels, runs):
+        if r.outcome == "failed":
+            out.append(f"{label}: the run failed: {r.message}")
+        out += [f"{label}: {w}" for w in r.warnings]
+        if r.first_peak_deg is None and r.outcome != "failed":
+            out.append(f"{label}: no first peak ({r.outcome} before a half-cycle closed); "
+                       "extend t_end")
+    return out
+
+
+def _blocks(blocks, name: str) -> tuple:
+    if isinstance(blocks, str) or not hasattr(blocks, "__len__"):
+        blocks = (blocks,)
+    if len(blocks) == 0:
+        raise InputError(f"`{name}` = {blocks!r}: give at least one block, e.g. B6M")
+    return tuple(load_block(b) for b in blocks)
+
+
+def _orders(dts, err) -> tuple[float | None, list]:
+    """Least-squares slope of log|error| on log dt, and the orders between decades."""
+    ok = [(math.log(d), math.log(e)) for d, e in zip(dts, err) if e is not None and e > 0]
+    fit = float(np.polyfit(*zip(*ok), 1)[0]) if len(ok) >= 2 else None
+    decades = [i for i, d in enumerate(dts) if abs(math.log10(d) - round(math.log10(d))) < 1e-9]
+    succ = [math.log10(err[i] / err[j]) / math.log10(dts[i] / dts[j])
+            if err[i] and err[j] else None for i, j in zip(decades[:-1], decades[1:])]
+    return fit, succ
+
+
 def first_peak_study(blocks=("B4M", "B6M", "B8M"), dts=None, *, t_end=2.0, E=None,
-                     n_elements=6, progress=None) -> FirstPeakStudy:
+                     n_elements=6, report=None, progress=None, max_hours=None,
+                     names=None, **kw) -> FirstPeakStudy:
     """First peak of each block for dt → 0 against the exact rigid-block value.
 
     The observed order is the least-squares slope of log|error| against
     log dt (the error of one impact in an event-capturing scheme depends on
     where the impact falls inside a step, so successive ratios scatter);
-    successive orders between decades are given too.
+    successive orders between decades are given too. `dts` needs at least two
+    distinct steps (any spacing); a run without a first peak (still in its
+    first half-cycle at t_end, or overturned) has no error and is left out
+    of the fit, with a warning. `kw` are further arguments of `simulate`.
     """
-    dts = tuple(sorted(dts or (1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5, 5e-6, 2e-6, 1e-6),
-                       reverse=True))
-    names, exact, paper, peaks, errors, fit, succ = [], {}, {}, {}, {}, {}, {}
-    for block in blocks:
-        blk = load_block(block)
-        th0 = _theta0(blk, None)
-        ex = math.degrees(housner_first_peak(blk, th0))
-        vals = []
-        for dt in dts:
-            r = simulate(blk, theta0=th0, dt=dt, t_end=t_end, E=E, n_elements=n_elements)
-            vals.append(r.first_peak_deg)
-            if progress:
-                progress(f"{blk.name} dt = {dt:g} s: first peak {r.first_peak_deg:.4f}°")
-        err = [abs(v - ex) for v in vals]
-        names.append(blk.name)
+    blks = _blocks(blocks, _name(names, "blocks"))
+    if dts is None:
+        dts = (1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5, 5e-6, 2e-6, 1e-6)
+    dts = check_levels(_name(names, "dts"), dts, kind="dt", geometric=False)
+    plans = [_plan(f"dt = {dt:g} s", blk, theta0=_theta0(blk, None), dt=dt, t_end=t_end, E=E,
+                   n_elements=n_elements, names=names, **kw) for blk in blks for dt in dts]
+    runs = _execute(plans, f"first-peak study of {', '.join(b.name for b in blks)}",
+                    report=report, progress=progress, max_hours=max_hours)
+    exact, paper, peaks, errors, fit, succ, warns = {}, {}, {}, {}, {}, {}, []
+    for i, blk in enumerate(blks):
+        mine = runs[i * len(dts):(i + 1) * len(dts)]
+        ex = math.degrees(housner_first_peak(blk, _theta0(blk, None)))
+        vals = [r.first_peak_deg for r in mine]
+        err = [None if v is None else abs(v - ex) for v in vals]
+        warns += _run_warnings([f"{blk.name} dt = {dt:g} s" for dt in dts], mine)
         exact[blk.name], paper[blk.name] = ex, blk.reference.first_peak_deg
         peaks[blk.name], errors[blk.name] = vals, err
-        ok = [(math.log(d), math.log(e)) for d, e in zip(dts, err) if e > 0]
-        fit[blk.name] = float(np.polyfit(*zip(*ok), 1)[0]) if len(ok) >= 2 else None
-        decades = [i for i, d in enumerate(dts) if abs(math.log10(d) - round(math.log10(d))) < 1e-9]
-        succ[blk.name] = [math.log10(err[i] / err[j]) / math.log10(dts[i] / dts[j])
-                          if err[i] > 0 and err[j] > 0 else None
-                          for i, j in zip(decades[:-1], decades[1:])]
-    return FirstPeakStudy(tuple(names), dts, exact, paper, peaks, errors, fit, succ)
+        fit[blk.name], succ[blk.name] = _orders(dts, err)
+    return FirstPeakStudy(tuple(b.name for b in blks), dts, exact, paper, peaks, errors, fit,
+                          succ, tuple(warns))
 
 
 def flexibility_study(block, exponents=(8, 6, 4, 2, 0), *, meshes=(6, 12, 24),
-                      dts=(1e-4, 1e-5, 1e-6), base_dt=1e-5, base_mesh=6, t_end=4.0,
-                      theta0=None, progress=None, **kw) -> dict:
+                      dts=(1e-4, 1e-5, 1e-6), base_dt=None, base_mesh=None, t_end=4.0,
+                      theta0=None, report=None, progress=None, max_hours=None, names=None,
+                      **kw) -> dict:
     """Flexibility sweep E = Ē·10ⁿ with mesh and time-step sensitivity (paper 002, Figs 16–19).
 
     Ē gives a midspan deflection of L/2500 under the block's weight. For each
-    n, a mesh study (at `base_dt`) and a dt study (at `base_mesh`) are run;
-    the run at (base_dt, base_mesh) is shared. A rigid-base run (the beam
-    specimen's E) is included for comparison.
+    n, a mesh study (at `base_dt`, default the middle of `dts`) and a dt study
+    (at `base_mesh`, default the coarsest of `meshes`) are run; the run at
+    (base_dt, base_mesh) is shared, so `base_dt` must be one of `dts` and
+    `base_mesh` one of `meshes`. A run on the beam specimen's own E (the rigid
+    base for paper 002's beam) is included for comparison. All runs are
+    validated and costed before the first starts.
 
     Returns
     -------
@@ -293,33 +295,53 @@ def flexibility_study(block, exponents=(8, 6, 4, 2, 0), *, meshes=(6, 12, 24),
         "mesh": {n: Study}, "dt": {n: Study}, ...}``; "base" is the run at
         (`base_dt`, `base_mesh`).
     """
+    exps = _exponents(exponents, block, kw.get("beam", "beam_mudric2024"), names)
+    ms = check_levels(_name(names, "meshes"), meshes, kind="mesh")
+    ds = check_levels(_name(names, "dts"), dts, kind="dt")
+    base_dt = ds[len(ds) // 2] if base_dt is None else _member(base_dt, ds, "base_dt", "dts", names)
+    base_mesh = ms[0] if base_mesh is None else _member(base_mesh, ms, "base_mesh", "meshes", names)
     th0 = _theta0(block, theta0)
+    Ebar = flexible_modulus(block, kw.get("beam", "beam_mudric2024"))
+    keys = [(None, base_dt, base_mesh)] + sorted(
+        {(n, dt, m) for n in exps for dt, m in [(base_dt, m) for m in ms] + [(d, base_mesh) for d in ds]},
+        key=lambda k: (exps.index(k[0]), -k[1], k[2]))
+    plans = [_plan(("beam's own E" if n is None else f"n = {n:g}") + f", dt = {dt:g} s, {m} el.",
+                   block, theta0=th0, dt=dt, t_end=t_end, E=None if n is None else Ebar * 10.0**n,
+                   n_elements=m, names=names, **kw) for n, dt, m in keys]
     name = load_block(block).name
-    Ebar = flexible_modulus(block)
-    out = {"E_bar": Ebar, "block": name, "theta0": th0, "exponents": tuple(exponents),
-           "rigid": simulate(block, theta0=th0, dt=base_dt, t_end=t_end, n_elements=base_mesh, **kw),
-           "base": {}, "mesh": {}, "dt": {}}
-    for n in exponents:
-        E = Ebar * 10.0**n
-        cache = {}
-
-        def run(dt, m):
-            if (dt, m) not in cache:
-                cache[dt, m] = simulate(block, theta0=th0, dt=dt, t_end=t_end, E=E,
-                                        n_elements=m, **kw)
-                if progress:
-                    progress(f"n = {n}: dt = {dt:g} s, {m} elements ({cache[dt, m].wall_time_s:.1f} s)")
-            return cache[dt, m]
-
-        ms, ds = sorted(set(meshes) | {base_mesh}), sorted(set(dts) | {base_dt}, reverse=True)
-        mesh_runs = [run(base_dt, m) for m in ms]
-        dt_runs = [run(dt, base_mesh) for dt in ds]
-        out["base"][n] = run(base_dt, base_mesh)
-        settings = {"E_Pa": E, "exponent": n, "t_end_s": t_end, "theta0_deg": math.degrees(th0)}
-        out["mesh"][n] = Study("mesh", name, tuple(ms), tuple(mesh_runs),
-                               tuple(compare_runs(ms, mesh_runs, ms[1] / ms[0])),
+    runs = dict(zip(keys, _execute(plans, f"flexibility study of {name}", report=report,
+                                   progress=progress, max_hours=max_hours)))
+    out = {"E_bar": Ebar, "block": name, "theta0": plans[0].inp.theta0, "exponents": exps,
+           "rigid": runs[None, base_dt, base_mesh], "base": {}, "mesh": {}, "dt": {}}
+    for n in exps:
+        settings = {"E_Pa": Ebar * 10.0**n, "exponent": n, "t_end_s": plans[0].opts.t_end,
+                    "theta0_deg": math.degrees(plans[0].inp.theta0)}
+        mesh_runs, dt_runs = [runs[n, base_dt, m] for m in ms], [runs[n, d, base_mesh] for d in ds]
+        out["base"][n] = runs[n, base_dt, base_mesh]
+        out["mesh"][n] = Study("mesh", name, ms, tuple(mesh_runs),
+                               tuple(compare_runs(ms, mesh_runs, _ratio("mesh", ms))),
                                {**settings, "dt_s": base_dt})
-        out["dt"][n] = Study("dt", name, tuple(ds), tuple(dt_runs),
-                             tuple(compare_runs(ds, dt_runs, ds[0] / ds[1])),
+        out["dt"][n] = Study("dt", name, ds, tuple(dt_runs),
+                             tuple(compare_runs(ds, dt_runs, _ratio("dt", ds))),
                              {**settings, "n_elements": base_mesh})
     return out
+
+
+def _exponents(exponents, block, beam, names) -> tuple:
+    name = _name(names, "exponents")
+    if (isinstance(exponents, (str, bytes)) or not hasattr(exponents, "__len__")
+            or len(exponents) == 0):
+        raise InputError(f"`{name}` = {exponents!r}: give a list of exponents n of E = Ē·10^n, "
+                         "e.g. 8 6 4 2 0")
+    exps = tuple(check_exponent(n, block, beam, f"{name}[{i}]") for i, n in enumerate(exponents))
+    if len(set(exps)) != len(exps):
+        raise InputError(f"`{name}` = {list(exponents)!r}: an exponent is repeated")
+    return tuple(n if not float(n).is_integer() else int(n) for n in exps)
+
+
+def _member(value, levels, key, levels_key, names):
+    if value not in levels:
+        raise InputError(f"`{_name(names, key)}` = {value!r}: must be one of "
+                         f"`{_name(names, levels_key)}` = {list(levels)!r} (its run is shared by "
+                         "the mesh and the time-step studies)")
+    return value

@@ -16,6 +16,9 @@ import scipy.linalg as sla
 
 from multimass.damping import rayleigh_coefficients
 from multimass.errors import InputError
+from multimass.validation import integer, number, positive
+
+from .cost import MAX_ELEMENTS
 
 __all__ = ["BeamModel", "build_beam", "element_stiffness", "element_mass",
            "shape_functions", "static_deflection"]
@@ -133,16 +136,15 @@ def build_beam(L: float, E: float, A: float, I: float, rho: float, n_elements: i
     Raises
     ------
     InputError
-        Fewer than 3 elements, non-positive properties, or a damping mode
-        number beyond the number of modes of the mesh.
+        Fewer than 3 or more than `nscd.cost.MAX_ELEMENTS` elements, a property
+        not a positive finite number, or a damping mode number beyond the
+        number of modes of the mesh.
     """
-    if isinstance(n_elements, bool) or int(n_elements) != n_elements or n_elements < 3:
-        raise InputError(f"`n_elements` = {n_elements!r}: give an integer >= 3 "
-                         "(paper 002 uses 3, 6 and 12)")
+    n_el = integer("n_elements", n_elements, low=3, high=MAX_ELEMENTS,
+                   what="beam elements; paper 002 uses 3, 6 and 12")
     for name, val in (("L", L), ("E", E), ("A", A), ("I", I), ("rho", rho)):
-        if not np.isfinite(val) or val <= 0.0:
-            raise InputError(f"`{name}` = {val!r}: must be a positive finite number")
-    n_el = int(n_elements)
+        positive(name, val)
+    number("g", g, low=0.0, what="gravity in m/s²; 0 leaves the self-weight out")
     Le = L / n_el
     m = rho * A
     nfull = 3 * (n_el + 1)

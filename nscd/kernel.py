@@ -6,7 +6,9 @@ q̄ at the end of the step under free flight, vertex–beam contact detection
 (Eqs 35–44, Gauss–Seidel) and the update (Eqs 22, 25, 34). Diagnostics are
 accumulated on the fly: energy increase per step, Gauss–Seidel iterations,
 sliding, half-cycle peaks, impacts and the last step at which the block moved.
-Nothing is allocated inside the loop.
+Nothing is allocated inside the loop. `run_kernel` runs the compiled steps in
+chunks (`run_steps`), carrying the state between calls, so that a long run can
+report its progress; chunking does not change a single bit of the result.
 """
 
 from __future__ import annotations
@@ -47,7 +49,8 @@ def _drop_stale_cache() -> None:
 
 _drop_stale_cache()
 
-__all__ = ["run_kernel", "STATUS", "STAT_NAMES", "SERIES"]
+__all__ = ["run_kernel", "run_steps", "start_state", "STATUS", "STAT_NAMES", "SERIES",
+           "TRACK_NAMES"]
 
 #: status codes returned by the kernel
 STATUS = {0: "completed", 1: "overturned", 2: "fell_off_beam", 3: "failed"}
@@ -56,8 +59,12 @@ SERIES = ("t", "phi", "phi_dot", "X", "Y", "v_mid", "energy", "n_contacts")
 #: entries of the statistics vector
 STAT_NAMES = ("max_gs_iterations", "n_gs_cap_hits", "n_multi_contact_steps", "n_slip_steps",
               "max_slip_speed", "max_energy_increase", "max_penetration", "last_moving_step",
-              "n_contact_steps", "energy_scale")
-I_GS, I_CAP, I_MULTI, I_SLIP, I_SLIPV, I_DE, I_PEN, I_MOVE, I_CONTACT, I_ESCALE = range(10)
+              "n_contact_steps", "energy_scale", "max_gs_residual")
+(I_GS, I_CAP, I_MULTI, I_SLIP, I_SLIPV, I_DE, I_PEN, I_MOVE, I_CONTACT, I_ESCALE,
+ I_GSRES) = range(11)
+#: scalars carried from one call of `run_steps` to the next
+TRACK_NAMES = ("energy", "sign", "peak", "t_peak", "n_peaks", "n_impacts", "last_row")
+T_ENERGY, T_SIGN, T_PEAK, T_TPEAK, T_NPEAKS, T_NIMP, T_ROW = range(7)
 
 
 @njit(cache=True)
@@ -227,10 +234,11 @@ def _solve_contacts(nc, ids, was_active, now_active, P, P_prev, W, Qk, Qe, el, U
         for j in range(nc):
             delassus_block(W[h, j], Qk[h], Qe[h], el[h], Qk[j], Qe[j], el[j],
                            inv_m, inv_i, Ainv, edof)
-    iters, ok = gauss_seidel(W, Ubar, P, sliding, nc, mu, gs_tol, gs_max_iter, p_scale)
+    iters, ok, residual = gauss_seidel(W, Ubar, P, sliding, nc, mu, gs_tol, gs_max_iter, p_scale)
     stats[I_GS] = max(stats[I_GS], iters)
     if not ok:
         stats[I_CAP] += 1
+        stats[I_GSRES] = max(stats[I_GSRES], residual)
     _apply_impulses(nc, P, Qk, Qe, el, edof, vkf, vef, inv_m, inv_i, Ainv)
     slip = _slip_speed(nc, P, sliding, Qk, Qe, el, edof, vkf, vef)
     if slip >= 0.0:
@@ -270,44 +278,58 @@ def _half_cycle(phi, t, sign, peak, t_peak, cross_eps, peaks, n_peaks):
 
 
 @njit(cache=True)
-def run_kernel(qk0, vk0, qe0, ve0, mass, inertia, Fk, verts, Ainv, Mc, Kc, Cc, pe,
-               edof, x_nodes, Le, L, dt, theta, mu, e_rest, gs_tol, gs_max_iter,
-               n_steps, stride, rest_angle, rest_rate, cross_eps, i_mid, max_events):
-    """Run `n_steps` Moreau–Jean steps from the given state (see module docstring).
+def start_state(qk, vk, qe, ve, mass, inertia, Fk, Mc, Kc, pe, L, i_mid, cross_eps,
+                series, stats, track):
+    """Initial energy and energy scale, the first recorded row and the half-cycle state.
+
+    Fills `series[0]`, `stats[I_ESCALE]` and `track` (see `TRACK_NAMES`) in place.
+    """
+    energy = _energy(qk, vk, qe, ve, mass, inertia, Fk, Mc, Kc, pe)
+    stats[I_ESCALE] = abs(energy) + mass * abs(Fk[1]) * L
+    _record(series, 0, 0.0, qk, vk, qe, i_mid, energy, 0)
+    sign = 0
+    if abs(qk[2]) > cross_eps:
+        sign = 1 if qk[2] > 0 else -1
+    track[T_ENERGY], track[T_SIGN], track[T_PEAK], track[T_TPEAK] = energy, sign, abs(qk[2]), 0.0
+    track[T_NPEAKS], track[T_NIMP], track[T_ROW] = 0.0, 0.0, 0.0
+
+
+@njit(cache=True)
+def run_steps(first, last, qk, vk, qe, ve, was_active, P_prev, track, series, peaks, impacts,
+              stats, mass, inertia, Fk, verts, Ainv, Mc, Kc, Cc, pe, edof, x_nodes, Le, L, dt,
+              theta, mu, e_rest, gs_tol, gs_max_iter, stride, rest_angle, rest_rate, cross_eps,
+              i_mid):
+    """Moreau–Jean steps `first` … `last` (inclusive), continuing the state in place.
+
+    The state that lives from one step to the next — (qk, vk, qe, ve), the
+    contacts active at the end of the last step with their impulses (warm
+    start), `track`, the logs and `stats` — is passed in and updated, so that
+    running the steps in several calls gives the same numbers, bit for bit,
+    as one call (tested). Everything else is scratch, rewritten every step.
 
     Returns
     -------
-    status, last_step : int
-    series : ndarray (rows, len(SERIES))
-    peaks : ndarray (n_peaks, 2) — (time, |φ|) of each half-cycle, the release first
-    impacts : ndarray (n_impacts,) — times of contact activations with U_n⁻ < −10 g Δt
-    stats : ndarray (len(STAT_NAMES),)
-    qk, vk, qe, ve : final state
+    status : int
+        0 while running or at `last`, else the `STATUS` code that stopped the run.
+    step : int
+        The last step taken.
     """
-    qk, vk, qe, ve = qk0.copy(), vk0.copy(), qe0.copy(), ve0.copy()
     n = qe.size
     inv_m, inv_i = 1.0 / mass, 1.0 / inertia
-    series = np.zeros((n_steps // stride + 1, len(SERIES)))
-    peaks, impacts, stats = np.zeros((max_events, 2)), np.zeros(max_events), np.zeros(10)
-    n_peaks, n_imp = 0, 0
+    max_events = peaks.shape[0]
     p_scale = abs(Fk[1]) * dt                       # weight impulse over one step
     v_impact = 10.0 * abs(Fk[1]) * inv_m * dt       # smallest approach speed logged as an impact
     Qk, Qe = np.zeros((4, 2, 3)), np.zeros((4, 2, 6))
     el, ids = np.zeros(4, dtype=np.int64), np.zeros(4, dtype=np.int64)
     Ubar, Un_minus, N = np.zeros((4, 2)), np.zeros(4), np.zeros(6)
-    W, P, P_prev = np.zeros((4, 4, 2, 2)), np.zeros((4, 2)), np.zeros((4, 2))
-    sliding = np.zeros(4, dtype=np.bool_)
-    was_active, now_active = np.zeros(4, dtype=np.bool_), np.zeros(4, dtype=np.bool_)
+    W, P = np.zeros((4, 4, 2, 2)), np.zeros((4, 2))
+    sliding, now_active = np.zeros(4, dtype=np.bool_), np.zeros(4, dtype=np.bool_)
     vkf, vef, qkb, qeb = np.zeros(3), np.zeros(n), np.zeros(3), np.zeros(n)
     work = np.zeros((2, n))
-    energy = _energy(qk, vk, qe, ve, mass, inertia, Fk, Mc, Kc, pe)
-    stats[I_ESCALE] = abs(energy) + mass * abs(Fk[1]) * L
-    last_row, nc, status, step = 0, 0, 0, 0
-    _record(series, 0, 0.0, qk, vk, qe, i_mid, energy, 0)
-    sign, peak, t_peak = 0, abs(qk[2]), 0.0
-    if abs(qk[2]) > cross_eps:
-        sign = 1 if qk[2] > 0 else -1
-    for step in range(1, n_steps + 1):
+    energy, sign, peak, t_peak = track[T_ENERGY], int(track[T_SIGN]), track[T_PEAK], track[T_TPEAK]
+    n_peaks, n_imp, last_row = int(track[T_NPEAKS]), int(track[T_NIMP]), int(track[T_ROW])
+    status, step = 0, first - 1
+    for step in range(first, last + 1):
         t = step * dt
         _free_step(qk, vk, qe, ve, vkf, vef, qkb, qeb, Fk, inv_m, inv_i, Ainv, Kc, Cc, pe,
                    dt, theta, work)
@@ -348,8 +370,52 @@ def run_kernel(qk0, vk0, qe0, ve0, mass, inertia, Fk, verts, Ainv, Mc, Kc, Cc, p
         if nc == 0 and (qk[0] < -L or qk[0] > 2.0 * L or qk[1] < -L):
             status = 2
             break
-    if peak > cross_eps and n_peaks < max_events:
-        peaks[n_peaks, 0], peaks[n_peaks, 1] = t_peak, peak
+    track[T_ENERGY], track[T_SIGN], track[T_PEAK], track[T_TPEAK] = energy, sign, peak, t_peak
+    track[T_NPEAKS], track[T_NIMP], track[T_ROW] = n_peaks, n_imp, last_row
+    return status, step
+
+
+def run_kernel(qk0, vk0, qe0, ve0, mass, inertia, Fk, verts, Ainv, Mc, Kc, Cc, pe,
+               edof, x_nodes, Le, L, dt, theta, mu, e_rest, gs_tol, gs_max_iter,
+               n_steps, stride, rest_angle, rest_rate, cross_eps, i_mid, max_events, *,
+               chunk=None, on_chunk=None):
+    """Run `n_steps` Moreau–Jean steps from the given state (see module docstring).
+
+    The compiled loop runs in calls of `chunk` steps (default: all at once);
+    `on_chunk(step)` is called after each, e.g. to move a progress bar (and
+    Python sees Ctrl-C between calls). The result does not depend on `chunk`.
+
+    Returns
+    -------
+    status, last_step : int
+    series : ndarray (rows, len(SERIES))
+    peaks : ndarray (n_peaks, 2) — (time, |φ|) of each half-cycle, the release first
+    impacts : ndarray (n_impacts,) — times of contact activations with U_n⁻ < −10 g Δt
+    stats : ndarray (len(STAT_NAMES),)
+    qk, vk, qe, ve : final state
+    """
+    qk, vk, qe, ve = (np.array(a, dtype=float) for a in (qk0, vk0, qe0, ve0))
+    series = np.zeros((n_steps // stride + 1, len(SERIES)))
+    peaks, impacts, stats = np.zeros((max_events, 2)), np.zeros(max_events), np.zeros(len(STAT_NAMES))
+    track = np.zeros(len(TRACK_NAMES))
+    was_active, P_prev = np.zeros(4, dtype=np.bool_), np.zeros((4, 2))
+    start_state(qk, vk, qe, ve, mass, inertia, Fk, Mc, Kc, pe, L, i_mid, cross_eps,
+                series, stats, track)
+    chunk = n_steps if chunk is None else max(1, int(chunk))
+    status, step, first = 0, 0, 1
+    while first <= n_steps and status == 0:
+        last = min(first + chunk - 1, n_steps)
+        status, step = run_steps(first, last, qk, vk, qe, ve, was_active, P_prev, track, series,
+                                 peaks, impacts, stats, mass, inertia, Fk, verts, Ainv, Mc, Kc,
+                                 Cc, pe, edof, x_nodes, Le, L, dt, theta, mu, e_rest, gs_tol,
+                                 gs_max_iter, stride, rest_angle, rest_rate, cross_eps, i_mid)
+        if on_chunk is not None:
+            on_chunk(step)
+        first = last + 1
+    n_peaks, peak = int(track[T_NPEAKS]), track[T_PEAK]
+    if peak > cross_eps and n_peaks < max_events:         # close the last half-cycle
+        peaks[n_peaks] = track[T_TPEAK], peak
         n_peaks += 1
+    n_imp, last_row = int(track[T_NIMP]), int(track[T_ROW])
     return (status, step, series[:last_row + 1], peaks[:n_peaks], impacts[:n_imp], stats,
             qk, vk, qe, ve)

@@ -17,11 +17,24 @@ from scipy import sparse
 
 import specimens
 from multimass.errors import InputError
+from multimass.progress import RunCost, format_bytes
+from multimass.validation import integer, number, positive
 from specimens import BeamSpecimen, BlockSpecimen
 
+from . import cost
 from .fe_beam import BeamModel, build_beam, static_deflection
 
-__all__ = ["System", "build_system", "flexible_modulus", "load_block", "load_beam", "csr"]
+__all__ = ["System", "Inputs", "build_system", "check_inputs", "flexible_modulus", "min_modulus",
+           "load_block", "load_beam", "csr", "assemble", "E_MAX", "MIN_DEFLECTION_RATIO", "check_elements",
+           "flex_range", "check_exponent"]
+
+#: Largest Young's modulus accepted (Pa). Paper 002's rigid base is 1e24 Pa; at
+#: 1e30 Pa its beam is rigid to round-off (B6M's first peak equals the 1e24 Pa
+#: run's to 4e-11° and the 1e200 Pa run's exactly, at Δt = 1e-4 s), while near
+#: 1e300 Pa the Rayleigh fit overflows (a0 ∝ ω₁ω₃ ∝ E).
+E_MAX = 1e30
+#: The softest beam accepted deflects L/MIN_DEFLECTION_RATIO at midspan (see `min_modulus`).
+MIN_DEFLECTION_RATIO = 30.0
 
 
 def _load(value, cls, field: str, examples: str):
@@ -49,9 +62,44 @@ def flexible_modulus(block, beam="beam_mudric2024", ratio: float = 2500.0) -> fl
     Closed form δ = P L³ / (48 E I) of a simply supported beam with a central
     point load P = m g (paper 002, Section 6.3: Ē for L/2500).
     """
+    ratio = positive("ratio", ratio, "the midspan deflection is L/ratio, e.g. 2500")
     blk, bm = load_block(block), load_beam(beam)
     P = blk.mass * blk.g
-    return P * bm.span**3 / (48.0 * bm.second_moment * bm.span / ratio)
+    E = P * bm.span**3 / (48.0 * bm.second_moment * bm.span / ratio)
+    if not math.isfinite(E) or E <= 0.0:
+        raise InputError(f"`ratio` = {ratio!r}: the modulus for a midspan deflection L/ratio "
+                         f"is {E!r} Pa; give a ratio such as 2500 (paper 002, Section 6.3)")
+    return E
+
+
+def min_modulus(block, beam="beam_mudric2024") -> float:
+    """The smallest Young's modulus accepted: midspan deflection L/`MIN_DEFLECTION_RATIO`.
+
+    Closed forms of a simply supported beam: the block's weight P at midspan,
+    δ = P L³ / (48 E I), plus the self-weight w = ρ A g, δ = 5 w L⁴ / (384 E I).
+    At δ = L/30 the end slope of the point-load line is 3δ/L = 0.1 rad, and
+    the curvature v'' of linear (small-deflection) beam theory, which the FE
+    beam uses (paper 002, Section 3.1), errs by (1 + v'²)^(3/2) − 1 ≈ 1.5 %;
+    a softer beam is outside the model (paper 002 goes down to L/2500).
+    """
+    blk, bm = load_block(block), load_beam(beam)
+    w = bm.rho * bm.area * bm.g
+    load = blk.mass * blk.g * bm.span**3 / 48.0 + 5.0 * w * bm.span**4 / 384.0
+    return load / (bm.second_moment * bm.span / MIN_DEFLECTION_RATIO)
+
+
+def flex_range(block, beam="beam_mudric2024") -> tuple[float, float]:
+    """The exponents n of E = Ē·10ⁿ accepted: from `min_modulus` to `E_MAX`."""
+    Ebar = flexible_modulus(block, beam)
+    return math.log10(min_modulus(block, beam) / Ebar), math.log10(E_MAX / Ebar)
+
+
+def check_exponent(n, block, beam="beam_mudric2024", name: str = "exponent") -> float:
+    """An exponent n of E = Ē·10ⁿ within `flex_range` (checked before 10ⁿ is computed)."""
+    low, high = flex_range(block, beam)
+    return number(name, n, low=low, high=high,
+                  what=f"E = Ē·10^n: from {low:.3g} (midspan deflection L/"
+                       f"{MIN_DEFLECTION_RATIO:g}) to {high:.3g} (E = {E_MAX:g} Pa)")
 
 
 @dataclass(frozen=True)
@@ -86,38 +134,106 @@ class System:
         return float(self.beam.x_nodes[self.beam.n_elements // 2])
 
 
-def _check(name: str, value, low: float, high: float | None = None, *, low_open=False,
-           fix: str = "") -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"`{name}` = {value!r}: expected a number; {fix}") from None
-    if not math.isfinite(x):
-        raise InputError(f"`{name}` = {value!r}: expected a finite number; {fix}")
-    bad = (x <= low if low_open else x < low) or (high is not None and x > high)
-    if bad:
-        rng = f"{'(' if low_open else '['}{low:g}, {'inf)' if high is None else f'{high:g}]'}"
-        raise InputError(f"`{name}` = {value!r}: must lie in {rng}; {fix}")
-    return x
+@dataclass(frozen=True)
+class Inputs:
+    """The validated inputs of one simulation (SI units, radians), before assembly."""
+
+    block: BlockSpecimen
+    beam: BeamSpecimen
+    theta0: float
+    dt: float
+    E: float
+    n_elements: int
+    theta_method: float
+    mu: float
+    restitution: float
+    x_centre: float
 
 
-def _block_inputs(blk: BlockSpecimen, bm: BeamSpecimen, theta0: float, x_centre: float | None):
+def _name(names, key: str) -> str:
+    return (names or {}).get(key, key)
+
+
+def check_elements(n_elements, name: str = "n_elements") -> int:
+    """An element count in 3..`cost.MAX_ELEMENTS`; the message of a larger one gives its cost."""
+    n = integer(name, n_elements, low=3, what="beam elements; paper 002 uses 3, 6, 12 and 24")
+    if n > cost.MAX_ELEMENTS:
+        per_step = cost.step_seconds(n)
+        raise InputError(f"`{name}` = {n_elements!r}: at most {cost.MAX_ELEMENTS} elements: the "
+                         f"beam's matrices are dense, so {n} elements would need "
+                         f"{format_bytes(cost.assembly_memory(n))} of memory and ~{per_step:.2g} s "
+                         "per step, and the stiffness matrix would be too ill-conditioned to "
+                         "solve; paper 002's responses agree from 12 elements (Fig 11): use 6–24")
+    return n
+
+
+def _check_modulus(E, blk: BlockSpecimen, bm: BeamSpecimen, name: str) -> float:
+    E = positive(name, E, "Young's modulus in Pa; 1e24 = paper 002's rigid base")
+    e_min = min_modulus(blk, bm)
+    if E < e_min:
+        raise InputError(f"`{name}` = {E:g} Pa: too soft for {bm.name!r} under {blk.name}: the "
+                         f"block and the self-weight would deflect midspan by more than "
+                         f"L/{MIN_DEFLECTION_RATIO:g}, beyond the linear beam theory of the "
+                         f"model; give E >= {e_min:.3g} Pa (nscd.min_modulus)")
+    if E > E_MAX:
+        raise InputError(f"`{name}` = {E:g} Pa: above {E_MAX:g} Pa; the beam is already rigid "
+                         "to round-off at 1e24 Pa (paper 002's rigid base): give E <= "
+                         f"{E_MAX:g} Pa")
+    return E
+
+
+def _block_inputs(blk: BlockSpecimen, bm: BeamSpecimen, theta0, x_centre, names):
     if blk.b >= bm.span:
         raise InputError(f"`block` = {blk.name!r}: its width b = {blk.b:g} m is not smaller than "
                          f"the span L = {bm.span:g} m of `beam` {bm.name!r}; use a longer beam "
                          "or a narrower block")
-    xc = 0.5 * bm.span if x_centre is None else _check(
-        "x_centre", x_centre, 0.0, bm.span, fix="the block's centre abscissa on the span in m")
+    xc = 0.5 * bm.span if x_centre is None else number(
+        _name(names, "x_centre"), x_centre, low=0.0, high=bm.span,
+        what="the block's centre abscissa on the span in m")
     if xc - 0.5 * blk.b < 0.0 or xc + 0.5 * blk.b > bm.span:
-        raise InputError(f"`x_centre` = {xc:g}: the block's footprint [{xc - blk.b / 2:g}, "
-                         f"{xc + blk.b / 2:g}] m does not rest on the beam [0, {bm.span:g}] m; "
-                         f"put its centre within [{blk.b / 2:g}, {bm.span - blk.b / 2:g}] m")
-    th0 = _check("theta0", theta0, -math.inf, fix="the release angle in rad")
+        raise InputError(f"`{_name(names, 'x_centre')}` = {xc:g}: the block's footprint "
+                         f"[{xc - blk.b / 2:g}, {xc + blk.b / 2:g}] m does not rest on the beam "
+                         f"[0, {bm.span:g}] m; put its centre within [{blk.b / 2:g}, "
+                         f"{bm.span - blk.b / 2:g}] m")
+    th0 = number(_name(names, "theta0"), theta0, what="the release angle in rad")
     if abs(th0) >= blk.alpha:
-        raise InputError(f"`theta0` = {theta0!r} rad: the block does not rest on its corner: "
-                         f"|θ0| must be below the overturning angle α = {blk.alpha:.4f} rad "
-                         f"({math.degrees(blk.alpha):.3f}°) of {blk.name}")
+        raise InputError(f"`{_name(names, 'theta0')}` = {theta0!r} rad: the block does not rest "
+                         f"on its corner: |θ0| must be below the overturning angle "
+                         f"α = {blk.alpha:.4f} rad ({math.degrees(blk.alpha):.3f}°) of {blk.name}")
     return th0, xc
+
+
+def check_inputs(block, beam="beam_mudric2024", *, theta0, dt, E=None, n_elements=None,
+                 theta_method=1.0, mu=None, restitution=0.0, x_centre=None,
+                 names: dict | None = None) -> Inputs:
+    """Validate the inputs of `build_system` without assembling anything (cheap).
+
+    `names` maps an argument to the name shown in messages (e.g.
+    ``{"n_elements": "--elements"}`` for the command line).
+
+    Raises
+    ------
+    InputError
+        dt ≤ 0; a block not narrower than the span; fewer than 3 or more than
+        `cost.MAX_ELEMENTS` elements; θ-method parameter outside [0, 1]; a
+        block not resting on the beam (footprint off the span, or |θ0| ≥ α);
+        μ < 0; e outside [0, 1]; E outside [`min_modulus`, `E_MAX`]; a bool,
+        a string or a non-finite number anywhere.
+    """
+    blk, bm = load_block(block), load_beam(beam)
+    dt = positive(_name(names, "dt"), dt, "the time step in s, e.g. 1e-5")
+    th = number(_name(names, "theta_method"), theta_method, low=0.0, high=1.0,
+                what="the θ-method parameter, paper 002 Eqs 21–25; 1 = backward Euler")
+    mu = bm.mu if mu is None else number(_name(names, "mu"), mu, low=0.0,
+                                         what="a friction coefficient >= 0")
+    e = number(_name(names, "restitution"), restitution, low=0.0, high=1.0,
+               what="Newton's coefficient e; 0 = plastic")
+    E = _check_modulus(bm.E if E is None else E, blk, bm, _name(names, "E") if E is not None
+                       else f"material.youngs_modulus_Pa` of beam `{bm.name}")
+    n_el = bm.n_elements if n_elements is None else check_elements(
+        n_elements, _name(names, "n_elements"))
+    th0, xc = _block_inputs(blk, bm, theta0, x_centre, names)
+    return Inputs(blk, bm, th0, dt, E, int(n_el), th, mu, e, xc)
 
 
 def _inverse_A(beam: BeamModel, dt: float, th: float) -> np.ndarray:
@@ -147,26 +263,26 @@ def build_system(block, beam="beam_mudric2024", *, theta0: float, dt: float,
     Raises
     ------
     InputError
-        dt ≤ 0, a block not narrower than the span, fewer than 3 elements,
-        θ-method parameter outside [0, 1], a block not resting on the beam
-        (footprint off the span, or |θ0| ≥ α), μ < 0, e outside [0, 1], E ≤ 0.
+        Bad input (see `check_inputs`), or an assembly whose dense matrices
+        would not fit in memory.
     """
-    blk, bm = load_block(block), load_beam(beam)
-    dt = _check("dt", dt, 0.0, low_open=True, fix="give a positive time step in s, e.g. 1e-5")
-    th = _check("theta_method", theta_method, 0.0, 1.0,
-                fix="the θ-method parameter (paper 002, Eqs 21–25; 1 = backward Euler)")
-    mu = bm.mu if mu is None else _check("mu", mu, 0.0, fix="a friction coefficient >= 0")
-    e = _check("restitution", restitution, 0.0, 1.0, fix="Newton's coefficient e (0 = plastic)")
-    E = bm.E if E is None else _check("E", E, 0.0, low_open=True, fix="Young's modulus in Pa")
-    n_el = bm.n_elements if n_elements is None else n_elements
-    if isinstance(n_el, bool) or not isinstance(n_el, (int, np.integer)) or n_el < 3:
-        raise InputError(f"`n_elements` = {n_el!r}: give an integer >= 3 (paper 002 uses 3, 6, 12)")
-    th0, xc = _block_inputs(blk, bm, theta0, x_centre)
-    model = build_beam(bm.span, E, bm.area, bm.second_moment, bm.rho, int(n_el),
+    return assemble(check_inputs(block, beam, theta0=theta0, dt=dt, E=E, n_elements=n_elements,
+                                 theta_method=theta_method, mu=mu, restitution=restitution,
+                                 x_centre=x_centre))
+
+
+def assemble(inp: Inputs) -> System:
+    """The `System` of validated inputs (see `build_system`); checks its memory first."""
+    blk, bm, n_el = inp.block, inp.beam, inp.n_elements
+    RunCost(0.0, cost.setup_seconds(n_el), cost.assembly_memory(n_el),
+            f"dense beam matrices of {n_el} elements").check(
+        f"the beam of {n_el} elements", "use fewer elements (paper 002: 6–24)")
+    model = build_beam(bm.span, inp.E, bm.area, bm.second_moment, bm.rho, n_el,
                        bm.damping_ratios, bm.damping_modes, bm.g)
     b, h, m = blk.b, blk.h, blk.mass
     inertia = m * (b * b + h * h) / 12.0
     verts = np.array([[-b / 2, -h / 2], [b / 2, -h / 2], [b / 2, h / 2], [-b / 2, h / 2]])
+    th0, xc = inp.theta0, inp.x_centre
     phi0 = -th0                                                    # paper 002 φ = −θ
     x_left, x_right = xc - b / 2, xc + b / 2
     pivot = 1 if th0 >= 0.0 else 0                # vertex 1 is the right corner, 0 the left
@@ -183,8 +299,8 @@ def build_system(block, beam="beam_mudric2024", *, theta0: float, dt: float,
     c, s = math.cos(phi0), math.sin(phi0)
     r = verts[pivot]
     G = corner - np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
-    Ainv = _inverse_A(model, dt, th)
-    return System(block=blk, beam_spec=bm, beam=model, dt=dt, theta_method=th, mu=mu,
-                  restitution=e, theta0=th0, x_centre=xc, mass=m, inertia=inertia,
-                  Fk=np.array([0.0, -m * blk.g, 0.0]), verts=verts, Ainv=Ainv,
+    Ainv = _inverse_A(model, inp.dt, inp.theta_method)
+    return System(block=blk, beam_spec=bm, beam=model, dt=inp.dt, theta_method=inp.theta_method,
+                  mu=inp.mu, restitution=inp.restitution, theta0=th0, x_centre=xc, mass=m,
+                  inertia=inertia, Fk=np.array([0.0, -m * blk.g, 0.0]), verts=verts, Ainv=Ainv,
                   qk0=np.array([G[0], G[1], phi0]), qe0=qe0)

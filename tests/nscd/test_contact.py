@@ -59,8 +59,9 @@ def test_gauss_seidel_two_sticking_contacts_solve_the_linear_system():
     W = Wfull.reshape(2, 2, 2, 2).transpose(0, 2, 1, 3).copy()
     P = np.zeros((2, 2))
     sliding = np.zeros(2, dtype=np.bool_)
-    it, ok = gauss_seidel(W, U.reshape(2, 2).copy(), P, sliding, 2, 10.0, 1e-13, 10000, 1.0)
-    assert ok and it > 1
+    it, ok, residual = gauss_seidel(W, U.reshape(2, 2).copy(), P, sliding, 2, 10.0, 1e-13, 10000,
+                                    1.0)
+    assert ok and it > 1 and residual <= 1e-13
     # closed form: P = -W^-1 U
     assert P.ravel() == pytest.approx([1.0, 0.1, 2.0, -0.2], abs=1e-9)
 
@@ -72,6 +73,6 @@ def test_gauss_seidel_reports_the_cap():
     U = -Wfull @ np.array([1.0, 0.1, 2.0, -0.2])
     W = Wfull.reshape(2, 2, 2, 2).transpose(0, 2, 1, 3).copy()
     P = np.zeros((2, 2))
-    it, ok = gauss_seidel(W, U.reshape(2, 2).copy(), P, np.zeros(2, dtype=np.bool_), 2, 10.0,
-                          1e-14, 3, 1.0)
-    assert (it, ok) == (3, False)
+    it, ok, residual = gauss_seidel(W, U.reshape(2, 2).copy(), P, np.zeros(2, dtype=np.bool_), 2,
+                                    10.0, 1e-14, 3, 1.0)
+    assert (it, ok) == (3, False) and residual > 1e-14

@@ -1,12 +1,15 @@
 """Verdicts on successive refinements and the detection of non-convergence
 (paper 002, Sections 6.1 and 6.3)."""
 
+import importlib
 import math
 
 import pytest
 
 import nscd
-from nscd.convergence import dt_study, housner_first_peak, judge, mesh_study
+from multimass.errors import InputError
+from nscd.convergence import (check_levels, dt_study, first_peak_study, flexibility_study,
+                              housner_first_peak, judge, mesh_study)
 
 
 @pytest.mark.parametrize("diffs, ratio, status", [
@@ -61,3 +64,67 @@ def test_rest_time_undetermined_when_still_rocking():
     rest = next(v for v in st.verdicts if v.measure == "rest_time_s")
     assert rest.status == "undetermined" and "t_end" in rest.reason
     assert st.status == "converged"          # the undetermined measure is left out
+
+
+# --- levels, budget and progress of a study --------------------------------------------
+
+@pytest.mark.parametrize("values, kind, kw, fragment", [
+    ((1e-3, 0), "dt", {}, "`dts[1]` = 0"),
+    ((1e-3,), "dt", {}, "at least 2 levels"),
+    ((1e-3, 1e-3), "dt", {}, "repeated"),
+    ((1e-3, 1e-4, 5e-5), "dt", {}, "ratios 10, 2 differ"),
+    ("1e-3 1e-4", "dt", {}, "give a list of levels"),
+    ((3, 6.0), "mesh", {}, "`meshes[1]` = 6.0: expected a whole number"),
+    ((3, 5, 12), "mesh", {}, "ratios"),
+    ((3, 1001), "mesh", {"geometric": False}, "at most 1000 elements"),
+])
+def test_bad_levels(values, kind, kw, fragment):
+    with pytest.raises(InputError) as err:
+        check_levels("dts" if kind == "dt" else "meshes", values, kind=kind, **kw)
+    assert fragment in str(err.value)
+
+
+def test_levels_are_sorted_coarse_to_fine():
+    assert check_levels("dts", [1e-5, 1e-3, 1e-4], kind="dt") == (1e-3, 1e-4, 1e-5)
+    assert check_levels("meshes", [12, 3, 6], kind="mesh") == (3, 6, 12)
+    # the first-peak study fits a slope: any spacing
+    assert check_levels("dts", [1e-3, 5e-4, 1e-4], kind="dt", geometric=False)[0] == 1e-3
+
+
+def test_study_over_budget_is_refused_before_its_first_run(monkeypatch):
+    engine = importlib.import_module("nscd.convergence")
+    monkeypatch.setattr(engine, "execute", lambda *a, **k: pytest.fail("a run started"))
+    # 4e8 + 4e9 steps: hours in total, each run's own estimate notwithstanding
+    with pytest.raises(InputError, match=r"dt study of B6M: estimated .*over the budget"):
+        dt_study("B6M", (1e-8, 1e-9))
+    # a later level with bad input stops the study before the first run, too
+    with pytest.raises(InputError, match="`t_end`"):
+        mesh_study("B6M", (3, 6), dt=1e-3, t_end=-1.0)
+    with pytest.raises(InputError, match="`progress`"):
+        mesh_study("B6M", (3, 6), dt=1e-3, t_end=0.05, progress="yes")
+
+
+def test_study_reports_each_run():
+    lines = []
+    st = mesh_study("B6M", (3, 6), dt=1e-3, t_end=0.05, report=lines.append)
+    assert [line.split(" done")[0] for line in lines] == ["B6M 3 elements", "B6M 6 elements"]
+    assert st.to_dict()["warnings"] == []
+
+
+def test_a_failed_run_fails_the_study():
+    # explicit theta-method on the stiff rigid base: every run diverges (nothing to compare)
+    st = dt_study("B6M", (2e-4, 1e-4), t_end=0.05, theta_method=0.0)
+    assert all(r.outcome == "failed" for r in st.runs) and st.status == "failed"
+    assert st.warnings and all("the run failed" in w for w in st.warnings)
+
+
+def test_first_peak_study_takes_one_block_name():
+    fps = first_peak_study("B6M", (1e-3, 5e-4), t_end=0.8)      # not the letters B, 6, M
+    assert fps.blocks == ("B6M",) and fps.warnings == ()
+
+
+def test_flexibility_base_level_must_be_shared():
+    with pytest.raises(InputError, match="`base_dt` = 2e-05: must be one of `dts`"):
+        flexibility_study("B6M", (2,), dts=(1e-4, 1e-5), base_dt=2e-5)
+    with pytest.raises(InputError, match=r"`exponents\[0\]` = 1000"):
+        flexibility_study("B6M", (1000,))
