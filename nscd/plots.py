@@ -3,11 +3,18 @@
 Plotting only; the numbers come from `nscd.simulate` and `nscd.convergence`.
 Every convergence figure states its verdicts, and a study that does not
 converge says so in red in its title.
+
+Layout rules, which the tests check on every figure: a legend sits outside
+the axes it labels (it never hides a curve or a marker line); every text lies
+inside the figure; every line contrasts with the white background at least
+3:1 (the WCAG ratio for graphics: no yellow on white). Each ``*_figure``
+function returns the figure; each ``plot_*`` function saves it.
 """
 
 from __future__ import annotations
 
 import math
+import textwrap
 from pathlib import Path
 
 import matplotlib
@@ -16,11 +23,15 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-__all__ = ["plot_history", "plot_study", "plot_first_peak", "plot_flexibility"]
+__all__ = ["plot_history", "plot_study", "plot_first_peak", "plot_flexibility", "history_figure",
+           "study_figure", "first_peak_figure", "flexibility_figures", "PALETTE"]
 
 _DPI = 100
-_STATUS_COLOUR = {"converged": "tab:green", "converging": "tab:orange", "not converged": "tab:red",
-                  "undetermined": "tab:gray"}
+_STATUS_COLOUR = {"converged": "tab:green", "converging": "#d95f02", "not converged": "tab:red",
+                  "undetermined": "tab:gray", "failed": "tab:red"}
+#: line colours, each at least 3:1 against white; the finest level (or the reference) is black
+PALETTE = ("tab:blue", "#d95f02", "tab:green", "tab:red", "tab:purple", "tab:brown", "#e7298a",
+           "tab:gray")
 
 
 def _save(fig, path: Path) -> Path:
@@ -29,6 +40,12 @@ def _save(fig, path: Path) -> Path:
     fig.savefig(path, dpi=_DPI)
     plt.close(fig)
     return path
+
+
+def _legend_outside(ax, **kw):
+    """The legend to the right of the axes, outside the data area."""
+    return ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0,
+                     **kw)
 
 
 def _thin(t, y, n=4000):
@@ -47,31 +64,38 @@ def _thin(t, y, n=4000):
     return tt, yy
 
 
-def plot_history(res, path, *, exact_first_peak_deg=None, paper_first_peak_deg=None,
-                 paper_rest_time_s=None) -> Path:
+def _reference_lines(ax, res, exact_first_peak_deg, paper_first_peak_deg, paper_rest_time_s):
+    p = res.params
+    if paper_first_peak_deg is not None:
+        ax.axhline(paper_first_peak_deg, color="tab:red", ls=":", lw=1,
+                   label=f"paper 002 first peak ±{paper_first_peak_deg:g}°")
+        ax.axhline(-paper_first_peak_deg, color="tab:red", ls=":", lw=1)
+    if exact_first_peak_deg is not None:
+        ax.axhline(-exact_first_peak_deg if p["theta0_deg"] > 0 else exact_first_peak_deg,
+                   color="k", ls="--", lw=0.8,
+                   label=f"rigid block, Housner η: {exact_first_peak_deg:.3f}°")
+    if res.rest_time_s is not None:
+        ax.axvline(res.rest_time_s, color="tab:green", lw=1,
+                   label=f"at rest (|θ| < {100 * p['rest_fraction']:g} % θ0): {res.rest_time_s:.2f} s")
+    if paper_rest_time_s is not None:
+        ax.axvline(paper_rest_time_s, color="tab:red", ls="-.", lw=1,
+                   label=f"paper 002 rest ≈ {paper_rest_time_s:g} s")
+
+
+def history_figure(res, *, exact_first_peak_deg=None, paper_first_peak_deg=None,
+                   paper_rest_time_s=None):
     """Block angle, angular velocity and beam deflection against time (paper 002, Figs 12–15)."""
-    fig, ax = plt.subplots(3, 1, figsize=(8, 7.5), sharex=True,
+    fig, ax = plt.subplots(3, 1, figsize=(10, 7.5), sharex=True, layout="constrained",
                            gridspec_kw={"height_ratios": [2, 1, 1]})
     p = res.params
     ax[0].plot(*_thin(res.t, np.degrees(res.theta)), lw=0.8, color="tab:blue", label="NSCD")
-    if paper_first_peak_deg is not None:
-        ax[0].axhline(paper_first_peak_deg, color="tab:red", ls=":", lw=1,
-                      label=f"paper 002 first peak {paper_first_peak_deg:g}°")
-        ax[0].axhline(-paper_first_peak_deg, color="tab:red", ls=":", lw=1)
-    if exact_first_peak_deg is not None:
-        ax[0].axhline(-exact_first_peak_deg if p["theta0_deg"] > 0 else exact_first_peak_deg,
-                      color="k", ls="--", lw=0.8,
-                      label=f"rigid block, Housner η: {exact_first_peak_deg:.3f}°")
-    if res.rest_time_s is not None:
-        ax[0].axvline(res.rest_time_s, color="tab:green", lw=1,
-                      label=f"at rest (|θ| < {100 * p['rest_fraction']:g} % θ0): {res.rest_time_s:.2f} s")
-    if paper_rest_time_s is not None:
-        ax[0].axvline(paper_rest_time_s, color="tab:red", ls=":", lw=1,
-                      label=f"paper 002 rest ≈ {paper_rest_time_s:g} s")
+    _reference_lines(ax[0], res, exact_first_peak_deg, paper_first_peak_deg, paper_rest_time_s)
     ax[0].set_ylabel("θ (deg)")
-    ax[0].legend(fontsize=7, loc="upper right")
-    ax[0].set_title(f"{p['block']} on {p['beam']}: E = {p['E_Pa']:.3g} Pa, {p['n_elements']} elements, "
-                    f"Δt = {p['dt_s']:g} s, θ-method {p['theta_method']:g} — {res.status}", fontsize=9)
+    _legend_outside(ax[0])
+    status = res.status + (f" ({res.outcome})" if res.status != res.outcome else "")
+    fig.suptitle(f"{p['block']} on {p['beam']}: E = {p['E_Pa']:.3g} Pa, {p['n_elements']} "
+                 f"elements, Δt = {p['dt_s']:g} s, θ-method {p['theta_method']:g} — {status}",
+                 fontsize=9, color="k" if res.status in ("completed", "overturned") else "tab:red")
     ax[1].plot(*_thin(res.t, res.theta_dot), lw=0.8, color="tab:purple")
     ax[1].set_ylabel("θ̇ (rad/s)")
     ax[2].plot(*_thin(res.t, 1e3 * res.v_mid), lw=0.8, color="tab:brown")
@@ -79,68 +103,93 @@ def plot_history(res, path, *, exact_first_peak_deg=None, paper_first_peak_deg=N
     ax[2].set_xlabel("t (s)")
     for a in ax:
         a.grid(alpha=0.3)
-    fig.tight_layout()
-    return _save(fig, path)
+    return fig
 
 
-def _verdict_text(study) -> str:
-    lines = []
+def plot_history(res, path, **references) -> Path:
+    """Save `history_figure` (keywords: exact_first_peak_deg, paper_first_peak_deg,
+    paper_rest_time_s)."""
+    return _save(history_figure(res, **references), path)
+
+
+def _verdict_lines(study, width: int = 140) -> list[str]:
+    """The verdict panel's lines, wrapped to `width` characters (monospace)."""
+    lines = ["differences between successive levels:"]
     for v in study.verdicts:
         diffs = ", ".join("∞" if not math.isfinite(d) else f"{d:.3g}" for d in v.differences)
         lines.append(f"{v.measure}: Δ = [{diffs}] {v.unit} (tol {v.tolerance:g}) → {v.status}")
-    return "\n".join(lines)
+    lines += [f"warning: {w}" for w in study.warnings]
+    return [part for line in lines for part in textwrap.wrap(line, width, subsequent_indent="  ")]
 
 
 def _level_label(kind, level):
     return f"Δt = {level:g} s" if kind == "dt" else f"{level} elements"
 
 
-def _study_axes(ax, study, t_max=None, legend=True):
-    cmap = plt.get_cmap("viridis")
+def _level_style(k: int, n: int) -> dict:
+    """The finest level in thick black underneath, coarser levels in the palette on top."""
+    if k == n - 1:
+        return {"color": "k", "lw": 1.8, "zorder": 2}
+    return {"color": PALETTE[k % len(PALETTE)], "lw": 0.9, "zorder": 3}
+
+
+def _study_axes(ax, study, t_max=None):
     n = len(study.runs)
     for k, (lev, r) in enumerate(zip(study.levels, study.runs)):
         t, th = r.t, np.degrees(r.theta)
         if t_max is not None:
             keep = t <= t_max
             t, th = t[keep], th[keep]
-        ax.plot(*_thin(t, th), lw=0.9, color=cmap(k / max(n - 1, 1)),
-                label=_level_label(study.kind, lev) + ("" if r.status == "completed" else f" ({r.status})"))
+        ax.plot(*_thin(t, th), **_level_style(k, n),
+                label=_level_label(study.kind, lev) + ("" if r.status == "completed"
+                                                       else f" ({r.status})"))
     ax.set_ylabel("θ (deg)")
     ax.grid(alpha=0.3)
-    if legend:
-        ax.legend(fontsize=7, loc="upper right")
+    _legend_outside(ax)
 
 
-def plot_study(study, path, title: str = "") -> Path:
-    """θ(t) at each refinement level with the verdicts (paper 002, Figs 10–11)."""
-    fig, ax = plt.subplots(figsize=(9, 6))
+def study_figure(study, title: str = ""):
+    """θ(t) at each refinement level above a panel of the verdicts (paper 002, Figs 10–11)."""
+    lines = _verdict_lines(study)
+    text_h = 0.2 + 0.16 * len(lines)                    # inches of the verdict panel
+    fig, (ax, box) = plt.subplots(2, 1, figsize=(10, 5.5 + text_h), layout="constrained",
+                                  gridspec_kw={"height_ratios": [5.5, text_h]})
     _study_axes(ax, study)
     ax.set_xlabel("t (s)")
     colour = _STATUS_COLOUR[study.status]
     ax.set_title((title or f"{study.block}: {study.kind} study") + f" — {study.status.upper()}",
                  color=colour, fontsize=10)
-    fig.tight_layout(rect=(0, 0.15, 1, 1))
-    fig.text(0.01, 0.01, "differences between successive levels:\n" + _verdict_text(study),
-             fontsize=7, family="monospace", va="bottom",
+    box.axis("off")
+    box.text(0.0, 1.0, "\n".join(lines), transform=box.transAxes, fontsize=7,
+             family="monospace", va="top", ha="left",
              bbox={"facecolor": "white", "edgecolor": colour})
-    return _save(fig, path)
+    return fig
 
 
-def plot_first_peak(fps, path) -> Path:
+def plot_study(study, path, title: str = "") -> Path:
+    """Save `study_figure`."""
+    return _save(study_figure(study, title), path)
+
+
+def first_peak_figure(fps):
     """First-peak error against Δt, log–log, with the fitted order for each block."""
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4.5))
+    fig, ax = plt.subplots(1, 2, figsize=(13, 4.5), layout="constrained")
     dts = np.array(fps.dts)
-    for name in fps.blocks:
-        err = np.array(fps.errors_deg[name])
-        line, = ax[0].loglog(dts, np.maximum(err, 1e-12), "o-", ms=4,
-                             label=f"{name}: fitted order {fps.fitted_order[name]:.2f}")
-        ax[1].semilogx(dts, fps.peaks_deg[name], "o-", ms=4, color=line.get_color(), label=name)
-        ax[1].axhline(fps.exact_deg[name], color=line.get_color(), ls="--", lw=0.8)
+    for i, name in enumerate(fps.blocks):
+        colour = PALETTE[i % len(PALETTE)]
+        err = np.array([np.nan if e is None else e for e in fps.errors_deg[name]], dtype=float)
+        peaks = np.array([np.nan if p is None else p for p in fps.peaks_deg[name]], dtype=float)
+        order = fps.fitted_order[name]
+        ax[0].loglog(dts, np.maximum(err, 1e-12), "o-", ms=4, color=colour,
+                     label=f"{name}: fitted order " + ("-" if order is None else f"{order:.2f}"))
+        ax[1].semilogx(dts, peaks, "o-", ms=4, color=colour, label=name)
+        ax[1].axhline(fps.exact_deg[name], color=colour, ls="--", lw=0.8)
         if fps.paper_deg.get(name) is not None:
-            ax[1].plot([1e-5], [fps.paper_deg[name]], "*", ms=11, color=line.get_color(),
+            ax[1].plot([1e-5], [fps.paper_deg[name]], "*", ms=11, color=colour,
                        markeredgecolor="k")
-    ax[0].loglog(dts, 0.5 * dts / dts[0] * max(max(e) for e in fps.errors_deg.values()), "k:",
-                 lw=1, label="order 1")
+    finite = [e for errs in fps.errors_deg.values() for e in errs if e is not None]
+    if finite:
+        ax[0].loglog(dts, 0.5 * dts / dts[0] * max(finite), "k:", lw=1, label="order 1")
     ax[0].set_xlabel("Δt (s)")
     ax[0].set_ylabel("|first peak − exact| (deg)")
     ax[0].set_title("first post-impact peak vs rigid block with Housner η", fontsize=9)
@@ -149,50 +198,67 @@ def plot_first_peak(fps, path) -> Path:
     ax[1].set_title("dashed: exact (Housner η); stars: paper 002 at Δt = 1e-5 s", fontsize=9)
     for a in ax:
         a.grid(alpha=0.3, which="both")
-        a.legend(fontsize=7)
-    fig.tight_layout()
-    return _save(fig, path)
+        _legend_outside(a)
+    return fig
+
+
+def plot_first_peak(fps, path) -> Path:
+    """Save `first_peak_figure`."""
+    return _save(first_peak_figure(fps), path)
 
 
 def _exp_label(n):
     return f"E = Ē·10^{n}"
 
 
-def plot_flexibility(flex, outdir) -> list[Path]:
-    """Paper 002, Figs 16–19: flexibility sweep, zoom on the first impacts, mesh and dt studies."""
-    outdir = Path(outdir)
-    name, exps = flex["block"], flex["exponents"]
-    paths = []
-    base = flex["base"]
-    rigid = flex["rigid"]
+def _sweep_figure(flex, lim):
+    """θ(t) on the rigid base and for each E = Ē·10ⁿ, up to t = `lim` (paper 002, Figs 16–17)."""
+    name, exps, base, rigid = flex["block"], flex["exponents"], flex["base"], flex["rigid"]
+    fig, ax = plt.subplots(figsize=(11, 5), layout="constrained")
+    E = rigid.params["E_Pa"]
+    own = f"rigid base (E = {E:.0e} Pa)" if E >= 1e20 else f"beam's own E = {E:.3g} Pa"
+    curves = [(rigid, own, {"color": "k", "lw": 1.8})]
+    curves += [(base[n], _exp_label(n), {"lw": 0.9, "color": PALETTE[i % len(PALETTE)]})
+               for i, n in enumerate(exps)]
+    for r, lab, kw in curves:
+        keep = r.t <= lim
+        ax.plot(*_thin(r.t[keep], np.degrees(r.theta[keep])), label=lab, **kw)
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("θ (deg)")
+    ax.set_title(f"{name}: flexibility sweep, Ē = {flex['E_bar']:.3g} Pa (L/2500 under the block), "
+                 f"{base[exps[0]].params['n_elements']} elements, "
+                 f"Δt = {base[exps[0]].params['dt_s']:g} s", fontsize=9)
+    ax.grid(alpha=0.3)
+    _legend_outside(ax)
+    return fig
+
+
+def _sensitivity_figure(flex, key):
+    """Mesh or Δt sensitivity per exponent, each panel titled with its verdict (Figs 18–19)."""
+    exps = flex["exponents"]
+    fig, axes = plt.subplots(len(exps), 1, figsize=(10, 2.4 * len(exps) + 0.4), sharex=True,
+                             layout="constrained", squeeze=False)
+    for ax, n in zip(axes[:, 0], exps):
+        st = flex[key][n]
+        _study_axes(ax, st)
+        bad = [v.measure for v in st.verdicts if v.status in ("not converged", "converging")]
+        ax.set_title(f"{_exp_label(n)}: {st.status.upper()}" + (f" ({', '.join(bad)})" if bad else ""),
+                     color=_STATUS_COLOUR[st.status], fontsize=9)
+    axes[-1, 0].set_xlabel("t (s)")
+    return fig
+
+
+def flexibility_figures(flex) -> list[tuple[str, object]]:
+    """(file stem, figure) of paper 002, Figs 16–19 for a `flexibility_study` result."""
+    name, rigid = flex["block"], flex["rigid"]
     pk = rigid.peak_times_s          # the second post-impact peak follows the second impact
     t_zoom = pk[1] + 0.05 if len(pk) > 1 else rigid.t[-1]
-    for tag, lim in (("fig16_flexibility", rigid.t[-1]), ("fig17_first_impacts", t_zoom)):
-        fig, ax = plt.subplots(figsize=(9, 5))
-        curves = [(rigid, f"rigid base (E = {rigid.params['E_Pa']:.0e} Pa)", {"color": "k", "lw": 1.4})]
-        curves += [(base[n], _exp_label(n), {"lw": 0.9}) for n in exps]
-        for r, lab, kw in curves:
-            keep = r.t <= lim
-            ax.plot(*_thin(r.t[keep], np.degrees(r.theta[keep])), label=lab, **kw)
-        ax.set_xlabel("t (s)")
-        ax.set_ylabel("θ (deg)")
-        ax.set_title(f"{name}: flexibility sweep, Ē = {flex['E_bar']:.3g} Pa (L/2500 under the block), "
-                     f"{base[exps[0]].params['n_elements']} elements, Δt = {base[exps[0]].params['dt_s']:g} s",
-                     fontsize=9)
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, loc="upper right")
-        fig.tight_layout()
-        paths.append(_save(fig, outdir / f"{tag}_{name}.png"))
-    for tag, key in (("fig18_mesh", "mesh"), ("fig19_dt", "dt")):
-        fig, axes = plt.subplots(len(exps), 1, figsize=(9, 2.4 * len(exps)), sharex=True)
-        for ax, n in zip(np.atleast_1d(axes), exps):
-            st = flex[key][n]
-            _study_axes(ax, st)
-            bad = [v.measure for v in st.verdicts if v.status in ("not converged", "converging")]
-            ax.set_title(f"{_exp_label(n)}: {st.status.upper()}"
-                         + (f" ({', '.join(bad)})" if bad else ""),
-                         color=_STATUS_COLOUR[st.status], fontsize=9)
-        np.atleast_1d(axes)[-1].set_xlabel("t (s)")
-        fig.tight_layout()
-        paths.append(_save(fig, outdir / f"{tag}_{name}.png"))
-    return paths
+    return [(f"fig16_flexibility_{name}", _sweep_figure(flex, rigid.t[-1])),
+            (f"fig17_first_impacts_{name}", _sweep_figure(flex, t_zoom)),
+            (f"fig18_mesh_{name}", _sensitivity_figure(flex, "mesh")),
+            (f"fig19_dt_{name}", _sensitivity_figure(flex, "dt"))]
+
+
+def plot_flexibility(flex, outdir) -> list[Path]:
+    """Paper 002, Figs 16–19: flexibility sweep, zoom on the first impacts, mesh and dt studies."""
+    return [_save(fig, Path(outdir) / f"{stem}.png") for stem, fig in flexibility_figures(flex)]
