@@ -50,9 +50,13 @@ def number(name: str, value: Any, *, low: float | None = None, high: float | Non
     about = f" ({what})" if what else ""
     if not _is_real(value):
         raise InputError(f"`{name}` = {value!r}: expected a number{about}")
-    x = float(value)
+    try:
+        x = float(value)
+    except OverflowError:                    # an int beyond the float range, e.g. 10**400
+        x = math.inf
     if math.isnan(x) or (math.isinf(x) and not allow_inf):
-        raise InputError(f"`{name}` = {value!r}: expected a finite number{about}")
+        kind = "a number, not NaN" if allow_inf else "a finite number"
+        raise InputError(f"`{name}` = {value!r}: expected {kind}{about}")
     too_low = low is not None and (x <= low if low_open else x < low)
     too_high = high is not None and (x >= high if high_open else x > high)
     if too_low or too_high:

@@ -91,6 +91,8 @@ def _shortened(argv: list[str], tmp) -> list[str]:
         out += ["--executor", "serial", "--no-progress"]
     if argv[0] == "simulate" and "--t-end" not in argv:
         out += ["--t-end", "1.0"]
+    if argv[0] in ("nscd-convergence", "modal", "compare") and "--out" not in argv:
+        out += ["--out", str(tmp / "default_out")]      # their default folder is in the cwd
     if argv[0] == "bench" and "--smoke" not in out:
         out.append("--smoke")
     if argv[0] == "nscd-convergence":

@@ -172,10 +172,10 @@ def simulate_scene(structure, scene, output_dt, backend: str = "auto"):
 
 
 def _trusted(resp, rung: str, scene) -> None:
-    """Raise SolverError unless the run can answer the scene: not failed, checks passed
-    (an inaccurate run would make the model comparison meaningless)."""
-    if resp.status == "failed":
-        raise SolverError(f"model {rung!r} of scene {scene.name!r} failed: {resp.message}")
+    """Raise SolverError unless the run can answer the scene: completed or overturned, its
+    checks passed (an inaccurate run would make the model comparison meaningless)."""
+    if resp.status not in ("completed", "overturned", "inaccurate"):
+        raise SolverError(f"model {rung!r} of scene {scene.name!r} {resp.status}: {resp.message}")
     if resp.status == "inaccurate":
         raise SolverError(f"model {rung!r} of scene {scene.name!r} is inaccurate: "
                           + "; ".join(resp.warnings))
@@ -246,8 +246,7 @@ def _block_answer(rung: Rung, scene, backend: str) -> RungAnswer:
                         dt=scene.nscd_dt, t_end=scene.duration, E=scene.E,
                         n_elements=scene.nscd_elements)
     wall = time.perf_counter() - start
-    if res.status not in ("completed", "overturned"):
-        raise SolverError(f"model 'nscd' of scene {scene.name!r}: {res.status}: {res.message}")
+    _trusted(res, "nscd", scene)
     if q.kind == "overturning":
         value = res.status == "overturned"
     elif res.status == "overturned":
