@@ -59,6 +59,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import InputError
+from .validation import number
 
 __all__ = ["ENERGY_LIMIT", "PROJECTION_LIMIT", "FrictionDemand", "tangential_groups",
            "friction_ratio", "impact_ratio", "run_checks", "validate_mu", "checked_ground",
@@ -201,17 +202,7 @@ def run_checks(energy, ledger_error, ground_work, projection_abs: float,
 
 def _number(name, value, *, low=None, strict=True, finite=True) -> float:
     """`value` as a float, finite (unless `finite` is False) and above `low`, else InputError."""
-    try:
-        x = float(value)
-    except (TypeError, ValueError, OverflowError):
-        raise InputError(f"`{name}` = {value!r}: expected a number") from None
-    bad = math.isnan(x) or (finite and math.isinf(x))
-    if low is not None and not bad:
-        bad = x <= low if strict else x < low
-    if bad:
-        need = "finite" if low is None else f"{'>' if strict else '≥'} {low:g}"
-        raise InputError(f"`{name}` = {value!r}: expected a {need} number")
-    return x
+    return number(name, value, low=low, low_open=strict, allow_inf=not finite)
 
 
 def _state(name, value, n) -> np.ndarray:

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import InputError
+from .validation import number, positive
 
 __all__ = ["Excitation", "FreeRelease", "SineWave", "CosineWave", "CosinePulse", "Ricker",
            "PULSE_NAMES", "pulse"]
@@ -41,15 +42,7 @@ TWO_PI = 2.0 * math.pi
 
 # ---------------------------------------------------------------------------- validation
 def _finite(name: str, value, what: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise InputError(f"`{name}` = {value!r}: expected a number ({what})")
-    try:
-        x = float(value)
-    except OverflowError:                    # an int beyond the float range, e.g. 10**400
-        x = math.inf
-    if not math.isfinite(x):
-        raise InputError(f"`{name}` = {value!r}: expected a finite number ({what})")
-    return x
+    return number(name, value, what=what)
 
 
 def _finite_duration(cls_name: str, duration: float, fix: str) -> None:
@@ -70,10 +63,7 @@ def _amplitude(name: str, value) -> float:
 
 
 def _positive(name: str, value, what: str) -> float:
-    x = _finite(name, value, what)
-    if x <= 0.0:
-        raise InputError(f"`{name}` = {value!r}: must be > 0 ({what})")
-    return x
+    return positive(name, value, what)
 
 
 # ---------------------------------------------------------------------------- base

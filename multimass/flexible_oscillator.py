@@ -29,32 +29,12 @@ import sympy as sp
 from ._contact_checks import ground_excitation
 from .contact_dynamics import ContactResponse, simulate_contacts
 from .errors import InputError
+from .validation import number, positive
 from .flexible_oscillator_eom import numeric, symbolic
 
 __all__ = ["FlexibleOscillator", "OscillatorResponse", "simulate_oscillator"]
 
 SHAPE = (0.0, 0.0, 1.5, -0.5)          # α0, α1, α2, α3: paper 000, Sec 4 (Chopra)
-
-
-def _positive(name, value, allow_zero=False) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError, OverflowError):
-        raise InputError(f"`{name}` = {value!r}: expected a number") from None
-    if not math.isfinite(x) or x < 0.0 or (x == 0.0 and not allow_zero):
-        need = "non-negative" if allow_zero else "positive"
-        raise InputError(f"`{name}` = {value!r}: expected a {need} finite number")
-    return x
-
-
-def _finite(name, value) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError, OverflowError):
-        raise InputError(f"`{name}` = {value!r}: expected a number") from None
-    if not math.isfinite(x):
-        raise InputError(f"`{name}` = {value!r}: expected a finite number")
-    return x
 
 
 def _shape(value) -> tuple[float, float, float, float]:
@@ -137,9 +117,9 @@ class FlexibleOscillator:
 
     def __post_init__(self):
         for name in ("m", "h", "b", "EI", "g"):
-            object.__setattr__(self, name, _positive(name, getattr(self, name)))
+            object.__setattr__(self, name, positive(name, getattr(self, name)))
         for name in ("m_c", "m_b", "zeta"):
-            object.__setattr__(self, name, _positive(name, getattr(self, name), True))
+            object.__setattr__(self, name, number(name, getattr(self, name), low=0.0))
         object.__setattr__(self, "shape", _shape(self.shape))
         _check_derived(self)
 
@@ -147,7 +127,7 @@ class FlexibleOscillator:
     def from_frequency(cls, f_n: float, **kw) -> "FlexibleOscillator":
         """Oscillator whose fixed-base frequency √(k̃/m̃)/2π is `f_n` (Hz)."""
         probe = cls(EI=1.0, **kw)
-        k = (2.0 * math.pi * _positive("f_n", f_n)) ** 2 * probe.m_tilde
+        k = (2.0 * math.pi * positive("f_n", f_n)) ** 2 * probe.m_tilde
         return cls(EI=k / probe.k_tilde, **kw)
 
     def _coef(self, name):
@@ -322,8 +302,8 @@ def simulate_oscillator(osc: FlexibleOscillator, eps_p: float, t_end: float, *, 
     if not isinstance(osc, FlexibleOscillator):
         raise InputError(f"`osc` = {osc!r}: expected a FlexibleOscillator")
     ag, quiet, bps = ground_excitation(ag)
-    u0, udot0 = _finite("u0", u0), _finite("udot0", udot0)
-    eps_p = _finite("eps_p", eps_p)
+    u0, udot0 = number("u0", u0), number("udot0", udot0)
+    eps_p = number("eps_p", eps_p)
     zv = 1e-4 * math.sqrt(osc.g * osc.b) if zeno_velocity is None else zeno_velocity
     q0 = np.array([u0, 0.0, 0.0, 0.0])
     v0 = np.array([udot0, 0.0, 0.0, 0.0])

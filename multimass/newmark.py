@@ -26,6 +26,7 @@ import numpy as np
 
 from . import _newmark_kernel as kern
 from ._newmark_events import RockingEvent, Run
+from . import validation as v
 from .errors import InputError
 from .structure import Structure
 
@@ -100,22 +101,11 @@ def rocking_energy(structure: Structure, theta, thetadot):
 
 
 # ---------------------------------------------------------------------------- validation
-def _number(name, value, what, *, positive=False, nonneg=False) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise InputError(f"`{name}` = {value!r}: expected a number ({what})")
-    x = float(value)
-    if not math.isfinite(x) or (positive and x <= 0.0) or (nonneg and x < 0.0):
-        need = ("a finite number > 0" if positive else
-                "a finite number >= 0" if nonneg else "a finite number")
-        raise InputError(f"`{name}` = {value!r}: expected {need} ({what})")
-    return x
-
-
 def _restitution_fn(restitution) -> Callable[[float, int], float]:
     if callable(restitution):
         return restitution
-    r = _number("restitution", restitution, "coefficient r in (0, 1], or a callable "
-                "(thetadot_minus, new_side) -> r")
+    r = v.number("restitution", restitution, what="coefficient r in (0, 1], or a callable "
+                 "(thetadot_minus, new_side) -> r")
     if not 0.0 < r <= 1.0:
         raise InputError(f"`restitution` = {restitution!r}: r must lie in (0, 1] "
                          "(θ̇+ = r θ̇−; e.g. impact_models.housner_eta(alpha))")
@@ -156,22 +146,18 @@ def _validate(structure, ag, t_end, dt, tol, max_iter, overturn_angle, rest_afte
     if not callable(ag):
         raise InputError(f"`ag` = {ag!r}: expected a callable ü_g(t) in m/s² "
                          "(a function or an object with __call__)")
-    o = {"t_end": _number("t_end", t_end, "duration of the run in s", positive=True),
-         "dt": _number("dt", dt, "time step in s", positive=True),
-         "tol": _number("tol", tol, "Newton tolerance on θ in rad", positive=True),
-         "thetadot_min": _number("thetadot_min", thetadot_min, "rad/s", nonneg=True)}
-    if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 1:
-        raise InputError(f"`max_iter` = {max_iter!r}: expected an integer >= 1")
-    o["max_iter"] = int(max_iter)
-    ang = math.pi / 2 if overturn_angle is None else _number(
-        "overturn_angle", overturn_angle, "rad", positive=True)
-    if ang > math.pi / 2:
-        raise InputError(f"`overturn_angle` = {overturn_angle!r}: must lie in (0, π/2] rad")
+    o = {"t_end": v.positive("t_end", t_end, "duration of the run in s"),
+         "dt": v.positive("dt", dt, "time step in s"),
+         "tol": v.positive("tol", tol, "Newton tolerance on θ in rad"),
+         "thetadot_min": v.number("thetadot_min", thetadot_min, low=0.0, what="rad/s"),
+         "max_iter": v.integer("max_iter", max_iter, low=1)}
+    ang = math.pi / 2 if overturn_angle is None else v.number(
+        "overturn_angle", overturn_angle, low=0.0, low_open=True, high=math.pi / 2, what="rad")
     o["overturn_angle"] = ang
-    o["rest_after"] = None if rest_after is None else _number(
-        "rest_after", rest_after, "time in s after which ü_g ≡ 0", nonneg=True)
-    o["theta0"] = _number("theta0", theta0, "initial angle in rad")
-    o["thetadot0"] = _number("thetadot0", thetadot0, "initial rate in rad/s")
+    o["rest_after"] = None if rest_after is None else v.number(
+        "rest_after", rest_after, low=0.0, what="time in s after which ü_g ≡ 0")
+    o["theta0"] = v.number("theta0", theta0, what="initial angle in rad")
+    o["thetadot0"] = v.number("thetadot0", thetadot0, what="initial rate in rad/s")
     if abs(o["theta0"]) >= ang:
         raise InputError(f"`theta0` = {theta0!r}: |θ0| must be below "
                          f"overturn_angle = {ang:.6g} rad")

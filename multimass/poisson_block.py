@@ -28,28 +28,9 @@ import numpy as np
 from ._contact_checks import ground_excitation
 from .contact_dynamics import ContactResponse, simulate_contacts
 from .errors import InputError
+from .validation import number, positive
 
 __all__ = ["PoissonBlock", "BlockResponse", "simulate_block", "housner_theta"]
-
-
-def _finite(name: str, value) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError, OverflowError):
-        raise InputError(f"`{name}` = {value!r}: expected a number") from None
-    if not math.isfinite(x):
-        raise InputError(f"`{name}` = {value!r}: expected a finite number")
-    return x
-
-
-def _positive(name: str, value) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError, OverflowError):
-        raise InputError(f"`{name}` = {value!r}: expected a positive number") from None
-    if not (math.isfinite(x) and x > 0.0):
-        raise InputError(f"`{name}` = {value!r}: expected a positive finite number")
-    return x
 
 
 @dataclass(frozen=True)
@@ -75,7 +56,7 @@ class PoissonBlock:
 
     def __post_init__(self):
         for name in ("b", "h", "mass", "g"):
-            object.__setattr__(self, name, _positive(name, getattr(self, name)))
+            object.__setattr__(self, name, positive(name, getattr(self, name)))
         try:
             derived = dict(alpha=self.alpha, R=self.R, I_G=self.I_G, p=self.p,
                            weight=self.mass * self.g, R_squared=self.R**2)
@@ -90,8 +71,8 @@ class PoissonBlock:
     @classmethod
     def from_slenderness(cls, h_over_b: float, width: float = 1.0, **kw) -> "PoissonBlock":
         """Block of base width 2b = `width` and H/b = `h_over_b` (paper 000, Sec 3.3)."""
-        b = _positive("width", width) / 2.0
-        return cls(b=b, h=_positive("h_over_b", h_over_b) * b, **kw)
+        b = positive("width", width) / 2.0
+        return cls(b=b, h=positive("h_over_b", h_over_b) * b, **kw)
 
     @property
     def alpha(self) -> float:
@@ -294,11 +275,11 @@ def simulate_block(block: PoissonBlock, eps_p: float, t_end: float, *, phi0: flo
     """
     if not isinstance(block, PoissonBlock):
         raise InputError(f"`block` = {block!r}: expected a PoissonBlock")
-    phi0, dphi0 = _finite("phi0", phi0), _finite("dphi0", dphi0)
+    phi0, dphi0 = number("phi0", phi0), number("dphi0", dphi0)
     if not abs(phi0) < 0.5 * math.pi:
         raise InputError(f"`phi0` = {phi0!r}: the initial rotation must lie in (−π/2, π/2)")
     ag, quiet, bps = ground_excitation(ag)
-    eps_p = _finite("eps_p", eps_p)
+    eps_p = number("eps_p", eps_p)
     q0, v0 = block.rocking_state(phi0, dphi0)
     zv = 1e-4 * math.sqrt(block.g * block.R) if zeno_velocity is None else zeno_velocity
     raw = simulate_contacts(_BlockModel(block, ag, quiet), q0, v0, t_end, eps_p, dt_out=dt_out,
