@@ -45,3 +45,19 @@ def column_toml(tmp_path, heights, masses, name="custom", **replace) -> Path:
     path = tmp_path / f"{name}.toml"
     path.write_text(text)
     return path
+
+
+class RaisingExcitation:
+    """An excitation that raises inside solve_ivp after t = 0.3 s, as LSODA's event root
+    search can (found by the benchmarks): a run must end 'failed' with the message."""
+
+    duration, breakpoints = 1.0, ()
+
+    def __call__(self, t):
+        import numpy as np
+
+        if np.ndim(t) == 0 and t > 0.3:
+            raise ValueError("f(a) and f(b) must have different signs")
+        return 0.0 * np.asarray(t) if np.ndim(t) else 0.0
+
+    acceleration = __call__

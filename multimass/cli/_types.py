@@ -63,23 +63,22 @@ def unit_interval(text: str) -> float:
     return x
 
 
-def whole(text: str) -> int:
-    """A whole number ≥ 0 (e.g. a seed)."""
+def _int(text: str, low: int) -> int:
+    rule = f"a whole number ≥ {low}"
     try:
         n = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a whole number ≥ 0, got {text!r}") from None
-    if n < 0:
-        raise argparse.ArgumentTypeError(f"must be a whole number ≥ 0, got {text!r}")
+        raise argparse.ArgumentTypeError(f"must be {rule}, got {text!r}") from None
+    if n < low:
+        raise argparse.ArgumentTypeError(f"must be {rule}, got {text!r}")
     return n
+
+
+def whole(text: str) -> int:
+    """A whole number ≥ 0 (e.g. a seed)."""
+    return _int(text, 0)
 
 
 def count(text: str) -> int:
     """A whole number ≥ 1 (e.g. repeats, workers)."""
-    try:
-        n = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a whole number ≥ 1, got {text!r}") from None
-    if n < 1:
-        raise argparse.ArgumentTypeError(f"must be a whole number ≥ 1, got {text!r}")
-    return n
+    return _int(text, 1)

@@ -8,6 +8,7 @@ import pytest
 import multimass
 from multimass import CosinePulse, FreeRelease, G, simulate, simulate_outcome
 from multimass.checks import energy_floor
+from tests.conftest import RaisingExcitation
 
 
 def test_a_run_whose_ledger_does_not_close_says_so():
@@ -75,15 +76,5 @@ def test_newmark_runs_are_checked_too():
 
 
 def test_a_failed_run_stays_failed():
-    class Raising:
-        duration, breakpoints = 1.0, ()
-
-        def __call__(self, t):
-            if np.ndim(t) == 0 and t > 0.3:
-                raise ValueError("f(a) and f(b) must have different signs")
-            return 0.0 * np.asarray(t) if np.ndim(t) else 0.0
-
-        acceleration = __call__
-
-    r = simulate("S1", Raising(), "CIM", 1.0, output_dt=None)
+    r = simulate("S1", RaisingExcitation(), "CIM", 1.0, output_dt=None)
     assert r.status == "failed" and r.outcome == "failed" and "energy_balance" not in r.checks

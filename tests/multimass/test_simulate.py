@@ -8,7 +8,7 @@ import pytest
 import multimass
 from multimass import (CosinePulse, FreeRelease, InputError, SineWave, read_two_column,
                        simulate)
-from tests.conftest import column_toml
+from tests.conftest import RaisingExcitation, column_toml
 
 
 def stiff_column(tmp_path, scale):
@@ -247,16 +247,6 @@ def test_error_inside_solve_ivp_is_a_failed_status():
     # regression (found by the benchmarks): LSODA's interpolant can defeat solve_ivp's event
     # root search, which raises ValueError from inside solve_ivp; any such error must come
     # back as status "failed" with its message, never as an exception or as data
-    class Raising:
-        duration, breakpoints = 1.0, ()
-
-        def __call__(self, t):
-            if np.ndim(t) == 0 and t > 0.3:
-                raise ValueError("f(a) and f(b) must have different signs")
-            return 0.0 * np.asarray(t) if np.ndim(t) else 0.0
-
-        acceleration = __call__
-
-    resp = simulate("S1", Raising(), "CIM", 1.0, output_dt=None)
+    resp = simulate("S1", RaisingExcitation(), "CIM", 1.0, output_dt=None)
     assert resp.status == "failed"
     assert "different signs" in resp.message and resp.events[-1].kind == "failed"
