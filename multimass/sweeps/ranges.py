@@ -13,17 +13,21 @@ __all__ = ["parse_range", "check_values"]
 
 def check_values(name: str, values, *, positive: bool = False, nonnegative: bool = False) -> np.ndarray:
     """A non-empty, finite, strictly increasing 1-D array of sweep values."""
-    a = np.atleast_1d(np.asarray(values, dtype=float))
+    try:
+        a = np.atleast_1d(np.asarray(values, dtype=float))
+    except (TypeError, ValueError):
+        raise InputError(f"`{name}` = {values!r}: expected numbers (a sequence of floats)") from None
+    shown = "[" + ", ".join(f"{x:g}" for x in a.ravel()[:8]) + (", …]" if a.size > 8 else "]")
     if a.ndim != 1 or a.size == 0:
         raise InputError(f"`{name}` is empty; give at least one value")
     if not np.all(np.isfinite(a)):
-        raise InputError(f"`{name}` holds non-finite values: {a.tolist()}")
+        raise InputError(f"`{name}` holds non-finite values: {shown}")
     if positive and np.any(a <= 0):
-        raise InputError(f"`{name}` = {a.tolist()}: every value must be > 0")
+        raise InputError(f"`{name}` = {shown}: every value must be > 0")
     if nonnegative and np.any(a < 0):
-        raise InputError(f"`{name}` = {a.tolist()}: every value must be ≥ 0")
+        raise InputError(f"`{name}` = {shown}: every value must be ≥ 0")
     if a.size > 1 and np.any(np.diff(a) <= 0):
-        raise InputError(f"`{name}` = {a.tolist()}: values must increase strictly")
+        raise InputError(f"`{name}` = {shown}: values must increase strictly")
     return a
 
 
