@@ -2,7 +2,7 @@
 
 Run:  python -m benchmarks.fast_path [--repeat 3] [--map 100 [--baseline-cells 1000]] [--no-compile]
 
-The measurements live in `benchmarks.targets` (also run by ``multimass bench``);
+The measurements live in `multimass.bench.targets` (also run by ``multimass bench``);
 this entry point prints, as one JSON dict, the ones about the compiled path alone:
 
 * ``compile``: the one-off numba compilation (fresh process, empty cache) and the
@@ -24,8 +24,8 @@ import argparse
 import json
 import os
 
-from .run import json_safe
-from .targets import compile_times, map_speedup, single_speedup
+from multimass.bench.run import json_safe
+from multimass.bench.targets import compile_times, map_speedup, single_speedup
 
 __all__ = ["main"]
 

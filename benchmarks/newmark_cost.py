@@ -21,9 +21,9 @@ import time
 import numpy as np
 
 import multimass
-from impact_models.restitution import housner_eta
 from multimass import _newmark_kernel as kern
 from multimass.excitations import SineWave
+from multimass.impact_models.restitution import housner_eta
 from multimass.newmark import newmark_block
 
 __all__ = ["main"]

@@ -1,6 +1,7 @@
 """Cost per step of the Moreau–Jean simulation of a block on a beam (`nscd`, paper 002).
 
 Run:  python -m benchmarks.nscd_cost [--repeat 3] [--t-end 4]
+      python -m benchmarks.nscd_cost --calibrate   (the constants of multimass.nscd.cost)
 
 Prints
 1. the numba compile (or cache-load) time of the kernel, paid once per process;
@@ -17,11 +18,15 @@ import argparse
 import math
 import time
 
-import nscd
-from nscd.model import build_system
-from nscd.reference import reference_run
+import numpy as np
 
-__all__ = ["main"]
+from multimass import nscd
+from multimass.nscd import cost
+from multimass.nscd.model import build_system
+from multimass.nscd.reference import reference_run
+from multimass.nscd.simulate import run_system
+
+__all__ = ["main", "calibrate"]
 
 THETA0 = math.radians(11.268)      # paper 002, Section 6.2 (B6M)
 
@@ -36,12 +41,39 @@ def _cases():
     yield "E = Ebar·10^0, 6 elements", {"n_elements": 6, "E": Ebar}
 
 
+def calibrate(n_elements=(3, 6, 12, 24, 48, 96, 192), setup_elements=(96, 192, 384)) -> None:
+    """Time the kernel and the assembly on this machine and fit the constants (prints)."""
+    theta0 = math.radians(11.268)          # B6M, paper 002, Section 6.2
+    run_system(build_system("B6M", theta0=theta0, dt=1e-3), 0.01)   # load the compiled kernel
+    rows = []
+    for n_el in n_elements:
+        sys = build_system("B6M", theta0=theta0, dt=1e-5, n_elements=n_el)
+        steps = int(min(4e5, 2e8 / cost.n_dof(n_el) ** 2))
+        best = min(run_system(sys, steps * 1e-5, progress=False).kernel_time_s for _ in range(2))
+        rows.append((cost.n_dof(n_el), best / steps))
+        print(f"{n_el:5d} elements: {1e6 * best / steps:9.3f} µs/step "
+              f"(model {1e6 * cost.step_seconds(n_el):9.3f})", flush=True)
+    n, t = np.array(rows).T
+    c0, c2 = np.linalg.lstsq(np.column_stack([1 / t, n**2 / t]), np.ones_like(t), rcond=None)[0]
+    print(f"relative least squares: STEP_S = {c0:.3g} s, STEP_S_PER_N2 = {c2:.3g} s")
+    for n_el in setup_elements:
+        t0 = time.perf_counter()
+        build_system("B6M", theta0=theta0, dt=1e-5, n_elements=n_el)
+        wall = time.perf_counter() - t0
+        print(f"{n_el:5d} elements: set-up {wall:.2f} s = {1e9 * wall / cost.n_dof(n_el) ** 3:.2f} ns · n³")
+
+
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--calibrate", action="store_true",
+                    help="fit the constants of multimass.nscd.cost on this machine instead")
     ap.add_argument("--t-end", type=float, default=4.0)
     ap.add_argument("--dt", type=float, default=1e-5)
     args = ap.parse_args(argv)
+    if args.calibrate:
+        calibrate()
+        return
     t0 = time.perf_counter()
     nscd.simulate("B6M", theta0=THETA0, dt=1e-3, t_end=0.01)
     print(f"numba kernel compile / cache load: {time.perf_counter() - t0:.2f} s")

@@ -22,8 +22,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from multimass import Ricker, SineWave  # noqa: E402
-from multimass.flexible_oscillator import (FlexibleOscillator,  # noqa: E402
-                                           simulate_oscillator)
+from multimass.flexible_oscillator import FlexibleOscillator, simulate_oscillator  # noqa: E402
 from multimass.poisson_block import PoissonBlock, housner_theta, simulate_block  # noqa: E402
 
 EPS = (0.0, 0.5, 1.0)

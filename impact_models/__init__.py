@@ -1,8 +1,12 @@
 """What happens at impact: restitution formulas, classical and Dirac-delta impact
 models, and impacts as a linear complementarity problem with Poisson's law."""
 
-from .models import Classical, DiracDelta, ImpactModel, Transition
+if __name__ != "multimass.impact_models":          # one import name (pyproject: package-dir)
+    raise ImportError(f"this folder installs as `multimass.impact_models`; import that, not "
+                      f"`{__name__}` (is the repository's root on sys.path before site-packages?)")
+
 from .lemke import LCPError, LCPSolution, lemke
+from .models import Classical, DiracDelta, ImpactModel, Transition
 from .poisson import PoissonImpact, poisson_impact
 from .restitution import housner_eta, modified_eta, r_h
 from .sources import (

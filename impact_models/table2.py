@@ -1,6 +1,6 @@
 """Impact models by name: paper 001's Table 2 (CIM, DD1–DD5) and restitution by name.
 
->>> from impact_models.table2 import TABLE_2
+>>> from multimass.impact_models.table2 import TABLE_2
 >>> TABLE_2["DD2"]
 ('dirac', 'mean', 1750.0)
 """
@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 
+from .lcp_model import PoissonLCP
 from .models import Classical, DiracDelta, ImpactModel
 from .sources import (
     AngularMomentumRestitution,
@@ -126,8 +127,6 @@ def impact_model(impact, specimen=None, restitution=None, k: float | None = None
         raise ValueError(f"`impact` = {impact!r}: give a name ({', '.join(TABLE_2)}, DD) or an ImpactModel")
     name = impact.strip().upper()
     if name == "LCP":
-        from .lcp_model import PoissonLCP
-
         return PoissonLCP(eps_p=0.0 if eps_p is None else float(eps_p))
     if eps_p is not None:
         raise ValueError(f"`eps_p` = {eps_p!r} applies to impact='LCP' only (got {impact!r})")

@@ -1,15 +1,24 @@
 """How a rocking structure vibrates: linearisation, Foss state-space modes, MAC, reports.
 
->>> import modal
+>>> from multimass import modal
 >>> res = modal.analyse("S1")
 >>> [round(f, 1) for f in res.rocking.freq_hz[:2]]
 [20.5, 45.6]
 """
 
+if __name__ != "multimass.modal":          # one import name (pyproject: package-dir)
+    raise ImportError(f"this folder installs as `multimass.modal`; import that, not "
+                      f"`{__name__}` (is the repository's root on sys.path before site-packages?)")
+
 from .analysis import ModalAnalysis, PhaseModes, analyse, default_shape_nodes
 from .errors import ModalError
-from .foss import (StateSpaceModes, foss, frequency_and_damping, pair_frequency_and_damping,
-                   state_matrix)
+from .foss import (
+    StateSpaceModes,
+    foss,
+    frequency_and_damping,
+    pair_frequency_and_damping,
+    state_matrix,
+)
 from .linearise import LinearSystem, full_contact, linearise, rocking
 from .mac import mac
 

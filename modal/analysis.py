@@ -19,15 +19,15 @@ import numpy as np
 import pandas as pd
 import scipy.linalg as sla
 
-from multimass import Structure
+from multimass.structure import Structure
 
-from .validate import validate_shape_nodes, validate_structure
 from .errors import ModalError
 from .foss import foss, frequency_and_damping, pair_frequency_and_damping
 from .linearise import LinearSystem, full_contact, rocking
 from .mac import mac
 from .pairing import pair_modes
 from .shapes import align_to_full_contact, normalise
+from .validate import validate_shape_nodes, validate_structure
 
 __all__ = ["PhaseModes", "ModalAnalysis", "analyse", "phase_modes", "default_shape_nodes",
            "nodal_points"]

@@ -10,9 +10,10 @@ from pathlib import Path
 
 import numpy as np
 
-from multimass import column
+from multimass.structure import column
 
 from .analysis import ModalAnalysis, analyse, nodal_points
+from .errors import ModalError
 from .measured import MeasuredShapes
 
 __all__ = ["summary", "markdown", "write_report", "printed_unit", "MIXED_PARTICIPATION"]
@@ -158,7 +159,6 @@ def summary(analysis: ModalAnalysis, measured: MeasuredShapes | None = None) -> 
 
 def measured_comparison(analysis: ModalAnalysis, measured: MeasuredShapes) -> dict:
     """MAC of measured shapes against the model's compound and full-contact shapes."""
-    from .errors import ModalError
 
     s = analysis.structure
     bad = [i for i in measured.nodes if not 1 <= i <= s.n]

@@ -6,17 +6,24 @@
 298
 """
 
-from .errors import InputError, SolverError
-from .structure import Structure, column, from_specimen, rigid_block
-from .excitations import (CosinePulse, CosineWave, Excitation, FreeRelease, Ricker,
-                          SineWave)
-from .records import Record, read_at2, read_record, read_two_column
-from .units import G, parse_acceleration, to_mps2
-from .response import Event, Response
-from .simulate import DEFAULTS, Outcome, estimate, simulate, simulate_outcome
-from .trace_metrics import ChannelMetrics, compare_trace
-from .traces import Trace, read_trace
-from .scenes import Scene, choose
+import importlib
+
+# public name -> the module that defines it; loaded on first use (PEP 562), so that
+# `import multimass.specimens` loads no other part of the package
+_PUBLIC = {
+    "errors": ("InputError", "SolverError"),
+    "structure": ("Structure", "column", "from_specimen", "rigid_block"),
+    "excitations": ("CosinePulse", "CosineWave", "Excitation", "FreeRelease", "Ricker",
+                    "SineWave"),
+    "records": ("Record", "read_at2", "read_record", "read_two_column"),
+    "units": ("G", "parse_acceleration", "to_mps2"),
+    "response": ("Event", "Response"),
+    "simulate": ("DEFAULTS", "Outcome", "estimate", "simulate", "simulate_outcome"),
+    "trace_metrics": ("ChannelMetrics", "compare_trace"),
+    "traces": ("Trace", "read_trace"),
+    "scenes": ("Scene", "choose"),
+}
+_WHERE = {name: module for module, names in _PUBLIC.items() for name in names}
 
 __all__ = [
     "InputError",
@@ -52,3 +59,16 @@ __all__ = [
     "Scene",
     "choose",
 ]
+
+
+def __getattr__(name: str):
+    module = _WHERE.get(name)
+    if module is None:
+        raise AttributeError(f"module 'multimass' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{module}", __name__), name)
+    globals()[name] = value            # later lookups skip __getattr__
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from impact_models.models import next_phase_is_rocking
+from multimass.impact_models.models import next_phase_is_rocking
 
 from . import kinematics as kin
 from ._phase import ActiveForce, guard

@@ -8,7 +8,7 @@ import time
 import numpy as np
 import pandas as pd
 
-from impact_models import Classical, ImpactContext
+from multimass.impact_models import Classical, ImpactContext
 
 from .errors import InputError
 from .newmark import newmark_block

@@ -14,11 +14,13 @@ from collections import deque
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from impact_models import ImpactContext
+from multimass.impact_models import ImpactContext
 
 from . import kinematics as kin
+from ._events import handle_event, phase_events
 from ._phase import ActiveForce, Model, full_contact_rhs, rocking_rhs
 from ._recorder import Recorder
+from ._rigid import next_uplift
 from .response import Event
 
 __all__ = ["_Run", "QUIET_DELAY"]
@@ -123,7 +125,6 @@ class _Run:
     # -- rigid bodies at rest --------------------------------------------------
     def rest_until_uplift(self, t_stop: float) -> bool:
         """A rigid body in full contact: find the next uplift (paper 001, Eq 8) or rest."""
-        from ._rigid import next_uplift
 
         t0 = max(self.t, self.hold_until)
         found = next_uplift(self.st, self.ag, t0, t_stop) if t0 < t_stop else None
@@ -157,7 +158,6 @@ class _Run:
     def integrate(self, t_stop: float):
         if self.fast is not None:
             return self.fast.integrate(self, t_stop)
-        from ._events import phase_events
 
         rhs = (full_contact_rhs(self.mdl, self.ag) if self.phase == 0
                else rocking_rhs(self.mdl, self.phase, self.ag, self.force))
@@ -202,8 +202,6 @@ class _Run:
 
     # -- transitions ------------------------------------------------------------------
     def handle(self, name: str):
-        from ._events import handle_event
-
         handle_event(self, name)
 
     def trip_guard(self):

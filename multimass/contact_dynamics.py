@@ -53,13 +53,29 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize_scalar
 
-from impact_models.lemke import LCPError
-from impact_models.poisson import PoissonImpact, poisson_impact
+from multimass.impact_models.lemke import LCPError
+from multimass.impact_models.poisson import PoissonImpact, poisson_impact
 
-from ._contact_checks import (FrictionDemand, _number, _options, _state, friction_ratio,
-                              impact_ratio, run_checks, tangential_groups, validate_mu)
-from ._contact_phase import (_constraint_matrix, _events, _grid, _Phase, _project, _project_q,
-                             _select)
+from ._contact_checks import (
+    FrictionDemand,
+    _number,
+    _options,
+    _state,
+    friction_ratio,
+    impact_ratio,
+    run_checks,
+    tangential_groups,
+    validate_mu,
+)
+from ._contact_phase import (
+    _constraint_matrix,
+    _events,
+    _grid,
+    _Phase,
+    _project,
+    _project_q,
+    _select,
+)
 from .errors import InputError, SolverError
 
 __all__ = ["ContactEvent", "ContactResponse", "FrictionDemand", "simulate_contacts"]

@@ -29,8 +29,8 @@ import sympy as sp
 from ._contact_checks import ground_excitation
 from .contact_dynamics import ContactResponse, simulate_contacts
 from .errors import InputError
-from .validation import number, positive
 from .flexible_oscillator_eom import numeric, symbolic
+from .validation import number, positive
 
 __all__ = ["FlexibleOscillator", "OscillatorResponse", "simulate_oscillator"]
 

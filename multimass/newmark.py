@@ -25,8 +25,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _newmark_kernel as kern
-from ._newmark_events import RockingEvent, Run
 from . import validation as v
+from ._newmark_events import RockingEvent, Run
 from .errors import InputError
 from .structure import Structure
 

@@ -12,6 +12,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .response import Response
+from .trace_metrics import align, channel_columns
 
 __all__ = ["plot_rocking", "plot_energy", "plot_accelerations", "plot_overlay", "plot_models"]
 
@@ -130,7 +131,6 @@ def plot_overlay(trace, name: str, responses: dict, structure, path, *, t_offset
         the unit the channel was written in).
     title : str, optional
     """
-    from .trace_metrics import align, channel_columns
 
     column = channel_columns(trace, structure)[name]
     unit = trace.units[name]

@@ -301,7 +301,7 @@ def housner_theta(block: PoissonBlock, ag, t_start: float, theta0: float, t_grid
     """
     from scipy.integrate import solve_ivp
 
-    from impact_models import housner_eta
+    from multimass.impact_models import housner_eta
 
     a, p, g = block.alpha, block.p, block.g
     eta = housner_eta(a) if eta is None else eta

@@ -21,6 +21,7 @@ import sys
 from dataclasses import dataclass
 
 from .errors import InputError
+from .validation import positive
 
 __all__ = ["RunCost", "Progress", "DEFAULT_BUDGET_S", "PROGRESS_AFTER_S", "memory_limit",
            "budget_seconds", "format_duration", "format_bytes"]
@@ -62,7 +63,6 @@ def budget_seconds(max_hours) -> float:
     """The budget in seconds from a ``max_hours`` argument (None: the default)."""
     if max_hours is None:
         return DEFAULT_BUDGET_S
-    from .validation import positive
 
     return 3600.0 * positive("max_hours", max_hours, "the longest run allowed, in hours",
                              allow_inf=True)

@@ -21,8 +21,14 @@ import numpy as np
 
 from .errors import InputError
 from .excitations import Excitation
-from .samples import (DT_RTOL, check_samples, check_scale, float_array, scaled_to_mps2,
-                      units_of)
+from .samples import (
+    DT_RTOL,
+    check_samples,
+    check_scale,
+    float_array,
+    scaled_to_mps2,
+    units_of,
+)
 from .textfile import as_path, read_text
 from .units import canonical_units
 

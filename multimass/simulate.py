@@ -39,9 +39,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.integrate
 
-from impact_models import impact_model
+from multimass.impact_models import impact_model
 
 from . import validation as v
+from ._newmark_response import check_newmark, simulate_newmark
 from ._run import QUIET_DELAY, _Run
 from .checks import energy_floor, judge
 from .cost import simulation_cost
@@ -373,8 +374,6 @@ class _Plan:
         return run
 
     def _newmark(self, lean: bool):
-        from ._newmark_response import simulate_newmark
-
         o, model = self.options, self.model
         options = self.describe() | {"backend": None}
         for key in ("method", "rtol", "atol", "max_step"):
@@ -399,8 +398,6 @@ def _prepare(structure, excitation, impact, t_end, o: dict) -> _Plan:
     start = _initial_state(st, excitation)
     fast = None
     if o["integrator"] == "newmark":
-        from ._newmark_response import check_newmark
-
         check_newmark(st, model)
     elif o["backend"] == "compiled":
         from .fast import FastPath

@@ -21,14 +21,19 @@ from functools import cached_property
 import numpy as np
 import scipy.linalg as sla
 
-from specimens import BlockSpecimen, ColumnSpecimen, SpecimenError, available
-from specimens import load as load_specimen
-from specimens.ranges import check as plausible
+from multimass.specimens import BlockSpecimen, ColumnSpecimen, SpecimenError, available
+from multimass.specimens import load as load_specimen
+from multimass.specimens.ranges import check as plausible
 
 from .damping import rayleigh_damping
 from .errors import InputError
-from .structure_checks import (check_damping, check_derived, check_fields, check_frequencies,
-                               full_contact)
+from .structure_checks import (
+    check_damping,
+    check_derived,
+    check_fields,
+    check_frequencies,
+    full_contact,
+)
 
 __all__ = ["Structure", "column", "rigid_block", "from_specimen"]
 

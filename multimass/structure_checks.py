@@ -16,9 +16,9 @@ import numbers
 import numpy as np
 import scipy.linalg as sla
 
-from specimens import ColumnSpecimen, SpecimenError
-from specimens.column import MAX_NODES
-from specimens.ranges import fmt
+from multimass.specimens import ColumnSpecimen, SpecimenError
+from multimass.specimens.column import MAX_NODES
+from multimass.specimens.ranges import fmt
 
 from .beam import column_stiffness, condense
 

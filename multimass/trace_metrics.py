@@ -14,6 +14,7 @@ import numpy as np
 import pandas as pd
 
 from .errors import InputError
+from .structure import Structure, from_specimen
 from .traces import Trace, _kind
 
 __all__ = ["ChannelMetrics", "compare_trace", "align", "channel_columns"]
@@ -83,8 +84,6 @@ class ChannelMetrics:
 
 
 def _structure(structure):
-    from .structure import Structure, from_specimen
-
     return structure if isinstance(structure, Structure) else from_specimen(structure)
 
 

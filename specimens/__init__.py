@@ -4,11 +4,15 @@ Specimens are TOML files; the bundled ones live in ``specimens/data``. Every val
 validated on loading — its type, its sign and its physical plausibility
 (`specimens.ranges`: a modulus typed in GPa or a height in mm is refused with the fix).
 
->>> import specimens
+>>> from multimass import specimens
 >>> s1 = specimens.load("S1")
 >>> s1.heights[-1]
 1.93
 """
+
+if __name__ != "multimass.specimens":          # one import name (pyproject: package-dir)
+    raise ImportError(f"this folder installs as `multimass.specimens`; import that, not "
+                      f"`{__name__}` (is the repository's root on sys.path before site-packages?)")
 
 from .beam import BeamSpecimen
 from .block import BlockReference, BlockSpecimen

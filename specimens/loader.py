@@ -8,10 +8,10 @@ from collections.abc import Callable, Mapping
 from importlib import resources
 from pathlib import Path
 
+from ._fields import show
 from .beam import beam_from_mapping
 from .block import block_from_mapping
 from .column import column_from_mapping
-from ._fields import show
 from .errors import SpecimenError
 
 __all__ = ["load", "available", "from_mapping", "register_kind"]

@@ -14,7 +14,7 @@ designs); the bundled specimens lie far inside them. Structure-level checks that
 the assembled matrices (the first and the highest full-contact frequency, positive
 definiteness, Rayleigh damping that stays positive) are made by `multimass.column`.
 
->>> from specimens.ranges import RANGES
+>>> from multimass.specimens.ranges import RANGES
 >>> RANGES["youngs_modulus"].low, RANGES["youngs_modulus"].high
 (1000000.0, 1000000000000000.0)
 """

@@ -33,8 +33,7 @@ def column_toml(tmp_path, heights, masses, name="custom", **replace) -> Path:
     """A column specimen file like S1 with other node heights and masses (no sensors)."""
     import re
 
-    import specimens
-
+    from multimass import specimens
     text = specimens.loader._bundled()["S1"].read_text()
     text = re.sub(r"\n\[sensors\][^\[]*", "\n", text)
     text = (text.replace("[0.06, 0.49, 0.93, 1.43, 1.93]", repr(list(heights)))

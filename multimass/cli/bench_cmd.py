@@ -35,8 +35,8 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from benchmarks.config import preset
-    from benchmarks.run import run_bench
+    from multimass.bench.config import preset
+    from multimass.bench.run import run_bench
 
     from ._output import output_folder
 

@@ -7,15 +7,19 @@ Section 4.3, Figs 6-8: CIM against Dirac-delta, mean restitution, C_p varied).
 
 from __future__ import annotations
 
+import argparse
 import json
 from pathlib import Path
 
-import argparse
-
 from ..errors import InputError
 from . import _types as types
-from ._args import add_excitation_args, add_impact_args, add_solver_args, excitation_from_args, \
-    solver_kwargs
+from ._args import (
+    add_excitation_args,
+    add_impact_args,
+    add_solver_args,
+    excitation_from_args,
+    solver_kwargs,
+)
 from ._output import output_folder
 
 __all__ = ["register", "model_specs"]
@@ -112,7 +116,7 @@ def _excitation(args, structure, trace):
 
 def run(args) -> int:
     import multimass
-    from impact_models import impact_model
+    from multimass.impact_models import impact_model
     from multimass.trace_metrics import channel_columns, compare_trace
     from multimass.traces import read_trace
 

@@ -72,10 +72,10 @@ def _line(info: dict) -> str:
 
 
 def run(args) -> int:
-    import modal
-    from modal.validate import validate_shape_nodes, validate_structure
-    from modal.measured import read_measured_shapes
-    from modal.report import summary, write_report
+    import multimass.modal as modal
+    from multimass.modal.measured import read_measured_shapes
+    from multimass.modal.report import summary, write_report
+    from multimass.modal.validate import validate_shape_nodes, validate_structure
 
     if args.measured is not None and len(args.specimens) != 1:
         raise InputError(f"`--measured` was given with {len(args.specimens)} specimens; "

@@ -132,15 +132,18 @@ def _modulus(args, block=None):
     """E in Pa from --E or --flex; --flex is range-checked before 10**N is computed."""
     if args.flex is None:
         return args.E
-    import nscd.model
-    n = nscd.model.check_exponent(args.flex, block or args.block, args.beam, "--flex")
+    import multimass.nscd as nscd
+    from multimass.nscd import model
+
+    n = model.check_exponent(args.flex, block or args.block, args.beam, "--flex")
     return nscd.flexible_modulus(block or args.block, args.beam) * 10.0 ** n
 
 
 def _theta0(args, block=None):
     """θ0 in rad from --theta0-deg (checked against the block's α, in degrees) or the block's."""
-    import nscd.model
-    blk = nscd.model.load_block(block or args.block)
+    from multimass.nscd import model
+
+    blk = model.load_block(block or args.block)
     if args.theta0_deg is None:
         if blk.reference.theta0_deg is None:
             raise InputError(f"`--theta0-deg` is required: block {blk.name!r} has no reference "
@@ -156,10 +159,10 @@ def _theta0(args, block=None):
 
 
 def _references(block, theta0):
-    import nscd.convergence
-    import nscd.model
-    blk = nscd.model.load_block(block)
-    return {"exact_rigid_first_peak_deg": math.degrees(nscd.convergence.housner_first_peak(blk, theta0)),
+    from multimass.nscd import convergence, model
+
+    blk = model.load_block(block)
+    return {"exact_rigid_first_peak_deg": math.degrees(convergence.housner_first_peak(blk, theta0)),
             "paper_first_peak_deg": blk.reference.first_peak_deg,
             "paper_rest_time_s": blk.reference.rest_time_s}
 
@@ -175,9 +178,9 @@ def _write_series(res, path: Path) -> None:
 
 def _inputs(args):
     """Validated inputs and options of one run, and its cost checked against the budget."""
+    from multimass.nscd.model import check_inputs
+    from multimass.nscd.simulate import check_run, estimate_cost
     from multimass.progress import budget_seconds
-    from nscd.model import check_inputs
-    from nscd.simulate import check_run, estimate_cost
 
     theta0 = _theta0(args)
     kw = dict(theta0=theta0, dt=args.dt, E=_modulus(args), n_elements=args.elements,
@@ -206,8 +209,8 @@ def _exit(statuses) -> int:
 
 
 def run(args) -> int:
-    import nscd
-    from nscd.plots import plot_history
+    import multimass.nscd as nscd
+    from multimass.nscd.plots import plot_history
 
     kw, theta0 = _inputs(args)
     out = output_folder(args.out)
@@ -319,8 +322,8 @@ def _flexibility(args, C, plots, out, common):
 
 
 def run_convergence(args) -> int:
-    import nscd.convergence as C
-    from nscd import plots
+    import multimass.nscd.convergence as C
+    from multimass.nscd import plots
 
     say = (lambda m: None) if args.json else (lambda m: print("  " + m, flush=True))
     common = {"report": say, "progress": args.progress, "max_hours": _budget(args),

@@ -7,8 +7,14 @@ import json
 from pathlib import Path
 
 from . import _types as types
-from ._args import (add_excitation_args, add_impact_args, add_solver_args, excitation_from_args,
-                    impact_kwargs, solver_kwargs)
+from ._args import (
+    add_excitation_args,
+    add_impact_args,
+    add_solver_args,
+    excitation_from_args,
+    impact_kwargs,
+    solver_kwargs,
+)
 from ._output import output_folder
 
 __all__ = ["register", "sensor_nodes", "default_t_end", "status_line", "exit_code"]

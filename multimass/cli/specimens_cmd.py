@@ -12,7 +12,7 @@ import shutil
 import textwrap
 from itertools import zip_longest
 
-import specimens
+import multimass.specimens as specimens
 
 __all__ = ["register", "run", "format_table"]
 

@@ -7,7 +7,13 @@ from pathlib import Path
 
 from ..errors import InputError
 from . import _types as types
-from ._args import PULSES, add_impact_args, add_solver_args, impact_kwargs, solver_kwargs
+from ._args import (
+    PULSES,
+    add_impact_args,
+    add_solver_args,
+    impact_kwargs,
+    solver_kwargs,
+)
 from ._output import output_folder
 from ._sweep_args import add_executor_args, executor_kwargs
 

@@ -13,9 +13,32 @@ import numpy as np
 from numba import njit
 
 from ._maths import event_value, rhs
-from ._rk import (_A3, _A5, _A8, _B3, _B5, _B8, _C3, _C5, _C8, _DOP, _MAX_FACTOR, _MIN_FACTOR,
-                  _NEXT8, _NS8, _SAFETY, EVENT, FAILED, OK, _brent, _dense_eval, _dense_prepare,
-                  _error_norm, _first_step, _rk_step)
+from ._rk import (
+    _A3,
+    _A5,
+    _A8,
+    _B3,
+    _B5,
+    _B8,
+    _C3,
+    _C5,
+    _C8,
+    _DOP,
+    _MAX_FACTOR,
+    _MIN_FACTOR,
+    _NEXT8,
+    _NS8,
+    _SAFETY,
+    EVENT,
+    FAILED,
+    OK,
+    _brent,
+    _dense_eval,
+    _dense_prepare,
+    _error_norm,
+    _first_step,
+    _rk_step,
+)
 
 __all__ = ["integrate_phase"]
 

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from impact_models.models import DiracDelta
+from multimass.impact_models.models import DiracDelta
 
 from ..errors import InputError
 from ..response import Event

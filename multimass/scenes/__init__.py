@@ -18,8 +18,8 @@ measures the difference.
 from .choose import Choice, Comparison, choose, estimate_cost, format_answer
 from .criteria import Verdict, assess
 from .ladder import Rung, RungAnswer, ladder
-from .reduce import Reduced, modal_reduction, rigid_equivalent, sdof
 from .recovery import node_accelerations
+from .reduce import Reduced, modal_reduction, rigid_equivalent, sdof
 from .scene import QUESTIONS, Question, Scene, Tolerance
 
 __all__ = [

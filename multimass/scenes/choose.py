@@ -25,6 +25,7 @@ import math
 from dataclasses import dataclass
 
 from ..errors import InputError
+from ..structure import column
 from .criteria import assess
 from .ladder import BACKENDS, Rung, RungAnswer, ladder
 from .scene import Scene, Tolerance
@@ -165,8 +166,6 @@ def estimate_cost(rung: Rung, scene) -> float:
     if scene.question.kind == "uplifted_frequencies":
         return 1e-3 + 1e-5 * rung.dofs**3        # two dense eigenproblems of size ~2(n+1)
     if rung.n_modes is not None:
-        from ..structure import column
-
         w = column(scene.spec).full_contact_omega
         w_max = float(w[rung.n_modes - 1]) if rung.n_modes else 0.0
         return scene.duration * max(1.0 / scene.solver_max_step, w_max / 4.0) * 10e-6

@@ -77,6 +77,8 @@ import numpy as np
 import scipy.linalg as sla
 from scipy import signal
 
+import multimass.modal as modal
+
 from ..structure import column
 from .reduce import modes
 
@@ -165,8 +167,6 @@ def _mean_restitution(scene) -> float:
 
 def column_indicators(scene) -> dict:
     """Everything the column criteria need (cheap: modal analysis + linear response)."""
-    import modal
-
     st = column(scene.spec)
     n = st.n
     omega, Phi = modes(st)
@@ -212,7 +212,7 @@ def column_indicators(scene) -> dict:
 def _undamped_frequencies_hz(st) -> tuple[np.ndarray, np.ndarray]:
     """Full-contact and uplifted (rocking) vibration frequencies of the undamped linear
     systems (paper 001, Eqs 19–21 with C = 0; the eigenvectors of §4.2 are undamped too)."""
-    from modal.linearise import rocking
+    from multimass.modal.linearise import rocking
 
     rk = rocking(st)
     w2 = sla.eigh(rk.K, rk.M, eigvals_only=True)

@@ -32,8 +32,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+import multimass.modal as modal
+import multimass.specimens as specimens
+
 from ..errors import InputError, SolverError
+from ..simulate import simulate
 from ..structure import column, rigid_block
+from .recovery import node_accelerations
 from .reduce import Reduced, modal_reduction, rigid_equivalent
 
 __all__ = ["Rung", "RungAnswer", "ladder", "OUTPUT_DT_ACCELERATION", "BACKENDS"]
@@ -127,8 +132,6 @@ def ladder(scene) -> list[Rung]:
 
 
 def _beam(scene):
-    import specimens
-
     return scene.beam_spec or specimens.load("beam_mudric2024")
 
 
@@ -156,7 +159,6 @@ def _fast_ready() -> bool:
 
 def simulate_scene(structure, scene, output_dt, backend: str = "auto"):
     """`multimass.simulate` with the scene's options; "auto": compiled when possible."""
-    from ..simulate import simulate
 
     kw = dict(impact=scene.impact_model, restitution=scene.restitution_value,
               t_end=scene.duration, output_dt=output_dt, max_step=scene.solver_max_step)
@@ -195,12 +197,9 @@ def _column_answer(rung: Rung, scene, backend: str) -> RungAnswer:
     start = time.perf_counter()
     red = reduced_model(rung, scene)
     if q.kind == "uplifted_frequencies":
-        import modal
-
         modes = modal.analyse(red.structure).rocking.to_pandas()      # by mode number,
         freqs = tuple(float(f) for f in modes["freq_hz"].iloc[:q.n_modes])   # overdamped too
         return RungAnswer(rung.name, freqs, "Hz", time.perf_counter() - start, "modal")
-    from .recovery import node_accelerations
 
     output_dt = OUTPUT_DT_ACCELERATION if q.kind == "peak_acceleration" else None
     resp = simulate_scene(red.structure, scene, output_dt, backend)
@@ -221,7 +220,7 @@ def _column_answer(rung: Rung, scene, backend: str) -> RungAnswer:
 # ---------------------------------------------------------------------------- blocks
 def _nscd_warm():
     if not _WARM["nscd"]:
-        import nscd
+        import multimass.nscd as nscd
         nscd.simulate("B6M", theta0=0.1, dt=1e-3, t_end=0.01)   # compile or load the kernel
         _WARM["nscd"] = True
 
@@ -238,8 +237,7 @@ def _block_answer(rung: Rung, scene, backend: str) -> RungAnswer:
         return RungAnswer(rung.name, value, q.unit, time.perf_counter() - start, resp.status,
                           {"n_impacts": resp.n_impacts,
                            "backend": resp.options.get("backend", "scipy")})
-    import nscd
-
+    import multimass.nscd as nscd
     _nscd_warm()
     start = time.perf_counter()
     res = nscd.simulate(scene.spec, _beam(scene), theta0=scene.excitation.theta0,

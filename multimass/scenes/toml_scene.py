@@ -6,20 +6,23 @@ import math
 import tomllib
 from pathlib import Path
 
+import multimass.specimens as specimens
+
 from ..errors import InputError
 from ..excitations import CosinePulse, CosineWave, FreeRelease, Ricker, SineWave
 from ..records import read_record
 from ..textfile import as_path, read_text
-from ..units import parse_acceleration
-from .scene import _ABS_KEYS, Question, Scene, Tolerance, _fail, _keys, _number
+from ..units import G, parse_acceleration
+from .question import _ABS_KEYS, Question, Tolerance, _fail, _keys, _number
 
-__all__ = ["scene_from_file", "scene_from_mapping", "resolve_path"]
+__all__ = ["scene_arguments", "arguments_from_mapping", "resolve_path"]
 
 _WHAT = "a scene TOML file (see examples/scenes/)"
 
 
-def scene_from_file(path) -> Scene:
-    """Read and validate a scene file; relative paths inside it resolve against its folder.
+def scene_arguments(path) -> dict:
+    """Read and validate a scene file: the keyword arguments of its `Scene`; relative paths
+    inside it resolve against its folder.
 
     Raises
     ------
@@ -33,7 +36,7 @@ def scene_from_file(path) -> Scene:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{p}: not valid TOML ({exc}); fix the syntax") from None
-    return scene_from_mapping(data, str(p), p.parent)
+    return arguments_from_mapping(data, str(p), p.parent)
 
 
 _EXC_KEYS = {
@@ -55,8 +58,6 @@ def resolve_path(value: str, folder: Path, bundled=()) -> str:
 
 
 def _structure(data, w: str, folder: Path) -> dict:
-    import specimens
-
     _keys(w, "structure", data, {"beam", "E_Pa", "E_over_Ebar"}, {"specimen"})
     for key in ("specimen", "beam"):
         if key in data and (not isinstance(data[key], str) or not data[key]):
@@ -155,7 +156,6 @@ def _tolerance(data, w: str, question: Question) -> Tolerance | None:
     unit, factor = _ABS_KEYS[key]
     x = _number(w, f"tolerance.{key}", value, low=0.0, low_open=True, what=f"a tolerance in {unit}")
     if factor is None:              # absolute_g: in units of g
-        from ..units import G
         factor = G
     return Tolerance(x * factor, relative=False, unit=unit)
 
@@ -170,8 +170,9 @@ def _simulation(data, w: str) -> dict:
     return {names[k]: v for k, v in data.items()}
 
 
-def scene_from_mapping(data, source: str, folder: Path) -> Scene:
-    """Build a `Scene` from a parsed TOML mapping; `source` names the file in errors."""
+def arguments_from_mapping(data, source: str, folder: Path) -> dict:
+    """The keyword arguments of a `Scene`, from a parsed TOML mapping (`Scene.from_toml`
+    builds the scene); `source` names the file in errors."""
     w = source
     _keys(w, "", data, {"description", "tolerance", "simulation"},
           {"name", "structure", "excitation", "question"})
@@ -183,11 +184,11 @@ def scene_from_mapping(data, source: str, folder: Path) -> Scene:
     tol = _tolerance(data.get("tolerance"), w, question)
     ratio = st.pop("E_over_Ebar", None)
     if ratio is not None:
-        import nscd
+        import multimass.nscd as nscd
         try:
             st["E"] = nscd.flexible_modulus(st["specimen"], st["beam"]) * ratio
         except ValueError as exc_:
             raise InputError(f"{w}: `structure` = {data['structure']!r}: {exc_}") from None
-    return Scene(name=data["name"], description=str(data.get("description", "")), excitation=exc,
+    return dict(name=data["name"], description=str(data.get("description", "")), excitation=exc,
                  question=question, tolerance=tol, source=source, **st,
                  **_simulation(data.get("simulation"), w))

@@ -5,8 +5,17 @@ from __future__ import annotations
 import math
 
 from ..errors import InputError
-from ..excitations import CosinePulse, CosineWave, Excitation, FreeRelease, Ricker, SineWave
+from ..excitations import (
+    CosinePulse,
+    CosineWave,
+    Excitation,
+    FreeRelease,
+    Ricker,
+    SineWave,
+)
 from ..records import Record
+from ..structure import column
+from .question import IMPACTS, Tolerance
 
 __all__ = ["validate_scene"]
 
@@ -76,8 +85,6 @@ def _excitation(scene, spec, w: str):
 
 
 def _alpha_cg(spec) -> float:
-    from ..structure import column
-
     return column(spec).alpha_cg
 
 
@@ -101,8 +108,6 @@ def _question(scene, spec, w: str):
 
 
 def _tolerance(scene, w: str):
-    from .scene import Tolerance
-
     q, tol = scene.question, scene.tolerance
     if q.kind == "overturning":
         if tol is not None and tol.unit != "verdict":
@@ -118,8 +123,6 @@ def _tolerance(scene, w: str):
 
 
 def _options(scene, w: str):
-    from .scene import IMPACTS
-
     if scene.t_end is not None and not (isinstance(scene.t_end, (int, float))
                                         and math.isfinite(scene.t_end) and scene.t_end > 0):
         raise InputError(f"{w}: `simulation.t_end_s` = {scene.t_end!r}: give a positive "

@@ -17,9 +17,9 @@ Several sweeps on one pool (it starts once)::
         b = run_jobs(simulate_one, jobs_b, executor=ex)
 """
 
-from .engine import ExecutorError, JobError, batch_plan, run_jobs
 from .base import Executor, available_workers
 from .dask_executor import DaskExecutor
+from .engine import ExecutorError, JobError, batch_plan, run_jobs
 from .executors import EXECUTORS, ProcessExecutor, SerialExecutor, get_executor
 from .seeding import job_seeds
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 from typing import Any
 
 from ..errors import InputError
+from ..validation import positive
 from .base import Executor, available_workers, validate_workers
 
 __all__ = ["DaskExecutor"]
@@ -61,7 +62,6 @@ class DaskExecutor(Executor):
         if address is not None and (not isinstance(address, str) or not address.strip()):
             raise InputError(f"`address` = {address!r}: give the scheduler address, e.g. "
                              "'tcp://10.0.0.5:8786' (printed by `dask scheduler`)")
-        from ..validation import positive
 
         self._timeout = positive("connect_timeout", connect_timeout, "s")
         self._n_local = validate_workers(workers)
@@ -117,7 +117,9 @@ class DaskExecutor(Executor):
         return max(1, sum(self.client.nthreads().values()))
 
     def prepare(self, func):
-        from distributed.protocol.pickle import dumps   # cloudpickle-backed, as Dask sends it
+        from distributed.protocol.pickle import (
+            dumps,  # cloudpickle-backed, as Dask sends it
+        )
         try:
             dumps(func)
         except Exception as exc:

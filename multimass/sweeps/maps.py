@@ -255,7 +255,7 @@ def overturning_map(block, pulse: str = "sine", omega_p=np.linspace(1, 10, 10),
     amp = check_values("amp", amp, nonnegative=True)
     refine = v.integer("refine", refine, low=0, what="bisection rounds")
     t_free = v.positive("t_free", t_free, "free rocking after the pulse, s")
-    from impact_models import impact_model
+    from multimass.impact_models import impact_model
 
     model = impact_model(impact, st.specimen, restitution, k)   # validates restitution and k
     sim_options = default_backend(sim_options)

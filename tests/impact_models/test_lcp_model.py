@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import multimass
-from impact_models import housner_eta, impact_model
-from impact_models.lcp_model import PoissonLCP, base_mass_matrix
 from multimass import FreeRelease, simulate
+from multimass.impact_models import housner_eta, impact_model
+from multimass.impact_models.lcp_model import PoissonLCP, base_mass_matrix
 
 
 def test_rigid_block_with_eps_0_is_housner():

@@ -5,7 +5,7 @@ import itertools
 import numpy as np
 import pytest
 
-from impact_models import LCPError, lemke
+from multimass.impact_models import LCPError, lemke
 
 
 def brute_force(M, q, tol=1e-9):

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from impact_models import LCPError, PoissonImpact, poisson_impact
+from multimass.impact_models import LCPError, PoissonImpact, poisson_impact
 
 ROOT_HALF = 1.0 / math.sqrt(2.0)
 H_OVER_B = [0.2, 0.5, 0.7, ROOT_HALF * (1 - 1e-6), ROOT_HALF, ROOT_HALF * (1 + 1e-6),
@@ -90,7 +90,7 @@ def test_post_impact_states_of_figure_3(h_over_b, expect):
 
 def test_slender_plastic_impact_is_housner():
     # paper 000, Eq 24 with ε_P = 0 is Housner's η = 1 − 3/2 sin²α (paper 004, Eq 9)
-    from impact_models import housner_eta
+    from multimass.impact_models import housner_eta
     for hb in (1.0, 3.0, 7.0):
         r, _, _, alpha, phidot = block_impact(hb, 0.0)
         assert r.u_plus[2] / phidot == pytest.approx(housner_eta(alpha), abs=1e-13)

@@ -6,11 +6,19 @@ import numpy as np
 import pytest
 
 import multimass
-import specimens
-from impact_models import (CornerRestitution, EmpiricalRestitution, FixedRestitution,
-                           ImpactContext, RandomRestitution, housner_eta, impact_model,
-                           modified_eta, r_h)
-from impact_models.table2 import TABLE_2
+from multimass import specimens
+from multimass.impact_models import (
+    CornerRestitution,
+    EmpiricalRestitution,
+    FixedRestitution,
+    ImpactContext,
+    RandomRestitution,
+    housner_eta,
+    impact_model,
+    modified_eta,
+    r_h,
+)
+from multimass.impact_models.table2 import TABLE_2
 
 
 @pytest.mark.parametrize("name, eta_H, eta_M, k_avg", [

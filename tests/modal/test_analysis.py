@@ -3,12 +3,11 @@
 import numpy as np
 import pytest
 
-from tests.conftest import column_toml
-
 import multimass
-import modal
-from modal import ModalError
-from modal.analysis import nodal_points
+from multimass import modal
+from multimass.modal import ModalError
+from multimass.modal.analysis import nodal_points
+from tests.conftest import column_toml
 
 
 @pytest.fixture(scope="module")
@@ -148,11 +147,11 @@ def test_heavy_damping_is_classified_not_an_error(zeta09):
     assert lam[0] > 0 > lam[1] and lam[0] == pytest.approx(s.p_l, rel=1e-3)   # Eq 6
     # damping this heavy mixes uplifted modes 1 and 2: flagged, not hidden
     assert np.all(rk["participation"][:2] < 0.9) and np.all(rk["participation"][2:] > 0.98)
-    from modal.report import markdown, summary
+    from multimass.modal.report import markdown, summary
     md = markdown(zeta09, summary(zeta09))
     assert "**Mixed modes:**" in md and "uplifted mode 1 (45 %)" in md
     # every overdamped couple solves the quadratic eigenproblem of Eqs 19–21
-    from modal import rocking
+    from multimass.modal import rocking
     sys = rocking(s)
     for l in zeta09.rocking.overdamped_eigenvalues.ravel():
         Q = l**2 * sys.M + l * sys.C + sys.K

@@ -5,7 +5,13 @@ import numpy as np
 import pytest
 
 import multimass
-from modal import LinearSystem, foss, frequency_and_damping, full_contact, rocking
+from multimass.modal import (
+    LinearSystem,
+    foss,
+    frequency_and_damping,
+    full_contact,
+    rocking,
+)
 
 
 def _system(M, C, K, phase="full_contact"):
@@ -87,9 +93,8 @@ def _match(ours, ref):
 
 
 def test_one_node_rocking_eigenvalues_match_the_hand_quartic(tmp_path):
+    from multimass import modal
     from tests.conftest import column_toml
-    import modal
-
     p = column_toml(tmp_path, [1.0], [200.0], name="sdof")
     res = modal.analyse(p)
     # the file's numbers (tests/conftest.py::column_toml from S1.toml): one node at H = 1 m,
@@ -112,7 +117,7 @@ def _two_node_reference(H1, H2, m1, m2):
     S1-like file's numbers: Euler–Bernoulli element (textbook 4×4) between nodes 1 and 2,
     K_fp on u_1 and K_rot on Ω_1, rotations condensed out; Rayleigh C fitted to ζ_1, ζ_2 at
     the two undamped modes; M_L, C_L, K_L of paper 001, Eqs 19–21, written in full."""
-    import sympy as sp                  # a dependency of the package
+    import sympy as sp  # a dependency of the package
     R = lambda x: sp.Rational(str(x))                              # noqa: E731  exact decimals
     EI, Kfp, Krot = R(200e9) * R("183.3e-8"), R(5.0e8), R(2.0e6)
     B, J0, g, z1, z2 = R(0.305), R(10), R("9.81"), R("0.005"), R("0.015")
@@ -148,9 +153,8 @@ def _two_node_reference(H1, H2, m1, m2):
 
 
 def test_two_node_rocking_eigenvalues_match_a_symbolic_derivation(tmp_path):
+    from multimass import modal
     from tests.conftest import column_toml
-    import modal
-
     heights, masses = [0.5, 1.5], [100.0, 50.0]
     p = column_toml(tmp_path, heights, masses, name="two")
     ref = _two_node_reference(*heights, *masses)

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from modal import ModalError, mac
+from multimass.modal import ModalError, mac
 
 
 @pytest.fixture

@@ -4,12 +4,11 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from tests.conftest import column_toml
-
 import multimass
-import modal
-from modal import LinearSystem
-from modal.analysis import phase_modes
+from multimass import modal
+from multimass.modal import LinearSystem
+from multimass.modal.analysis import phase_modes
+from tests.conftest import column_toml
 
 # A fixed-free chain of N equal masses m and springs k: closed-form undamped modes
 # (e.g. Meirovitch, Fundamentals of Vibrations, 2001, chain of N masses):

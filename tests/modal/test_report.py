@@ -5,9 +5,9 @@ import json
 import numpy as np
 import pytest
 
-import modal
-from modal.measured import read_measured_shapes
-from modal.report import printed_unit, summary, write_report
+from multimass import modal
+from multimass.modal.measured import read_measured_shapes
+from multimass.modal.report import printed_unit, summary, write_report
 
 PNG = b"\x89PNG\r\n\x1a\n"
 
@@ -117,7 +117,7 @@ def analysis(request):
 
 
 def test_shape_figure_draws_the_json_numbers(analysis):
-    from modal.plots import shapes_figure
+    from multimass.modal.plots import shapes_figure
 
     info = summary(analysis)
     sh = info["shapes"]
@@ -144,7 +144,7 @@ def _distance_to_box(point, box):
 
 
 def test_eigenvalue_zoom_labels_hide_nothing(analysis):
-    from modal.plots import eigenvalue_figure
+    from multimass.modal.plots import eigenvalue_figure
 
     fig = eigenvalue_figure(analysis)
     fig.draw_without_rendering()

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-import modal
-from modal.shapes import align_to_full_contact, normalise
+from multimass import modal
+from multimass.modal.shapes import align_to_full_contact, normalise
 
 
 def test_normalise_by_hand():

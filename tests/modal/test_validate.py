@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import multimass
-import modal
-from modal import ModalError
+from multimass import modal
+from multimass.modal import ModalError
 
 
 @pytest.fixture(scope="module")

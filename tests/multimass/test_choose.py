@@ -11,14 +11,24 @@ import scipy.linalg as sla
 from scipy.integrate import solve_ivp
 
 import multimass
-import specimens
-from modal.linearise import rocking as linear_rocking
-from multimass import InputError
+from multimass import InputError, specimens
+from multimass.modal.linearise import rocking as linear_rocking
 from multimass.scenes import Question, Scene, Tolerance, choose, ladder
-from multimass.scenes.criteria import (BEAM_RIGID, _kappa, assess, column_indicators,
-                                       linear_modal_response)
+from multimass.scenes.criteria import (
+    BEAM_RIGID,
+    _kappa,
+    assess,
+    column_indicators,
+    linear_modal_response,
+)
 from multimass.scenes.recovery import node_accelerations
-from multimass.scenes.reduce import Reduced, modal_reduction, modes, rigid_equivalent, sdof
+from multimass.scenes.reduce import (
+    Reduced,
+    modal_reduction,
+    modes,
+    rigid_equivalent,
+    sdof,
+)
 
 COLUMNS = ("S1", "S2", "S3")
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
@@ -227,8 +237,7 @@ def test_beam_deflection_threshold(ratio, rigid_ok):
 
 def test_L_over_2500_modulus_is_E_bar():
     # paper 002 §6.3: Ē gives δ = L/2500; nscd.flexible_modulus computes it independently
-    import nscd
-
+    from multimass import nscd
     E_bar = nscd.flexible_modulus("B4M")
     sc = Scene("b", "B4M", multimass.FreeRelease(0.2), Question("peak_rotation"),
                Tolerance(0.05), beam="beam_mudric2024", E=E_bar)

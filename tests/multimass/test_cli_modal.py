@@ -6,10 +6,9 @@ import numpy as np
 import pytest
 import scipy.linalg as sla
 
-from tests.conftest import column_toml
-
 import multimass
 from multimass.cli import main
+from tests.conftest import column_toml
 
 
 def test_specimens_lists_bundled(capsys):
@@ -36,8 +35,7 @@ def test_modal_writes_report(tmp_path, capsys):
 
 
 def test_modal_user_file(tmp_path, capsys):
-    import specimens
-
+    from multimass import specimens
     path = tmp_path / "col.toml"
     path.write_text(specimens.loader._bundled()["S1"].read_text().replace('name = "S1"', 'name = "Mine"'))
     assert main(["modal", str(path), "--json"]) == 0

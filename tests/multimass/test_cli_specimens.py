@@ -4,7 +4,7 @@ import json
 
 import pytest
 
-import specimens
+from multimass import specimens
 from multimass.cli import main
 from multimass.cli.specimens_cmd import MIN_DESCRIPTION, NAME_WIDTH, format_table
 

@@ -10,11 +10,16 @@ import math
 import numpy as np
 import pytest
 
-from impact_models import poisson_impact
 from multimass import InputError
-from multimass._contact_checks import (ENERGY_LIMIT, FrictionDemand, friction_ratio,
-                                       impact_ratio, run_checks)
+from multimass._contact_checks import (
+    ENERGY_LIMIT,
+    FrictionDemand,
+    friction_ratio,
+    impact_ratio,
+    run_checks,
+)
 from multimass.contact_dynamics import simulate_contacts
+from multimass.impact_models import poisson_impact
 from multimass.poisson_block import PoissonBlock, _BlockModel
 
 

@@ -24,14 +24,22 @@ import numpy as np
 import pytest
 
 import multimass
-import specimens
-from impact_models import DiracDelta, FixedRestitution
-from multimass import (CosinePulse, CosineWave, FreeRelease, InputError, Record, Ricker,
-                       SineWave, simulate)
+from multimass import (
+    CosinePulse,
+    CosineWave,
+    FreeRelease,
+    InputError,
+    Record,
+    Ricker,
+    SineWave,
+    simulate,
+    specimens,
+)
 from multimass._events import phase_events
 from multimass._phase import ActiveForce, Model, full_contact_rhs, rocking_rhs
 from multimass.fast import CompileReport, encode, warm_up
 from multimass.fast import _maths as mx
+from multimass.impact_models import DiracDelta, FixedRestitution
 
 EVENT_DT = 1e-7        # s, see the module docstring
 RECORD_EVENT_DT = 1e-6  # s, for a record with a kink at every sample (see the test)
@@ -138,9 +146,9 @@ def test_many_non_terminal_roots_in_one_segment():
     # root must match solve_ivp's with the same event
     from scipy.integrate import solve_ivp
 
-    from impact_models import impact_model
     from multimass.fast._kernel import integrate_phase
     from multimass.fast.path import FastPath
+    from multimass.impact_models import impact_model
 
     st = multimass.column("S1")
     n = st.n

@@ -8,8 +8,11 @@ import sympy as sp
 
 from multimass import InputError, Ricker
 from multimass.contact_dynamics import _Phase
-from multimass.flexible_oscillator import (FlexibleOscillator, _OscillatorModel,
-                                           simulate_oscillator)
+from multimass.flexible_oscillator import (
+    FlexibleOscillator,
+    _OscillatorModel,
+    simulate_oscillator,
+)
 from multimass.flexible_oscillator_eom import numeric, symbolic
 
 # an illustrative oscillator (paper 000 takes its specimens from [23], not reproduced there)
@@ -203,6 +206,7 @@ def test_base_spinning_at_the_start_rocks_like_a_rigid_body(sign):
     # from T0 = g [m (b sin φ + h cos φ − h) + m_b b sin φ + m_c (b sin φ + h/2 (cos φ − 1))].
     # A 20 Hz column follows the rigid peak within 1e-3 (measured 7.3e-4).
     from scipy.optimize import brentq
+
     from multimass.contact_dynamics import simulate_contacts
     o = FlexibleOscillator.from_frequency(20.0, **dict(OSC, zeta=0.0))
     m, mc, mb, h, b, g = o.m, o.m_c, o.m_b, o.h, o.b, o.g

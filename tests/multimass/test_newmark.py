@@ -20,12 +20,11 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import multimass
-import specimens
-from impact_models.restitution import housner_eta
-from multimass import InputError
+from multimass import InputError, specimens
 from multimass import _newmark_kernel as kern
 from multimass.eom import rocking_accelerations
 from multimass.excitations import SineWave
+from multimass.impact_models.restitution import housner_eta
 from multimass.newmark import NewmarkResult, newmark_block
 
 G = 9.81

@@ -5,11 +5,15 @@ import math
 import numpy as np
 import pytest
 
-from impact_models import housner_eta
 import multimass
-from multimass import InputError
-from multimass import SineWave
-from multimass.poisson_block import PoissonBlock, _BlockModel, housner_theta, simulate_block
+from multimass import InputError, SineWave
+from multimass.impact_models import housner_eta
+from multimass.poisson_block import (
+    PoissonBlock,
+    _BlockModel,
+    housner_theta,
+    simulate_block,
+)
 
 
 def on_grid(resp, grid):

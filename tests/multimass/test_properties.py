@@ -20,8 +20,17 @@ import pytest
 from hypothesis import HealthCheck, event, example, given, settings
 from hypothesis import strategies as st
 
-from multimass import (CosinePulse, CosineWave, FreeRelease, InputError, Record, Ricker, SineWave,
-                       read_at2, read_two_column)
+from multimass import (
+    CosinePulse,
+    CosineWave,
+    FreeRelease,
+    InputError,
+    Record,
+    Ricker,
+    SineWave,
+    read_at2,
+    read_two_column,
+)
 from multimass.flexible_oscillator import FlexibleOscillator
 from multimass.poisson_block import PoissonBlock
 from multimass.traces import Trace, read_trace

@@ -6,8 +6,14 @@ import numpy as np
 import pytest
 
 import multimass
-from multimass import (CosinePulse, FreeRelease, InputError, SineWave, read_two_column,
-                       simulate)
+from multimass import (
+    CosinePulse,
+    FreeRelease,
+    InputError,
+    SineWave,
+    read_two_column,
+    simulate,
+)
 from tests.conftest import RaisingExcitation, column_toml
 
 

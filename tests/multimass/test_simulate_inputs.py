@@ -7,8 +7,16 @@ import numpy as np
 import pytest
 
 import multimass
-from multimass import (CosinePulse, FreeRelease, InputError, Record, SineWave, estimate,
-                       simulate, simulate_outcome)
+from multimass import (
+    CosinePulse,
+    FreeRelease,
+    InputError,
+    Record,
+    SineWave,
+    estimate,
+    simulate,
+    simulate_outcome,
+)
 
 
 @pytest.mark.parametrize("kwargs, fragment", [

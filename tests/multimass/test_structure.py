@@ -5,14 +5,12 @@ import dataclasses
 import numpy as np
 import pytest
 
-from tests.conftest import REPO, column_toml
-
 import multimass
-import specimens
-from multimass import InputError
+from multimass import InputError, specimens
 from multimass.damping import rayleigh_damping
+from multimass.specimens import SpecimenError
 from multimass.structure_checks import MAX_FREQ_HZ
-from specimens import SpecimenError
+from tests.conftest import REPO, column_toml
 
 
 @pytest.mark.parametrize("name, J_p, H_cg, alpha_cg, p_l", [

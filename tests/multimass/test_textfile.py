@@ -3,7 +3,7 @@
 import pytest
 
 from multimass import InputError
-from multimass.scenes.toml_scene import scene_from_file
+from multimass.scenes.toml_scene import scene_arguments as scene_from_file
 from multimass.textfile import as_path, read_text
 
 WHAT = "a test file"

@@ -11,12 +11,12 @@ import types
 import numpy as np
 import pytest
 
-from impact_models import impact_model
 from multimass import kinematics as kin
 from multimass._events import phase_events
 from multimass._phase import Model
 from multimass.fast import _maths as mx
 from multimass.fast.path import FastPath
+from multimass.impact_models import impact_model
 from multimass.structure import Structure
 
 G = 9.81

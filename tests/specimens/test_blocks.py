@@ -4,8 +4,8 @@ import math
 
 import pytest
 
-import specimens
-from specimens import BlockSpecimen, SpecimenError
+from multimass import specimens
+from multimass.specimens import BlockSpecimen, SpecimenError
 
 
 @pytest.mark.parametrize("name, b, h, m, alpha, R, p", [

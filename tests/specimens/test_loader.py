@@ -5,8 +5,8 @@ import shutil
 
 import pytest
 
-import specimens
-from specimens import ColumnSpecimen, SpecimenError
+from multimass import specimens
+from multimass.specimens import ColumnSpecimen, SpecimenError
 
 
 def test_available_lists_the_bundled_columns():

@@ -20,12 +20,15 @@ import numpy as np
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
-import modal
 import multimass
-import specimens
-from modal.errors import ModalError
-from multimass import InputError
-from specimens import BeamSpecimen, BlockSpecimen, ColumnSpecimen, SpecimenError
+from multimass import InputError, modal, specimens
+from multimass.modal.errors import ModalError
+from multimass.specimens import (
+    BeamSpecimen,
+    BlockSpecimen,
+    ColumnSpecimen,
+    SpecimenError,
+)
 
 OWN_ERRORS = (SpecimenError, InputError, ModalError)
 BASES = {name: tomllib.loads(specimens.loader._bundled()[name].read_text())

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-import specimens
-from specimens import SpecimenError
-from specimens.ranges import RANGES, SECTION_FACTOR, check, fmt, written
+from multimass import specimens
+from multimass.specimens import SpecimenError
+from multimass.specimens.ranges import RANGES, SECTION_FACTOR, check, fmt, written
 
 
 @pytest.mark.parametrize("x, factor, text", [

@@ -4,8 +4,8 @@ import tomllib
 
 import pytest
 
-import specimens
-from specimens import SpecimenError
+from multimass import specimens
+from multimass.specimens import SpecimenError
 
 
 @pytest.fixture

@@ -1,0 +1,70 @@
+"""One import name (issue 13): the distribution installs `multimass` and nothing else at the
+top level of site-packages; the folders the design card keeps at the repository's top level
+(modal/, impact_models/, specimens/) import only as multimass.modal, ... ."""
+
+import subprocess
+import sys
+import zipfile
+
+import pytest
+
+from tests.conftest import REPO
+
+
+@pytest.fixture(scope="module")
+def wheel(tmp_path_factory):
+    out = tmp_path_factory.mktemp("wheel")
+    done = subprocess.run([sys.executable, "-m", "pip", "wheel", str(REPO), "--no-deps",
+                           "-q", "-w", str(out)],
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-2000:]
+    (path,) = out.glob("multimass-*.whl")
+    return path
+
+
+def test_the_wheel_has_one_top_level_import_name(wheel):
+    names = zipfile.ZipFile(wheel).namelist()
+    top = {n.split("/")[0] for n in names if not n.split("/")[0].endswith(".dist-info")}
+    assert top == {"multimass"}
+    for sub in ("modal", "impact_models", "specimens", "nscd", "bench"):
+        assert f"multimass/{sub}/__init__.py" in names
+    assert "multimass/specimens/data/S1.toml" in names
+    assert not any(n.startswith("benchmarks/") for n in names)     # developer-only scripts
+
+
+def test_installed_beside_a_package_named_modal_both_import(wheel, tmp_path):
+    # `modal` is also the import name of a widely installed cloud SDK: installing multimass
+    # must neither overwrite it nor be shadowed by it
+    target = tmp_path / "site"
+    done = subprocess.run([sys.executable, "-m", "pip", "install", "--no-deps", "-q",
+                           "--target", str(target), str(wheel)], capture_output=True, text=True,
+                          timeout=600)
+    assert done.returncode == 0, done.stderr[-2000:]
+    (target / "modal").mkdir()
+    (target / "modal" / "__init__.py").write_text("WHO = 'the other modal'\n")
+    code = ("import modal, multimass.modal as mm; "
+            "print(modal.WHO); print(mm.__file__); print(mm.analyse('S1').rocking.freq_hz[0])")
+    done = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True,
+                          text=True, timeout=300, env={"PYTHONPATH": str(target), "PATH": ""})
+    assert done.returncode == 0, done.stderr[-2000:]
+    who, where, freq = done.stdout.split("\n")[:3]
+    assert who == "the other modal" and where.startswith(str(target))
+    assert abs(float(freq) - 20.50) < 0.01        # S1 uplifted mode 1 (README, 20.50 Hz)
+
+
+@pytest.mark.parametrize("name", ["modal", "specimens", "impact_models"])
+def test_no_bare_top_level_name_from_the_repository_root(name):
+    done = subprocess.run([sys.executable, "-c", f"import {name}"], cwd=REPO,
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode != 0
+    assert f"installs as `multimass.{name}`; import that" in done.stderr
+
+
+@pytest.mark.parametrize("name", ["specimens", "impact_models"])
+def test_the_bottom_layers_load_nothing_else(name):
+    code = (f"import sys, multimass.{name}; "
+            "print(sorted({m.split('.')[1] for m in sys.modules if m.startswith('multimass.')}))")
+    done = subprocess.run([sys.executable, "-c", code], cwd=REPO.parent, capture_output=True,
+                          text=True, timeout=60)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.strip() == f"['{name}']"
