@@ -24,7 +24,7 @@ from multimass import nscd
 from multimass.nscd import cost
 from multimass.nscd.model import build_system
 from multimass.nscd.reference import reference_run
-from multimass.nscd.simulate import run_system
+from multimass.nscd.run import run_system
 
 __all__ = ["main", "calibrate"]
 

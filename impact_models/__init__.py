@@ -5,7 +5,7 @@ if __name__ != "multimass.impact_models":          # one import name (pyproject:
     raise ImportError(f"this folder installs as `multimass.impact_models`; import that, not "
                       f"`{__name__}` (is the repository's root on sys.path before site-packages?)")
 
-from .lemke import LCPError, LCPSolution, lemke
+from .complementarity import LCPError, LCPSolution, lemke
 from .models import Classical, DiracDelta, ImpactModel, Transition
 from .poisson import PoissonImpact, poisson_impact
 from .restitution import housner_eta, modified_eta, r_h

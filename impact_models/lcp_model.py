@@ -30,6 +30,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from multimass.errors import InputError
+
 from .models import ImpactModel, Transition
 from .poisson import poisson_impact
 from .sources import FixedRestitution
@@ -70,7 +72,7 @@ class PoissonLCP(ImpactModel):
     def __post_init__(self):
         if not (isinstance(self.eps_p, (int, float)) and math.isfinite(self.eps_p)
                 and 0.0 <= self.eps_p <= 1.0):
-            raise ValueError(f"`eps_p` = {self.eps_p!r}: Poisson's coefficient must lie in [0, 1]")
+            raise InputError(f"`eps_p` = {self.eps_p!r}: Poisson's coefficient must lie in [0, 1]")
 
     def rebound(self, thetadot, udot, r):  # pragma: no cover - replaced by impact_at_zero
         raise NotImplementedError("PoissonLCP resolves the impact in impact_at_zero")

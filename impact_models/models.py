@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from multimass.errors import InputError
+
 from .sources import Restitution
 
 __all__ = ["Transition", "ImpactModel", "Classical", "DiracDelta"]
@@ -136,9 +138,9 @@ class DiracDelta(ImpactModel):
         for key in ("C_p", "n_min", "z"):
             v = getattr(self, key)
             if not (math.isfinite(v) and v > 0.0):
-                raise ValueError(f"`{key}` = {v!r}: must be a positive number")
+                raise InputError(f"`{key}` = {v!r}: must be a positive number")
         if not (math.isfinite(self.release) and self.release >= 1.0):
-            raise ValueError(f"`release` = {self.release!r}: must be ≥ 1 (paper 001 uses 1.1)")
+            raise InputError(f"`release` = {self.release!r}: must be ≥ 1 (paper 001 uses 1.1)")
 
     def rebound(self, thetadot, udot, r):
         return thetadot, udot.copy()          # paper 001, Eq 12

@@ -25,7 +25,7 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.optimize as so
 
-from .lemke import LCPError, lemke
+from .complementarity import LCPError, lemke
 
 __all__ = ["PoissonImpact", "poisson_impact"]
 

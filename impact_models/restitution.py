@@ -6,13 +6,15 @@ import math
 
 import numpy as np
 
+from multimass.errors import InputError
+
 __all__ = ["housner_eta", "modified_eta", "r_h"]
 
 
 def _check_alpha(alpha: float) -> float:
     a = float(alpha)
     if not 0.0 < a < math.pi / 2:
-        raise ValueError(f"`alpha` = {alpha!r}: the slenderness angle must lie in (0, π/2) rad")
+        raise InputError(f"`alpha` = {alpha!r}: the slenderness angle must lie in (0, π/2) rad")
     return a
 
 
@@ -29,7 +31,7 @@ def modified_eta(alpha: float, k: float) -> float:
     """
     k = float(k)
     if not 0.0 <= k <= 1.0:
-        raise ValueError(f"`k` = {k!r}: the impulse position parameter must lie in [0, 1]")
+        raise InputError(f"`k` = {k!r}: the impulse position parameter must lie in [0, 1]")
     s2 = math.sin(_check_alpha(alpha)) ** 2
     return (4.0 - 3.0 * s2 * (1.0 + k * k)) / (4.0 - 3.0 * s2 * (1.0 - k * k))  # paper 004, Eq 10
 

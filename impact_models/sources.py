@@ -18,6 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from multimass.errors import InputError
+
 from .restitution import housner_eta, modified_eta, r_h
 
 __all__ = [
@@ -59,7 +61,7 @@ class ImpactContext:
 def _check_r(r: float, what: str) -> float:
     r = float(r)
     if not (math.isfinite(r) and 0.0 < r <= 1.0):
-        raise ValueError(f"`{what}` = {r!r}: a coefficient of restitution must lie in (0, 1]")
+        raise InputError(f"`{what}` = {r!r}: a coefficient of restitution must lie in (0, 1]")
     return r
 
 
@@ -146,7 +148,7 @@ class RandomRestitution(Restitution):
         _check_r(self.right, "right")
         _check_r(self.left, "left")
         if not (math.isfinite(self.sigma) and self.sigma >= 0.0):
-            raise ValueError(f"`sigma` = {self.sigma!r}: a standard deviation must be ≥ 0")
+            raise InputError(f"`sigma` = {self.sigma!r}: a standard deviation must be ≥ 0")
 
     def value(self, ctx: ImpactContext) -> float:
         mean = self.right if ctx.side_new > 0 else self.left
@@ -178,7 +180,7 @@ class ModifiedRestitution(Restitution):
 
     def __post_init__(self):
         if not (math.isfinite(self.k) and 0.0 <= self.k <= 1.0):
-            raise ValueError(f"`k` = {self.k!r}: the impulse position parameter must lie in [0, 1]")
+            raise InputError(f"`k` = {self.k!r}: the impulse position parameter must lie in [0, 1]")
 
     def value(self, ctx: ImpactContext) -> float:
         return modified_eta(ctx.structure.alpha_cg, self.k)

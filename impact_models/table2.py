@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import math
 
+from multimass.errors import InputError
+
 from .lcp_model import PoissonLCP
 from .models import Classical, DiracDelta, ImpactModel
 from .sources import (
@@ -42,7 +44,7 @@ def _spec_restitution(specimen, key: str):
     value = getattr(specimen, key, None)
     if value is None:
         kind = getattr(specimen, "kind", type(specimen).__name__)
-        raise ValueError(f"restitution needs `{key}`, which a {kind!r} specimen does not have; "
+        raise InputError(f"restitution needs `{key}`, which a {kind!r} specimen does not have; "
                          "give `restitution` explicitly (a value, 'housner' or 'modified')")
     return value
 
@@ -90,10 +92,10 @@ def restitution_source(restitution, specimen=None, k: float | None = None) -> Re
         if name == "modified":
             kk = k if k is not None else getattr(specimen, "k", None)
             if kk is None:
-                raise ValueError("`k` is needed for the modified restitution (paper 004, Eq 10): "
+                raise InputError("`k` is needed for the modified restitution (paper 004, Eq 10): "
                                  "give k or use a block specimen, which carries one")
             return ModifiedRestitution(float(kk))
-    raise ValueError(f"`restitution` = {restitution!r}: use a number in (0, 1], one of "
+    raise InputError(f"`restitution` = {restitution!r}: use a number in (0, 1], one of "
                      f"{', '.join(RESTITUTION_NAMES)}, or a Restitution object")
 
 
@@ -124,18 +126,18 @@ def impact_model(impact, specimen=None, restitution=None, k: float | None = None
     if isinstance(impact, ImpactModel):
         return impact
     if not isinstance(impact, str):
-        raise ValueError(f"`impact` = {impact!r}: give a name ({', '.join(TABLE_2)}, DD) or an ImpactModel")
+        raise InputError(f"`impact` = {impact!r}: give a name ({', '.join(TABLE_2)}, DD) or an ImpactModel")
     name = impact.strip().upper()
     if name == "LCP":
         return PoissonLCP(eps_p=0.0 if eps_p is None else float(eps_p))
     if eps_p is not None:
-        raise ValueError(f"`eps_p` = {eps_p!r} applies to impact='LCP' only (got {impact!r})")
+        raise InputError(f"`eps_p` = {eps_p!r} applies to impact='LCP' only (got {impact!r})")
     if name == "DD":
         kind, rest_name, cp = "dirac", "mean", 1750.0
     elif name in TABLE_2:
         kind, rest_name, cp = TABLE_2[name]
     else:
-        raise ValueError(f"`impact` = {impact!r}: unknown impact model; use one of "
+        raise InputError(f"`impact` = {impact!r}: unknown impact model; use one of "
                          f"{', '.join(TABLE_2)} (paper 001, Table 2), DD, LCP, or an ImpactModel object")
     if restitution is None and getattr(specimen, "kind", None) == "block":
         restitution = "modified"       # paper 004: η_M(k) with the block's k
@@ -144,5 +146,5 @@ def impact_model(impact, specimen=None, restitution=None, k: float | None = None
         return Classical(source, name=name)
     cp = cp if C_p is None else float(C_p)
     if not (math.isfinite(cp) and cp > 0):
-        raise ValueError(f"`C_p` = {C_p!r}: must be a positive number (kg m/rad/s)")
+        raise InputError(f"`C_p` = {C_p!r}: must be a positive number (kg m/rad/s)")
     return DiracDelta(source, C_p=cp, name=name)

@@ -11,16 +11,16 @@ if __name__ != "multimass.modal":          # one import name (pyproject: package
                       f"`{__name__}` (is the repository's root on sys.path before site-packages?)")
 
 from .analysis import ModalAnalysis, PhaseModes, analyse, default_shape_nodes
+from .assurance import mac
 from .errors import ModalError
-from .foss import (
+from .linearisation import LinearSystem, full_contact, linearise, rocking
+from .state_space import (
     StateSpaceModes,
     foss,
     frequency_and_damping,
     pair_frequency_and_damping,
     state_matrix,
 )
-from .linearise import LinearSystem, full_contact, linearise, rocking
-from .mac import mac
 
 __all__ = [
     "LinearSystem",

@@ -21,12 +21,12 @@ import scipy.linalg as sla
 
 from multimass.structure import Structure
 
+from .assurance import mac
 from .errors import ModalError
-from .foss import foss, frequency_and_damping, pair_frequency_and_damping
-from .linearise import LinearSystem, full_contact, rocking
-from .mac import mac
+from .linearisation import LinearSystem, full_contact, rocking
 from .pairing import pair_modes
 from .shapes import align_to_full_contact, normalise
+from .state_space import foss, frequency_and_damping, pair_frequency_and_damping
 from .validate import validate_shape_nodes, validate_structure
 
 __all__ = ["PhaseModes", "ModalAnalysis", "analyse", "phase_modes", "default_shape_nodes",

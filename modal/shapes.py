@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .mac import mac
+from .assurance import mac
 
 __all__ = ["UNRELATED_MAC", "normalise", "align_to_full_contact"]
 

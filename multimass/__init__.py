@@ -18,7 +18,7 @@ _PUBLIC = {
     "records": ("Record", "read_at2", "read_record", "read_two_column"),
     "units": ("G", "parse_acceleration", "to_mps2"),
     "response": ("Event", "Response"),
-    "simulate": ("DEFAULTS", "Outcome", "estimate", "simulate", "simulate_outcome"),
+    "simulation": ("DEFAULTS", "Outcome", "estimate", "simulate", "simulate_outcome"),
     "trace_metrics": ("ChannelMetrics", "compare_trace"),
     "traces": ("Trace", "read_trace"),
     "scenes": ("Scene", "choose"),

@@ -53,7 +53,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize_scalar
 
-from multimass.impact_models.lemke import LCPError
+from multimass.impact_models.complementarity import LCPError
 from multimass.impact_models.poisson import PoissonImpact, poisson_impact
 
 from ._contact_checks import (

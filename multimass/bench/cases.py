@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 import multimass
 import multimass.nscd as nscd
 from multimass.excitations import FreeRelease, SineWave
-from multimass.simulate import simulate
+from multimass.simulation import simulate
 
 from .config import Config
 from .results import RunResult, failed_run, from_block, from_nscd, from_response, timed

@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 
 from multimass.excitations import FreeRelease
-from multimass.simulate import DEFAULTS
+from multimass.simulation import DEFAULTS
 
 from .cases import IMPLICIT, NSCDRunner, engine_runner, scaled_column
 from .config import Config

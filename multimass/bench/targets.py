@@ -100,7 +100,7 @@ def single_speedup(repeats: int, t_end: float = 10.0, ref_rtol: float = 1e-12,
                    ref_atol: float = 1e-14) -> dict:
     """S1 DD2 release: solve_ivp path / compiled path, and the compiled peak error."""
     from multimass.excitations import FreeRelease
-    from multimass.simulate import simulate
+    from multimass.simulation import simulate
 
     case = lambda **kw: simulate("S1", FreeRelease(0.11), "DD2", t_end, **kw)    # noqa: E731
     sec, ref = _timed(lambda: case(rtol=ref_rtol, atol=ref_atol, output_dt=None))
@@ -132,7 +132,7 @@ def map_axes(n: int) -> tuple[np.ndarray, np.ndarray]:
 def _baseline(block, cells, t_free: float, restitution: str) -> tuple[float, list]:
     """One solve_ivp `simulate` call per cell; (seconds, outcomes)."""
     from multimass.excitations import SineWave
-    from multimass.simulate import simulate
+    from multimass.simulation import simulate
 
     outcomes = []
     t0 = time.perf_counter()

@@ -5,7 +5,7 @@ from __future__ import annotations
 from ..errors import InputError
 from ..excitations import PULSE_NAMES, FreeRelease, pulse
 from ..records import read_record
-from ..simulate import DEFAULTS
+from ..simulation import DEFAULTS
 from ..units import parse_acceleration
 from . import _types as types
 

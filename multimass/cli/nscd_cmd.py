@@ -179,7 +179,7 @@ def _write_series(res, path: Path) -> None:
 def _inputs(args):
     """Validated inputs and options of one run, and its cost checked against the budget."""
     from multimass.nscd.model import check_inputs
-    from multimass.nscd.simulate import check_run, estimate_cost
+    from multimass.nscd.run import check_run, estimate_cost
     from multimass.progress import budget_seconds
 
     theta0 = _theta0(args)

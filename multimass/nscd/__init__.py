@@ -11,7 +11,7 @@ finite-element beam (paper 002, Mudrić et al. 2024).
 from .fe_beam import BeamModel, build_beam
 from .model import System, build_system, flexible_modulus, min_modulus
 from .result import NSCDResult
-from .simulate import estimate_cost, run_system, simulate
+from .run import estimate_cost, run_system, simulate
 
 __all__ = [
     "BeamModel",

@@ -35,7 +35,7 @@ from .model import (
     load_block,
 )
 from .result import NSCDResult
-from .simulate import REST_FRACTION, check_run, estimate_cost, execute
+from .run import REST_FRACTION, check_run, estimate_cost, execute
 from .verdicts import (
     MIN_ORDER,
     TOLERANCES,

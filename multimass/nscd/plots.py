@@ -1,6 +1,6 @@
 """Figures of the Moreau–Jean simulations and convergence studies (paper 002, Figs 10–19).
 
-Plotting only; the numbers come from `nscd.simulate` and `nscd.convergence`.
+Plotting only; the numbers come from `multimass.nscd.run` and `nscd.convergence`.
 Every convergence figure states its verdicts, and a study that does not
 converge says so in red in its title.
 
@@ -17,11 +17,8 @@ import math
 import textwrap
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import numpy as np
+from matplotlib.figure import Figure
 
 __all__ = ["plot_history", "plot_study", "plot_first_peak", "plot_flexibility", "history_figure",
            "study_figure", "first_peak_figure", "flexibility_figures", "PALETTE"]
@@ -38,7 +35,6 @@ def _save(fig, path: Path) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=_DPI)
-    plt.close(fig)
     return path
 
 
@@ -85,8 +81,8 @@ def _reference_lines(ax, res, exact_first_peak_deg, paper_first_peak_deg, paper_
 def history_figure(res, *, exact_first_peak_deg=None, paper_first_peak_deg=None,
                    paper_rest_time_s=None):
     """Block angle, angular velocity and beam deflection against time (paper 002, Figs 12–15)."""
-    fig, ax = plt.subplots(3, 1, figsize=(10, 7.5), sharex=True, layout="constrained",
-                           gridspec_kw={"height_ratios": [2, 1, 1]})
+    fig = Figure(figsize=(10, 7.5), layout="constrained")
+    ax = fig.subplots(3, 1, sharex=True, gridspec_kw={"height_ratios": [2, 1, 1]})
     p = res.params
     ax[0].plot(*_thin(res.t, np.degrees(res.theta)), lw=0.8, color="tab:blue", label="NSCD")
     _reference_lines(ax[0], res, exact_first_peak_deg, paper_first_peak_deg, paper_rest_time_s)
@@ -152,8 +148,8 @@ def study_figure(study, title: str = ""):
     """θ(t) at each refinement level above a panel of the verdicts (paper 002, Figs 10–11)."""
     lines = _verdict_lines(study)
     text_h = 0.2 + 0.16 * len(lines)                    # inches of the verdict panel
-    fig, (ax, box) = plt.subplots(2, 1, figsize=(10, 5.5 + text_h), layout="constrained",
-                                  gridspec_kw={"height_ratios": [5.5, text_h]})
+    fig = Figure(figsize=(10, 5.5 + text_h), layout="constrained")
+    ax, box = fig.subplots(2, 1, gridspec_kw={"height_ratios": [5.5, text_h]})
     _study_axes(ax, study)
     ax.set_xlabel("t (s)")
     colour = _STATUS_COLOUR[study.status]
@@ -173,7 +169,8 @@ def plot_study(study, path, title: str = "") -> Path:
 
 def first_peak_figure(fps):
     """First-peak error against Δt, log–log, with the fitted order for each block."""
-    fig, ax = plt.subplots(1, 2, figsize=(13, 4.5), layout="constrained")
+    fig = Figure(figsize=(13, 4.5), layout="constrained")
+    ax = fig.subplots(1, 2)
     dts = np.array(fps.dts)
     for i, name in enumerate(fps.blocks):
         colour = PALETTE[i % len(PALETTE)]
@@ -214,7 +211,8 @@ def _exp_label(n):
 def _sweep_figure(flex, lim):
     """θ(t) on the rigid base and for each E = Ē·10ⁿ, up to t = `lim` (paper 002, Figs 16–17)."""
     name, exps, base, rigid = flex["block"], flex["exponents"], flex["base"], flex["rigid"]
-    fig, ax = plt.subplots(figsize=(11, 5), layout="constrained")
+    fig = Figure(figsize=(11, 5), layout="constrained")
+    ax = fig.subplots()
     E = rigid.params["E_Pa"]
     own = f"rigid base (E = {E:.0e} Pa)" if E >= 1e20 else f"beam's own E = {E:.3g} Pa"
     curves = [(rigid, own, {"color": "k", "lw": 1.8})]
@@ -236,8 +234,8 @@ def _sweep_figure(flex, lim):
 def _sensitivity_figure(flex, key):
     """Mesh or Δt sensitivity per exponent, each panel titled with its verdict (Figs 18–19)."""
     exps = flex["exponents"]
-    fig, axes = plt.subplots(len(exps), 1, figsize=(10, 2.4 * len(exps) + 0.4), sharex=True,
-                             layout="constrained", squeeze=False)
+    fig = Figure(figsize=(10, 2.4 * len(exps) + 0.4), layout="constrained")
+    axes = fig.subplots(len(exps), 1, sharex=True, squeeze=False)
     for ax, n in zip(axes[:, 0], exps):
         st = flex[key][n]
         _study_axes(ax, st)

@@ -15,11 +15,11 @@ measures the difference.
 'sdof'
 """
 
-from .choose import Choice, Comparison, choose, estimate_cost, format_answer
+from .choice import Choice, Comparison, choose, estimate_cost, format_answer
 from .criteria import Verdict, assess
-from .ladder import Rung, RungAnswer, ladder
 from .recovery import node_accelerations
 from .reduce import Reduced, modal_reduction, rigid_equivalent, sdof
+from .rungs import Rung, RungAnswer, ladder
 from .scene import QUESTIONS, Question, Scene, Tolerance
 
 __all__ = [

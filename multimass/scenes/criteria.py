@@ -212,7 +212,7 @@ def column_indicators(scene) -> dict:
 def _undamped_frequencies_hz(st) -> tuple[np.ndarray, np.ndarray]:
     """Full-contact and uplifted (rocking) vibration frequencies of the undamped linear
     systems (paper 001, Eqs 19–21 with C = 0; the eigenvectors of §4.2 are undamped too)."""
-    from multimass.modal.linearise import rocking
+    from multimass.modal.linearisation import rocking
 
     rk = rocking(st)
     w2 = sla.eigh(rk.K, rk.M, eigvals_only=True)

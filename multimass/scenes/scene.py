@@ -49,7 +49,7 @@ from functools import cached_property
 import multimass.specimens as specimens
 
 from ..excitations import Excitation, FreeRelease
-from ..simulate import DEFAULTS
+from ..simulation import DEFAULTS
 from .question import IMPACTS, QUESTIONS, Question, Tolerance
 from .toml_scene import scene_arguments
 from .validate import validate_scene

@@ -18,7 +18,7 @@ from typing import Any
 
 from tqdm import tqdm
 
-from ..errors import InputError
+from ..errors import InputError, SolverError
 from .base import Executor
 from .executors import get_executor
 
@@ -40,7 +40,7 @@ GUIDED_DIVISOR = 4
 PROGRESS_MIN_JOBS = 50
 
 
-class JobError(RuntimeError):
+class JobError(SolverError):
     """A job of a sweep raised; its exception is chained as ``__cause__``.
 
     Attributes
@@ -57,7 +57,7 @@ class JobError(RuntimeError):
         return type(self), (self.args[0], self.index)
 
 
-class ExecutorError(RuntimeError):
+class ExecutorError(SolverError):
     """The executor could not run a batch (a worker died, data could not be sent)."""
 
 

@@ -21,7 +21,7 @@ import pandas as pd
 from .. import validation as v
 from ..errors import InputError
 from ..excitations import CosineWave, SineWave
-from ..simulate import estimate, simulate_outcome
+from ..simulation import estimate, simulate_outcome
 from ..structure import Structure, from_specimen
 from .base import Executor
 from .engine import run_jobs

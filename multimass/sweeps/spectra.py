@@ -18,7 +18,7 @@ from .. import validation as v
 from ..errors import InputError
 from ..excitations import pulse as make_pulse
 from ..records import Record
-from ..simulate import estimate, simulate_outcome
+from ..simulation import estimate, simulate_outcome
 from ..structure import Structure, from_specimen
 from .engine import run_jobs
 from .maps import default_backend, executor_session

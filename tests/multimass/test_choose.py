@@ -12,7 +12,7 @@ from scipy.integrate import solve_ivp
 
 import multimass
 from multimass import InputError, specimens
-from multimass.modal.linearise import rocking as linear_rocking
+from multimass.modal.linearisation import rocking as linear_rocking
 from multimass.scenes import Question, Scene, Tolerance, choose, ladder
 from multimass.scenes.criteria import (
     BEAM_RIGID,

@@ -92,7 +92,7 @@ def test_progress_flags(capsys):
 
 
 def test_outputs_are_checked_before_computing(tmp_path, capsys, monkeypatch):
-    engine = importlib.import_module("multimass.nscd.simulate")   # the module, not the function
+    engine = importlib.import_module("multimass.nscd.run")   # the module, not the function
 
     def no_run(*a, **k):                              # computing would fail the test
         raise AssertionError("computed before the output folder was checked")

@@ -8,7 +8,7 @@ import pytest
 
 from multimass import nscd
 
-engine = importlib.import_module("multimass.nscd.simulate")
+engine = importlib.import_module("multimass.nscd.run")
 FIELDS = ("t", "theta", "theta_dot", "X", "Y", "v_mid", "energy", "n_contacts")
 
 

@@ -8,7 +8,7 @@ import pytest
 from multimass import nscd
 from multimass.nscd.model import build_system
 from multimass.nscd.reference import reference_run
-from multimass.nscd.simulate import run_system
+from multimass.nscd.run import run_system
 
 
 @pytest.mark.parametrize("theta0, flex, theta_method, mu", [

@@ -223,7 +223,7 @@ def test_bad_argument_names_the_field(override, fragment):
 
 
 def test_run_over_the_budget_is_refused_before_it_starts(monkeypatch):
-    engine = importlib.import_module("multimass.nscd.simulate")
+    engine = importlib.import_module("multimass.nscd.run")
     monkeypatch.setattr(engine, "assemble", lambda *a: pytest.fail("assembled a refused run"))
     # 4e9 steps (the reviewer's --dt 1e-9) at >= 1.3 µs per step: hours, over the 1 h default
     with pytest.raises(InputError, match=r"estimated .* \(4e\+09 steps.*over the budget of 1 h"):
@@ -261,7 +261,7 @@ class _Recorder:
 
 
 def test_progress_moves_between_chunks(monkeypatch):
-    engine = importlib.import_module("multimass.nscd.simulate")
+    engine = importlib.import_module("multimass.nscd.run")
     monkeypatch.setattr(engine, "Progress", _Recorder)
     monkeypatch.setattr(engine.cost, "chunk_steps", lambda n_el, n_steps: 300)
     _Recorder.made.clear()
@@ -274,7 +274,7 @@ def test_progress_moves_between_chunks(monkeypatch):
 
 
 def test_progress_is_automatic_above_a_few_seconds(monkeypatch):
-    engine = importlib.import_module("multimass.nscd.simulate")
+    engine = importlib.import_module("multimass.nscd.run")
     monkeypatch.setattr(engine, "Progress", _Recorder)
     _Recorder.made.clear()
     nscd.simulate("B6M", theta0=0.1, dt=1e-4, t_end=0.01)

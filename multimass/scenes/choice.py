@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from ..errors import InputError
 from ..structure import column
 from .criteria import assess
-from .ladder import BACKENDS, Rung, RungAnswer, ladder
+from .rungs import BACKENDS, Rung, RungAnswer, ladder
 from .scene import Scene, Tolerance
 
 __all__ = ["Choice", "Comparison", "choose", "estimate_cost", "format_answer"]

@@ -10,7 +10,7 @@ Columns (paper 001)::
 Blocks (papers 004, 002)::
 
     rigid-block   rigid block on rigid ground, 1 DOF (Housner; `multimass.rigid_block`)
-    nscd          the block on an FE beam (Moreau–Jean, `nscd.simulate`): 3 + 3(n_el+1) − 3 DOF;
+    nscd          the block on an FE beam (Moreau–Jean, `multimass.nscd.run`): 3 + 3(n_el+1) − 3 DOF;
                   on rigid ground the beam's rigid-base modulus (E = 1e24 Pa, paper 002 §6.1).
                   Free rocking only: under ground motion the ladder of a block has one rung.
 
@@ -36,7 +36,7 @@ import multimass.modal as modal
 import multimass.specimens as specimens
 
 from ..errors import InputError, SolverError
-from ..simulate import simulate
+from ..simulation import simulate
 from ..structure import column, rigid_block
 from .recovery import node_accelerations
 from .reduce import Reduced, modal_reduction, rigid_equivalent

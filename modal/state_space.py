@@ -8,7 +8,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from .errors import ModalError
-from .linearise import LinearSystem
+from .linearisation import LinearSystem
 
 __all__ = ["StateSpaceModes", "state_matrix", "foss", "frequency_and_damping",
            "pair_frequency_and_damping", "check_system"]

@@ -25,10 +25,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from multimass.errors import SolverError
+
 __all__ = ["LCPError", "LCPSolution", "lemke"]
 
 
-class LCPError(ValueError):
+class LCPError(SolverError):
     """An LCP (or the impact problem that builds it) is ill-posed or has no solution.
 
     The message names the argument, the value and the fix; a ray termination
