@@ -3,8 +3,8 @@ nothing hides or clips anything (tiny studies, coarse steps)."""
 
 import math
 
-import matplotlib.pyplot as plt
 import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.colors import to_rgb
 from matplotlib.lines import Line2D
 
@@ -34,10 +34,8 @@ def figures(flex):
                                                                    t_end=0.8))}
     figs.update(plots.flexibility_figures(flex))
     for f in figs.values():
-        f.canvas.draw()                                   # lay out once, as savefig would
+        FigureCanvasAgg(f).draw()                         # lay out once, as savefig would
     yield figs
-    for f in figs.values():
-        plt.close(f)
 
 
 def _boxes(fig):
