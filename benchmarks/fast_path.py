@@ -34,12 +34,21 @@ def main(argv=None) -> dict:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--repeat", type=int, default=3, help="repeats of each ratio (median)")
     p.add_argument("--map", type=int, default=0, metavar="N", help="also the N x N B6M map")
-    p.add_argument("--baseline-cells", type=int, default=1000, metavar="K",
-                   help="map baseline: solve_ivp calls timed on K random cells (0: every cell)")
-    p.add_argument("--no-compile", action="store_true", help="skip the fresh-process compile timing")
+    p.add_argument(
+        "--baseline-cells",
+        type=int,
+        default=1000,
+        metavar="K",
+        help="map baseline: solve_ivp calls timed on K random cells (0: every cell)",
+    )
+    p.add_argument(
+        "--no-compile", action="store_true", help="skip the fresh-process compile timing"
+    )
     args = p.parse_args(argv)
-    result = {"compile": compile_times(cold=not args.no_compile),
-              "S1_DD2_release": single_speedup(args.repeat)}
+    result = {
+        "compile": compile_times(cold=not args.no_compile),
+        "S1_DD2_release": single_speedup(args.repeat),
+    }
     if args.map:
         result["B6M_sine_map"] = map_speedup(args.map, args.baseline_cells or None, args.repeat)
     result["load_average"] = os.getloadavg()

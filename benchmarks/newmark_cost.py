@@ -49,11 +49,22 @@ def _runs(repeat):
     print(f"{'case':34s} {'engine':7s} {'ms/run':>8s} {'steps':>6s} {'µs/step':>8s} {'events':>6s}")
     for name, kw in cases.items():
         for engine in ("python", "numba"):
-            sec, res = _best(lambda: newmark_block(st, kw["ag"], 3.0, dt=1e-3, restitution=eta,
-                                                   theta0=kw.get("theta0", 0.0), engine=engine),
-                             repeat)
-            print(f"{name:34s} {engine:7s} {1e3 * sec:8.2f} {res.n_steps:6d} "
-                  f"{1e6 * sec / res.n_steps:8.2f} {len(res.events):6d}")
+            sec, res = _best(
+                lambda kw=kw, engine=engine: newmark_block(
+                    st,
+                    kw["ag"],
+                    3.0,
+                    dt=1e-3,
+                    restitution=eta,
+                    theta0=kw.get("theta0", 0.0),
+                    engine=engine,
+                ),
+                repeat,
+            )
+            print(
+                f"{name:34s} {engine:7s} {1e3 * sec:8.2f} {res.n_steps:6d} "
+                f"{1e6 * sec / res.n_steps:8.2f} {len(res.events):6d}"
+            )
 
 
 def _map(n, repeat):
@@ -65,18 +76,27 @@ def _map(n, repeat):
         stats = {"overturned": 0, "rest": 0, "completed": 0, "failed": 0, "steps": 0}
         for w, a in grid:
             exc = SineWave(amplitude=a * alpha * st.g, omega=w * p)
-            res = newmark_block(st, exc, exc.duration + 5.0, dt=1e-3, restitution=eta,
-                                rest_after=exc.duration, engine=engine)
+            res = newmark_block(
+                st,
+                exc,
+                exc.duration + 5.0,
+                dt=1e-3,
+                restitution=eta,
+                rest_after=exc.duration,
+                engine=engine,
+            )
             stats[res.status] += 1
             stats["steps"] += res.n_steps
         return stats
 
     for engine in ("python", "numba"):
-        sec, stats = _best(lambda: sweep(engine), max(1, repeat // 2))
+        sec, stats = _best(lambda engine=engine: sweep(engine), max(1, repeat // 2))
         per = sec / len(grid)
-        print(f"map {n}x{n} {engine:7s}: {1e3 * per:7.2f} ms/run, "
-              f"{1e6 * sec / max(stats['steps'], 1):6.2f} µs/step, "
-              f"60x60 serial ≈ {3600 * per:6.1f} s; outcomes {stats}")
+        print(
+            f"map {n}x{n} {engine:7s}: {1e3 * per:7.2f} ms/run, "
+            f"{1e6 * sec / max(stats['steps'], 1):6.2f} µs/step, "
+            f"60x60 serial ≈ {3600 * per:6.1f} s; outcomes {stats}"
+        )
 
 
 def main(argv=None) -> None:

@@ -62,7 +62,7 @@ def parallel_sum(n: int) -> float:
 
 
 def _fork_hazard_child(queue) -> None:
-    parallel_sum(100_000)                        # the parent now runs a threading layer
+    parallel_sum(100_000)  # the parent now runs a threading layer
     lines = [f"threading layer in the parent: {numba.threading_layer()}"]
     for method in ("fork", "forkserver"):
         try:
@@ -76,7 +76,7 @@ def _fork_hazard_child(queue) -> None:
 
 def fork_hazard() -> None:
     print("4. sweeps after a numba parallel kernel ran in the parent")
-    ctx = multiprocessing.get_context("spawn")   # keep this parent clean
+    ctx = multiprocessing.get_context("spawn")  # keep this parent clean
     queue = ctx.Queue()
     child = ctx.Process(target=_fork_hazard_child, args=(queue,))
     child.start()
@@ -97,9 +97,11 @@ def _best(fn, repeat: int) -> float:
 def start_methods() -> None:
     print("1. first sweep on a fresh 2-process pool (start + first tasks)")
     for method in multiprocessing.get_all_start_methods():
-        def sweep():
+
+        def sweep(method=method):
             with ProcessExecutor(workers=2, start_method=method) as ex:
                 run_jobs(duffing, [0.1, 0.1], executor=ex, batch_size=1)
+
         t = _best(sweep, 3)
         print(f"   {method:<11s} {t * 1e3:8.0f} ms")
 
@@ -109,16 +111,21 @@ def overhead(executors: dict, n: int, repeat: int) -> None:
     jobs = list(range(n))
     for name, ex in executors.items():
         for batch_size in (None, 1):
-            t = _best(lambda: run_jobs(identity, jobs, executor=ex, batch_size=batch_size,
-                                       progress=False), repeat)
+            t = _best(
+                lambda ex=ex, batch_size=batch_size: run_jobs(
+                    identity, jobs, executor=ex, batch_size=batch_size, progress=False
+                ),
+                repeat,
+            )
             label = "default batches" if batch_size is None else "batch_size=1"
-            print(f"   {name:<8s} {label:<16s} {t * 1e6 / n:9.1f} µs/job"
-                  f"   ({t * 1e3:7.1f} ms total)")
+            print(
+                f"   {name:<8s} {label:<16s} {t * 1e6 / n:9.1f} µs/job   ({t * 1e3:7.1f} ms total)"
+            )
 
 
 def _cpu_time(t_end: float) -> float:
-    duffing(t_end)                               # warm up (first-call costs)
-    t = time.thread_time()                       # this thread only: not Dask's threads
+    duffing(t_end)  # warm up (first-call costs)
+    t = time.thread_time()  # this thread only: not Dask's threads
     for _ in range(5):
         duffing(t_end)
     return (time.thread_time() - t) / 5
@@ -141,22 +148,28 @@ def _sweep(jobs, executor, workers: int) -> tuple[float, float, float]:
 
 
 def scaling(n: int, repeat: int) -> None:
-    t_end = 5.0 * 5e-3 / _cpu_time(5.0)          # calibrate to ~5 ms of CPU per job
+    t_end = 5.0 * 5e-3 / _cpu_time(5.0)  # calibrate to ~5 ms of CPU per job
     t_job = _cpu_time(t_end)
     jobs = [t_end] * n
-    print(f"3. CPU-bound job of {t_job * 1e3:.1f} ms (CPU time) × {n} jobs; busy = share"
-          " of the workers' time inside jobs, job = mean wall time of one job")
+    print(
+        f"3. CPU-bound job of {t_job * 1e3:.1f} ms (CPU time) × {n} jobs; busy = share"
+        " of the workers' time inside jobs, job = mean wall time of one job"
+    )
     wall, busy, per_job = min(_sweep(jobs, "serial", 1) for _ in range(repeat))
     print(f"   serial              {wall:6.2f} s  busy {busy:4.0%}  job {per_job * 1e3:4.1f} ms")
     timings = {}
     for w in (1, 2):
         with ProcessExecutor(workers=w) as ex:
-            cold = _sweep(jobs, ex, w)[0]                  # includes pool start
+            cold = _sweep(jobs, ex, w)[0]  # includes pool start
             timings[w], busy, per_job = min(_sweep(jobs, ex, w) for _ in range(repeat))
-        print(f"   process workers={w}  {timings[w]:6.2f} s  busy {busy:4.0%}"
-              f"  job {per_job * 1e3:4.1f} ms  (warm; {cold:.2f} s with pool start)")
-    print(f"   speed-up 2 vs 1 worker (warm): {timings[1] / timings[2]:.2f}×;"
-          f" 2 workers vs serial: {wall / timings[2]:.2f}×")
+        print(
+            f"   process workers={w}  {timings[w]:6.2f} s  busy {busy:4.0%}"
+            f"  job {per_job * 1e3:4.1f} ms  (warm; {cold:.2f} s with pool start)"
+        )
+    print(
+        f"   speed-up 2 vs 1 worker (warm): {timings[1] / timings[2]:.2f}×;"
+        f" 2 workers vs serial: {wall / timings[2]:.2f}×"
+    )
 
 
 def main(argv=None) -> None:
@@ -165,8 +178,11 @@ def main(argv=None) -> None:
     parser.add_argument("--trivial-jobs", type=int, default=4000)
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--no-dask", action="store_true", help="skip the Dask executor")
-    parser.add_argument("--fork-hazard", action="store_true",
-                        help="also show forked workers failing after a numba parallel kernel")
+    parser.add_argument(
+        "--fork-hazard",
+        action="store_true",
+        help="also show forked workers failing after a numba parallel kernel",
+    )
     args = parser.parse_args(argv)
     print(f"{os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.2f}")
     start_methods()
@@ -174,7 +190,7 @@ def main(argv=None) -> None:
     if not args.no_dask:
         executors["dask"] = DaskExecutor(workers=2)
     try:
-        for ex in executors.values():          # warm up: start pools and clusters
+        for ex in executors.values():  # warm up: start pools and clusters
             run_jobs(identity, range(8), executor=ex, batch_size=1)
         overhead(executors, args.trivial_jobs, args.repeat)
     finally:

@@ -30,21 +30,27 @@ def fmt_diff(choice) -> str:
     if tol.unit == "verdict":
         d = "differ" if choice.difference else "agree"
         return f"verdicts {d}"
-    d = (f"{100 * choice.difference:.3g} %" if tol.relative
-         else f"{choice.difference:.3g} {tol.unit}")
+    d = (
+        f"{100 * choice.difference:.3g} %"
+        if tol.relative
+        else f"{choice.difference:.3g} {tol.unit}"
+    )
     return f"{d} / {tol.describe()}"
 
 
 def verdict(choice) -> str:
     if choice.adequate is None:
-        return ("cheaper model NOT adequate" if choice.verified_against else "only model")
+        return "cheaper model NOT adequate" if choice.verified_against else "only model"
     return "adequate" if choice.adequate else "NOT adequate"
 
 
 def rejected(choice) -> str:
     """Cheaper models the verification measured and found NOT adequate."""
-    out = [f"{c.model}: {fmt_cmp(c, choice.tolerance)}" for c in choice.comparisons
-           if not c.adequate and choice.ladder.index(c.model) < choice.ladder.index(choice.model)]
+    out = [
+        f"{c.model}: {fmt_cmp(c, choice.tolerance)}"
+        for c in choice.comparisons
+        if not c.adequate and choice.ladder.index(c.model) < choice.ladder.index(choice.model)
+    ]
     return "; ".join(out) or "–"
 
 
@@ -68,14 +74,26 @@ def scipy_saving(scene, choice) -> str:
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--scipy-times", action="store_true",
-                        help="also time the chosen and the richer model on the SciPy backend")
+    parser.add_argument(
+        "--scipy-times",
+        action="store_true",
+        help="also time the chosen and the richer model on the SciPy backend",
+    )
     parser.add_argument("scenes", nargs="*", type=Path, help="scene files (default: all examples)")
     args = parser.parse_args(argv)
     files = args.scenes or sorted(SCENES.glob("*.toml"))
-    head = ["scene", "question", "chosen model (a priori)", "its answer", "compared with",
-            "its answer", "difference / tolerance", "verdict", "cheaper models NOT adequate",
-            "time saved (s)"]
+    head = [
+        "scene",
+        "question",
+        "chosen model (a priori)",
+        "its answer",
+        "compared with",
+        "its answer",
+        "difference / tolerance",
+        "verdict",
+        "cheaper models NOT adequate",
+        "time saved (s)",
+    ]
     if args.scipy_times:
         head.append("time saved, SciPy (s)")
     rows = []
@@ -83,12 +101,22 @@ def main(argv=None) -> int:
     for path in files:
         scene = Scene.from_toml(path)
         c = multimass.choose(scene, verify=True)
-        q = scene.question.kind + (f" @{scene.question.sensor or 'node ' + str(scene.node)}"
-                                   if scene.node else "")
+        q = scene.question.kind + (
+            f" @{scene.question.sensor or 'node ' + str(scene.node)}" if scene.node else ""
+        )
         model = c.model if c.model == c.a_priori_model else f"{c.model} ({c.a_priori_model})"
-        row = [f"`{path.name}`", q, model, format_answer(c.answer, c.unit), c.verified_against or "–",
-               format_answer(c.verified_answer, c.unit) if c.verified_answer is not None else "–", fmt_diff(c), verdict(c), rejected(c),
-               f"{c.time_saved_s:.3f}"]
+        row = [
+            f"`{path.name}`",
+            q,
+            model,
+            format_answer(c.answer, c.unit),
+            c.verified_against or "–",
+            format_answer(c.verified_answer, c.unit) if c.verified_answer is not None else "–",
+            fmt_diff(c),
+            verdict(c),
+            rejected(c),
+            f"{c.time_saved_s:.3f}",
+        ]
         if args.scipy_times:
             row.append(scipy_saving(scene, c))
         rows.append(row)

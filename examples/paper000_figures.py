@@ -26,8 +26,11 @@ from multimass.flexible_oscillator import FlexibleOscillator, simulate_oscillato
 from multimass.poisson_block import PoissonBlock, housner_theta, simulate_block  # noqa: E402
 
 EPS = (0.0, 0.5, 1.0)
-STYLE = {0.0: dict(color="k", lw=1.4), 0.5: dict(color="tab:blue", lw=1.1),
-         1.0: dict(color="tab:red", lw=0.9, ls="--")}
+STYLE = {
+    0.0: dict(color="k", lw=1.4),
+    0.5: dict(color="tab:blue", lw=1.1),
+    1.0: dict(color="tab:red", lw=0.9, ls="--"),
+}
 
 
 def _save(fig, path: Path) -> Path:
@@ -53,16 +56,19 @@ def figure_4(out: Path) -> Path:
             ax.plot(r.t, r.phi / block.alpha, label=f"ε_P = {eps:g}", **STYLE[eps])
             kinds = [e.kind for e in r.events]
             flights = np.mean(r.phase == "flight")
-            print(f"Fig 4 {name:18s} ε_P={eps:3.1f}: {kinds.count('impact'):4d} impacts, "
-                  f"flight {100 * flights:4.1f}% of samples, final phase {r.phase[-1]}, "
-                  f"ledger error {np.abs(r.raw.ledger_error).max() / r.raw.energy[0]:.1e} E0")
+            print(
+                f"Fig 4 {name:18s} ε_P={eps:3.1f}: {kinds.count('impact'):4d} impacts, "
+                f"flight {100 * flights:4.1f}% of samples, final phase {r.phase[-1]}, "
+                f"ledger error {np.abs(r.raw.ledger_error).max() / r.raw.energy[0]:.1e} E0"
+            )
         ax.set_title(name)
         ax.set_xlabel("t (s)")
         ax.axhline(0.0, color="0.7", lw=0.5)
     axes[0].set_ylabel("φ / α")
     axes[0].legend(loc="upper right", fontsize=8)
-    fig.suptitle("Paper 000, Fig 4: free rocking from φ0/α = 1/3, Poisson impacts (LCP)",
-                 fontsize=10)
+    fig.suptitle(
+        "Paper 000, Fig 4: free rocking from φ0/α = 1/3, Poisson impacts (LCP)", fontsize=10
+    )
     return _save(fig, out / "fig4_free_rocking.png")
 
 
@@ -73,20 +79,28 @@ def figure_5(out: Path) -> Path:
     t_end = 15.0
     r = simulate_block(block, 0.0, t_end, ag=ag, dt_out=0.002)
     grid = np.arange(0.0, t_end, 0.002)
-    t_up = math.asin(block.g * math.tan(block.alpha) / a_g) / w_g    # ag = g tan α
+    t_up = math.asin(block.g * math.tan(block.alpha) / a_g) / w_g  # ag = g tan α
     theta_h = housner_theta(block, ag, t_up, 0.0, grid, side=-int(np.sign(ag(t_up))))
     phi_lcp = sample(r.t, r.phi, grid)
-    diff = phi_lcp + theta_h                                         # φ = −θ
-    print(f"Fig 5: max |φ_LCP − φ_Housner| / α = {np.abs(diff).max() / block.alpha:.2e} over "
-          f"{t_end:g} s; peak |φ|/α = {np.abs(phi_lcp).max() / block.alpha:.3f}; "
-          f"{len(r.raw.impacts)} impacts; phases {sorted(str(p) for p in set(r.phase))}")
-    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(9, 5), sharex=True,
-                                  gridspec_kw=dict(height_ratios=[3, 1]))
-    ax.plot(grid, -theta_h / block.alpha, color="tab:orange", lw=3.0, alpha=0.6,
-            label="Housner, classical impact (η_H)")
+    diff = phi_lcp + theta_h  # φ = −θ
+    print(
+        f"Fig 5: max |φ_LCP − φ_Housner| / α = {np.abs(diff).max() / block.alpha:.2e} over "
+        f"{t_end:g} s; peak |φ|/α = {np.abs(phi_lcp).max() / block.alpha:.3f}; "
+        f"{len(r.raw.impacts)} impacts; phases {sorted(str(p) for p in set(r.phase))}"
+    )
+    fig, (ax, ax2) = plt.subplots(
+        2, 1, figsize=(9, 5), sharex=True, gridspec_kw=dict(height_ratios=[3, 1])
+    )
+    ax.plot(
+        grid,
+        -theta_h / block.alpha,
+        color="tab:orange",
+        lw=3.0,
+        alpha=0.6,
+        label="Housner, classical impact (η_H)",
+    )
     ax.plot(grid, phi_lcp / block.alpha, color="k", lw=1.0, label="LCP, Poisson ε_P = 0")
-    ax.plot(grid, [ag(t) / block.g for t in grid], color="0.6", lw=0.8, ls=":",
-            label="a_g(t)/g")
+    ax.plot(grid, [ag(t) / block.g for t in grid], color="0.6", lw=0.8, ls=":", label="a_g(t)/g")
     ax.set_ylabel("φ / α")
     ax.legend(fontsize=8, loc="upper right")
     ax.set_title("Paper 000, Fig 5: H/b = 7, sine pulse a_g/g = 0.45, ω_g/p = 5.75", fontsize=10)
@@ -98,8 +112,9 @@ def figure_5(out: Path) -> Path:
 
 
 def figure_oscillator(out: Path) -> Path:
-    osc = FlexibleOscillator.from_frequency(2.0, m=1000.0, m_c=200.0, m_b=300.0, h=2.0,
-                                            b=0.3, zeta=0.02)
+    osc = FlexibleOscillator.from_frequency(
+        2.0, m=1000.0, m_c=200.0, m_b=300.0, h=2.0, b=0.3, zeta=0.02
+    )
     ag = Ricker(amplitude=0.25 * osc.g, omega=2 * math.pi * 1.0)
     fig, (ax, ax2) = plt.subplots(2, 1, figsize=(9, 5), sharex=True)
     for eps in EPS:
@@ -107,13 +122,18 @@ def figure_oscillator(out: Path) -> Path:
         ax.plot(r.t, r.phi / osc.alpha, label=f"ε_P = {eps:g}", **STYLE[eps])
         ax2.plot(r.t, 1e3 * r.u, **STYLE[eps])
         err = np.abs(r.raw.ledger_error).max() / np.abs(r.raw.ground_work).max()
-        print(f"Oscillator ε_P={eps:3.1f}: {len(r.raw.impacts)} impacts, "
-              f"flight {100 * np.mean(r.phase == 'flight'):4.1f}% of samples, "
-              f"ledger error {err:.1e} × max ground work")
+        print(
+            f"Oscillator ε_P={eps:3.1f}: {len(r.raw.impacts)} impacts, "
+            f"flight {100 * np.mean(r.phase == 'flight'):4.1f}% of samples, "
+            f"ledger error {err:.1e} × max ground work"
+        )
     ax.set_ylabel("φ / α")
     ax.legend(fontsize=8)
-    ax.set_title("Flexible rocking oscillator (paper 000, Sec 4), Ricker pulse "
-                 "a_g/g = 0.25, ω_g = 2π rad/s — illustrative properties", fontsize=9)
+    ax.set_title(
+        "Flexible rocking oscillator (paper 000, Sec 4), Ricker pulse "
+        "a_g/g = 0.25, ω_g = 2π rad/s — illustrative properties",
+        fontsize=9,
+    )
     ax2.set_ylabel("u (mm)")
     ax2.set_xlabel("t (s)")
     return _save(fig, out / "oscillator_ricker.png")

@@ -1,9 +1,11 @@
 """What happens at impact: restitution formulas, classical and Dirac-delta impact
 models, and impacts as a linear complementarity problem with Poisson's law."""
 
-if __name__ != "multimass.impact_models":          # one import name (pyproject: package-dir)
-    raise ImportError(f"this folder installs as `multimass.impact_models`; import that, not "
-                      f"`{__name__}` (is the repository's root on sys.path before site-packages?)")
+if __name__ != "multimass.impact_models":  # one import name (pyproject: package-dir)
+    raise ImportError(
+        f"this folder installs as `multimass.impact_models`; import that, not "
+        f"`{__name__}` (is the repository's root on sys.path before site-packages?)"
+    )
 
 from .complementarity import LCPError, LCPSolution, lemke
 from .models import Classical, DiracDelta, ImpactModel, Transition

@@ -65,15 +65,15 @@ def _validate(M, q) -> tuple[np.ndarray, np.ndarray]:
     if q.ndim != 1:
         raise LCPError(f"`q` has shape {q.shape}: expected a vector of length n")
     if M.shape != (n, n):
-        raise LCPError(f"`M` has shape {M.shape} but `q` has length {n}: "
-                       f"expected an ({n}, {n}) matrix")
+        raise LCPError(
+            f"`M` has shape {M.shape} but `q` has length {n}: expected an ({n}, {n}) matrix"
+        )
     if not (np.all(np.isfinite(M)) and np.all(np.isfinite(q))):
         raise LCPError("`M` or `q` holds NaN or inf: pass finite numbers")
     return M, q
 
 
-def _lexmin_row(T: np.ndarray, rows: np.ndarray, col: np.ndarray, n: int,
-                tol: float) -> int:
+def _lexmin_row(T: np.ndarray, rows: np.ndarray, col: np.ndarray, n: int, tol: float) -> int:
     """Row of `rows` with the lexicographically smallest (q̄, B⁻¹)ᵢ / colᵢ."""
     ratios = np.column_stack([T[rows, -1], T[rows, :n]]) / col[rows, None]
     cand = np.arange(rows.size)
@@ -99,6 +99,7 @@ def _names(basis: np.ndarray, n: int) -> tuple[str, ...]:
         if j < 2 * n:
             return f"z{j - n + 1}"
         return "z0"
+
     return tuple(name(int(j)) for j in basis)
 
 
@@ -113,7 +114,7 @@ def _refine(M: np.ndarray, q: np.ndarray, z: np.ndarray) -> np.ndarray:
         return z
     scale = max(np.abs(z).max(), 1e-300)
     if np.any(za < -1e-9 * scale) or np.abs(za - z[alpha]).max() > 1e-6 * scale:
-        return z                      # singular-ish block: keep the tableau values
+        return z  # singular-ish block: keep the tableau values
     zr = z.copy()
     zr[alpha] = np.maximum(za, 0.0)
     return zr
@@ -125,9 +126,11 @@ def _checked(M, q, z, basis, count, tol) -> LCPSolution:
     scale = np.abs(q).max() + np.abs(M).max() * np.abs(z).max()
     bad = max(-w.min(), np.abs(w * z).max() / max(np.abs(z).max(), 1e-300))
     if bad > 1e3 * tol * scale:
-        raise LCPError(f"Lemke's method ended with a violated complementarity of "
-                       f"{bad:.3g} (scale {scale:.3g}): `M` is too ill-conditioned for "
-                       "the pivot tolerance; rescale the problem or raise `tol`")
+        raise LCPError(
+            f"Lemke's method ended with a violated complementarity of "
+            f"{bad:.3g} (scale {scale:.3g}): `M` is too ill-conditioned for "
+            "the pivot tolerance; rescale the problem or raise `tol`"
+        )
     return LCPSolution(z, w, basis, count)
 
 
@@ -142,8 +145,8 @@ def lemke(M, q, *, max_pivots: int | None = None, tol: float = 1e-9) -> LCPSolut
     max_pivots : int, optional
         Pivot limit; default ``50 (n + 1)²``.
     tol : float
-        Pivot and tie tolerance on the internally scaled problem (max |M| = 1,
-        max |q| = 1).
+        Pivot and tie tolerance on the internally scaled problem
+        (``max |M| = 1``, ``max |q| = 1``).
 
     Returns
     -------
@@ -179,7 +182,7 @@ def lemke(M, q, *, max_pivots: int | None = None, tol: float = 1e-9) -> LCPSolut
     leaving, basis[r] = basis[r], z0
     limit = 50 * (n + 1) ** 2 if max_pivots is None else int(max_pivots)
     for count in range(1, limit + 1):
-        entering = leaving + n if leaving < n else leaving - n   # complement
+        entering = leaving + n if leaving < n else leaving - n  # complement
         col = T[:, entering]
         rows = np.flatnonzero(col > tol)
         if rows.size == 0:
@@ -187,11 +190,12 @@ def lemke(M, q, *, max_pivots: int | None = None, tol: float = 1e-9) -> LCPSolut
                 f"Lemke's method ended on a ray after {count} pivots (entering "
                 f"{_names(np.array([entering]), n)[0]}): the LCP with this `M` and `q` "
                 "has no solution when M is copositive-plus (e.g. positive semidefinite); "
-                "check that the contact problem is feasible")
+                "check that the contact problem is feasible"
+            )
         ratio = T[rows, -1] / col[rows]
         at_z0 = basis[rows] == z0
         if np.any(at_z0) and ratio[at_z0][0] <= ratio.min() + tol * max(1.0, abs(ratio.min())):
-            r = int(rows[at_z0][0])     # z0 ties for leaving: let it, the method ends here
+            r = int(rows[at_z0][0])  # z0 ties for leaving: let it, the method ends here
         else:
             r = _lexmin_row(T, rows, col, n, tol)
         _pivot(T, r, entering)
@@ -202,5 +206,7 @@ def lemke(M, q, *, max_pivots: int | None = None, tol: float = 1e-9) -> LCPSolut
             z[basis[zmask] - n] = np.maximum(T[zmask, -1], 0.0)
             z = _refine(Ms, qs, z) * (q_scale / m_scale)
             return _checked(M, q, z, _names(basis, n), count, tol)
-    raise LCPError(f"`max_pivots` = {limit} reached without a solution: raise the limit, "
-                   "or check the LCP (Lemke's method terminates on P- and PSD matrices)")
+    raise LCPError(
+        f"`max_pivots` = {limit} reached without a solution: raise the limit, "
+        "or check the LCP (Lemke's method terminates on P- and PSD matrices)"
+    )

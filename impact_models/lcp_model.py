@@ -64,29 +64,33 @@ class PoissonLCP(ImpactModel):
         bounce, which ends the run with status "failed" and says why.
     """
 
-    restitution: object = FixedRestitution(1.0)     # not used: the LCP decides
+    restitution: object = FixedRestitution(1.0)  # not used: the LCP decides
     eps_p: float = 0.0
     name: str = "LCP"
     resolves_impact = True
 
     def __post_init__(self):
-        if not (isinstance(self.eps_p, (int, float)) and math.isfinite(self.eps_p)
-                and 0.0 <= self.eps_p <= 1.0):
+        if not (
+            isinstance(self.eps_p, (int, float))
+            and math.isfinite(self.eps_p)
+            and 0.0 <= self.eps_p <= 1.0
+        ):
             raise InputError(f"`eps_p` = {self.eps_p!r}: Poisson's coefficient must lie in [0, 1]")
 
     def rebound(self, thetadot, udot, r):  # pragma: no cover - replaced by impact_at_zero
         raise NotImplementedError("PoissonLCP resolves the impact in impact_at_zero")
 
-    def impact_at_zero(self, structure, side_old: int, u, udot, thetadot: float,
-                       theta_dot_min: float) -> Transition:
+    def impact_at_zero(
+        self, structure, side_old: int, u, udot, thetadot: float, theta_dot_min: float
+    ) -> Transition:
         """The transition at θ = 0 by the Poisson LCP (paper 000, Eqs 6 and 11)."""
         n = np.asarray(structure.m).size
         B = structure.B
         M = base_mass_matrix(structure, np.asarray(u, float))
         v = np.concatenate([udot, [side_old * B * thetadot, thetadot]])
         W_N = np.zeros((n + 2, 2))
-        for k, c in enumerate((side_old * B, -side_old * B)):     # old pivot, impacting corner
-            W_N[n, k], W_N[n + 1, k] = 1.0, -c                      # ġ_N = ẏ − c θ̇
+        for k, c in enumerate((side_old * B, -side_old * B)):  # old pivot, impacting corner
+            W_N[n, k], W_N[n + 1, k] = 1.0, -c  # ġ_N = ẏ − c θ̇
         res = poisson_impact(M, W_N, None, v, self.eps_p)
         old, new = (st[1] for st in res.states)
         up = res.u_plus
@@ -95,6 +99,7 @@ class PoissonLCP(ImpactModel):
             return Transition(None, up[:n], float(up[-1]), "flight", None, detail)
         if old == "closed" or abs(up[-1]) <= theta_dot_min:
             # full contact: keep each node's horizontal momentum (as paper 001, Eq 10)
-            return Transition(0, up[:n] + np.asarray(structure.H) * up[-1], 0.0,
-                              "full_contact", None, detail)
+            return Transition(
+                0, up[:n] + np.asarray(structure.H) * up[-1], 0.0, "full_contact", None, detail
+            )
         return Transition(-side_old, up[:n], float(up[-1]), "impact", None, detail)

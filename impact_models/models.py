@@ -51,10 +51,11 @@ class Transition:
     detail: str = ""
 
 
-def next_phase_is_rocking(side_new: int, L_new: float, thetadot: float,
-                          theta_dot_min: float) -> bool:
+def next_phase_is_rocking(
+    side_new: int, L_new: float, thetadot: float, theta_dot_min: float
+) -> bool:
     """Paper 001, Eq 9: ±L_p^r ≥ 0 and ±θ̇⁻ > θ̇_min (± = the new pivot)."""
-    return side_new * L_new >= 0.0 and side_new * thetadot > theta_dot_min   # paper 001, Eq 9
+    return side_new * L_new >= 0.0 and side_new * thetadot > theta_dot_min  # paper 001, Eq 9
 
 
 @dataclass(frozen=True)
@@ -70,8 +71,16 @@ class ImpactModel:
         """Velocities (θ̇⁺, u̇⁺) of a new half-cycle."""
         raise NotImplementedError
 
-    def at_zero(self, H: np.ndarray, side_old: int, L_new: float, udot: np.ndarray,
-                thetadot: float, r: float, theta_dot_min: float) -> Transition:
+    def at_zero(
+        self,
+        H: np.ndarray,
+        side_old: int,
+        L_new: float,
+        udot: np.ndarray,
+        thetadot: float,
+        r: float,
+        theta_dot_min: float,
+    ) -> Transition:
         """The transition map at the end of a half-cycle (θ = 0).
 
         Parameters
@@ -91,7 +100,9 @@ class ImpactModel:
         side_new = -side_old
         if next_phase_is_rocking(side_new, L_new, thetadot, theta_dot_min):
             td, ud = self.rebound(thetadot, udot, r)
-            return Transition(side_new, ud, td, "impact", r if self.uses_restitution_at_zero else None)
+            return Transition(
+                side_new, ud, td, "impact", r if self.uses_restitution_at_zero else None
+            )
         # paper 001, Eq 10: vertical momentum lost, horizontal momentum of each node kept
         return Transition(0, udot + H * thetadot, 0.0, "full_contact")
 
@@ -106,7 +117,7 @@ class Classical(ImpactModel):
     uses_restitution_at_zero = True
 
     def rebound(self, thetadot, udot, r):
-        return r * thetadot, udot.copy()      # paper 001, Eq 11
+        return r * thetadot, udot.copy()  # paper 001, Eq 11
 
 
 @dataclass(frozen=True)
@@ -118,7 +129,7 @@ class DiracDelta(ImpactModel):
     restitution : Restitution
         r of the impending corner, fixed when the force activates.
     C_p : float
-        Proportionality between |θ̇_i| and the peak force (kg m/rad/s; Table 2).
+        Proportionality between ``|θ̇_i|`` and the peak force (kg m/rad/s; Table 2).
     n_min : float
         Lower bound of the width parameter n (paper 001: 1e-4).
     z : float
@@ -143,16 +154,17 @@ class DiracDelta(ImpactModel):
             raise InputError(f"`release` = {self.release!r}: must be ≥ 1 (paper 001 uses 1.1)")
 
     def rebound(self, thetadot, udot, r):
-        return thetadot, udot.copy()          # paper 001, Eq 12
+        return thetadot, udot.copy()  # paper 001, Eq 12
 
-    def width(self, E_ini: float, r: float, B: float, m_t: float, g: float,
-              thetadot_i: float) -> float:
+    def width(
+        self, E_ini: float, r: float, B: float, m_t: float, g: float, thetadot_i: float
+    ) -> float:
         """Width parameter n of paper 001, Eq 15, bounded below by `n_min`."""
         n = E_ini * (1.0 - r * r) / (B * _SQRT_PI * (0.5 * m_t * g + self.C_p * abs(thetadot_i)))
         return max(n, self.n_min)
 
     def threshold(self, n: float) -> float:
-        """|θ_i| = 2.576 n/√2, the activation angle (paper 001, Eq 16)."""
+        """``|θ_i|`` = 2.576 n/√2, the activation angle (paper 001, Eq 16)."""
         return self.z * n / math.sqrt(2.0)
 
     @staticmethod
@@ -162,4 +174,4 @@ class DiracDelta(ImpactModel):
         `side` is the current pivot; the force has the sign of the impending
         one (−side), which makes its moment 2B F_i in Eq 5 brake the motion.
         """
-        return -side * E_ini * (1.0 - r * r) / (B * n * _SQRT_PI) * math.exp(-(theta / n) ** 2)
+        return -side * E_ini * (1.0 - r * r) / (B * n * _SQRT_PI) * math.exp(-((theta / n) ** 2))

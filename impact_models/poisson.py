@@ -90,7 +90,7 @@ class PoissonImpact:
 
 
 def _matrix(name: str, value, shape=None) -> np.ndarray:
-    a = np.array(value, dtype=float)          # a copy: results never alias the caller's arrays
+    a = np.array(value, dtype=float)  # a copy: results never alias the caller's arrays
     if not np.all(np.isfinite(a)):
         raise LCPError(f"`{name}` holds NaN or inf: pass finite numbers")
     if shape is not None and a.shape != shape:
@@ -108,23 +108,32 @@ def _validate(M, W_N, W_T, u_minus, eps_p):
     try:
         chol = sla.cho_factor(M)
     except sla.LinAlgError:
-        raise LCPError("`M` is not positive definite: every generalised coordinate "
-                       "needs inertia; remove massless coordinates first") from None
+        raise LCPError(
+            "`M` is not positive definite: every generalised coordinate "
+            "needs inertia; remove massless coordinates first"
+        ) from None
     W_N = _matrix("W_N", W_N)
     W_N = W_N.reshape(n, 1) if W_N.ndim == 1 and W_N.size == n else W_N
     if W_N.ndim != 2 or W_N.shape[0] != n or W_N.shape[1] == 0:
-        raise LCPError(f"`W_N` has shape {W_N.shape}: expected ({n}, k_N) with k_N ≥ 1, "
-                       f"one column per normal contact (n = {n} from `M`)")
+        raise LCPError(
+            f"`W_N` has shape {W_N.shape}: expected ({n}, k_N) with k_N ≥ 1, "
+            f"one column per normal contact (n = {n} from `M`)"
+        )
     if W_T is None:
         W_T = np.zeros((n, 0))
     W_T = _matrix("W_T", W_T)
     W_T = W_T.reshape(n, 1) if W_T.ndim == 1 and W_T.size == n else W_T
     if W_T.ndim != 2 or W_T.shape[0] != n:
-        raise LCPError(f"`W_T` has shape {W_T.shape}: expected ({n}, k_T), one column "
-                       "per sticking tangential direction (k_T may be 0)")
+        raise LCPError(
+            f"`W_T` has shape {W_T.shape}: expected ({n}, k_T), one column "
+            "per sticking tangential direction (k_T may be 0)"
+        )
     u = _matrix("u_minus", u_minus, (n,))
-    eps = np.broadcast_to(np.asarray(eps_p, dtype=float), (W_N.shape[1],)).copy() \
-        if np.ndim(eps_p) == 0 else _matrix("eps_p", eps_p, (W_N.shape[1],))
+    eps = (
+        np.broadcast_to(np.asarray(eps_p, dtype=float), (W_N.shape[1],)).copy()
+        if np.ndim(eps_p) == 0
+        else _matrix("eps_p", eps_p, (W_N.shape[1],))
+    )
     if not (np.all(np.isfinite(eps)) and np.all((eps >= 0.0) & (eps <= 1.0))):
         raise LCPError(f"`eps_p` = {eps_p!r}: Poisson's coefficient must lie in [0, 1]")
     return chol, M, W_N, W_T, u, eps
@@ -134,16 +143,18 @@ def _delassus(chol, W_N, W_T):
     """G matrices of Eq 4 and the condensed normal matrix of Eqs 6 and 11."""
     MiN = sla.cho_solve(chol, W_N)
     MiT = sla.cho_solve(chol, W_T)
-    G_NN, G_NT, G_TT = W_N.T @ MiN, W_N.T @ MiT, W_T.T @ MiT      # paper 000, Eq 4
+    G_NN, G_NT, G_TT = W_N.T @ MiN, W_N.T @ MiT, W_T.T @ MiT  # paper 000, Eq 4
     if W_T.shape[1]:
         try:
             cT = sla.cho_factor(G_TT)
         except sla.LinAlgError:
-            raise LCPError("`W_T` has linearly dependent columns (G_TT singular): merge "
-                           "them into one resultant direction, as paper 000 Eq 13 does "
-                           "for two corners of a block") from None
-        K = sla.cho_solve(cT, G_NT.T)                              # G_TT⁻¹ G_TN
-        A = G_NN - G_NT @ K                                         # paper 000, Eqs 6, 11
+            raise LCPError(
+                "`W_T` has linearly dependent columns (G_TT singular): merge "
+                "them into one resultant direction, as paper 000 Eq 13 does "
+                "for two corners of a block"
+            ) from None
+        K = sla.cho_solve(cT, G_NT.T)  # G_TT⁻¹ G_TN
+        A = G_NN - G_NT @ K  # paper 000, Eqs 6, 11
     else:
         cT, K, A = None, np.zeros((0, W_N.shape[1])), G_NN
     return MiN, MiT, G_NT, cT, K, 0.5 * (A + A.T)
@@ -197,7 +208,7 @@ def poisson_impact(M, W_N, W_T, u_minus, eps_p, *, tol: float = 1e-9) -> Poisson
     eps_p : float or array_like, shape (k_N,)
         Poisson's coefficient of restitution ε_P ∈ [0, 1] (Λ_N⁺ = ε_P Λ_N⁰).
     tol : float
-        A contact counts as closed when ġ_N ≤ tol · max |(ġ_N⁻, ġ_T⁻)|.
+        A contact counts as closed when ``ġ_N ≤ tol · max |(ġ_N⁻, ġ_T⁻)|``.
 
     Returns
     -------
@@ -216,24 +227,33 @@ def poisson_impact(M, W_N, W_T, u_minus, eps_p, *, tol: float = 1e-9) -> Poisson
     vtol = tol * scale
     # compression: ġ_N⁰ = A Λ_N⁰ + ġ_N⁻ (− G_NT G_TT⁻¹ ġ_T⁻ if the contact slips)
     q0 = gN_m - (G_NT @ sla.cho_solve(cT, gT_m) if cT is not None else 0.0)
-    lam0, how0 = _solve(A, q0, vtol)                             # paper 000, Eqs 6–7
+    lam0, how0 = _solve(A, q0, vtol)  # paper 000, Eqs 6–7
     lamT0 = -(K @ lam0) - (sla.cho_solve(cT, gT_m) if cT is not None else 0.0)  # Eq 5
-    u0 = u + MiN @ lam0 + MiT @ lamT0                              # paper 000, Eq 2
+    u0 = u + MiN @ lam0 + MiT @ lamT0  # paper 000, Eq 2
     gN_0 = W_N.T @ u0
     # expansion: ġ_N⁺ = A Λ_NP + A ε Λ_N⁰ + ġ_N⁰
     elam0 = eps * lam0
-    lamNP, how1 = _solve(A, A @ elam0 + gN_0, vtol)              # paper 000, Eqs 11–12
+    lamNP, how1 = _solve(A, A @ elam0 + gN_0, vtol)  # paper 000, Eqs 11–12
     lam_plus = lamNP + elam0
-    lamT_plus = -(K @ lam_plus)                                    # paper 000, Eq 10
-    u_plus = u0 + MiN @ lam_plus + MiT @ lamT_plus                 # paper 000, Eq 8
+    lamT_plus = -(K @ lam_plus)  # paper 000, Eq 10
+    u_plus = u0 + MiN @ lam_plus + MiT @ lamT_plus  # paper 000, Eq 8
     gN_p = W_N.T @ u_plus
     s0, s1 = _state(gN_0, vtol), _state(gN_p, vtol)
     loss = 0.5 * (u @ M @ u - u_plus @ M @ u_plus)
     return PoissonImpact(
-        u_minus=u, u_compression=u0, u_plus=u_plus,
-        impulse_compression=lam0, impulse_expansion=lam_plus, impulse_np=lamNP,
+        u_minus=u,
+        u_compression=u0,
+        u_plus=u_plus,
+        impulse_compression=lam0,
+        impulse_expansion=lam_plus,
+        impulse_np=lamNP,
         tangential_impulse_compression=lamT0,
         tangential_impulse_expansion=lamT_plus,
-        gN_minus=gN_m, gN_compression=gN_0, gN_plus=gN_p,
-        states=tuple(zip(s0, s1)), energy_loss=float(loss), eps_p=eps,
-        solver=(how0, how1))
+        gN_minus=gN_m,
+        gN_compression=gN_0,
+        gN_plus=gN_p,
+        states=tuple(zip(s0, s1)),
+        energy_loss=float(loss),
+        eps_p=eps,
+        solver=(how0, how1),
+    )

@@ -20,7 +20,7 @@ def _check_alpha(alpha: float) -> float:
 
 def housner_eta(alpha: float) -> float:
     """Housner's restitution η_H = 1 − (3/2) sin²α (paper 004, Eq 9)."""
-    return 1.0 - 1.5 * math.sin(_check_alpha(alpha)) ** 2     # paper 004, Eq 9
+    return 1.0 - 1.5 * math.sin(_check_alpha(alpha)) ** 2  # paper 004, Eq 9
 
 
 def modified_eta(alpha: float, k: float) -> float:
@@ -53,4 +53,6 @@ def r_h(J_p: float, m_t: float, B: float, M_diag, u, side_new: int) -> float:
     m = np.asarray(M_diag, dtype=float)
     u = np.asarray(u, dtype=float)
     uMu = float(u @ (m * u))
-    return (J_p - 2.0 * m_t * B * B + uMu) / (J_p - side_new * 2.0 * B * float(m @ u) + uMu)  # paper 001, Eq 13
+    return (J_p - 2.0 * m_t * B * B + uMu) / (
+        J_p - side_new * 2.0 * B * float(m @ u) + uMu
+    )  # paper 001, Eq 13

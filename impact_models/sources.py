@@ -73,12 +73,14 @@ class Restitution:
 
     def describe(self) -> dict:
         """Parameters for logs and JSON (nested sources described too)."""
+
         def plain(v):
             if isinstance(v, Restitution):
                 return v.describe()
             if isinstance(v, tuple):
                 return [plain(x) for x in v]
             return v
+
         return {"kind": type(self).__name__, **{k: plain(v) for k, v in vars(self).items()}}
 
 

@@ -44,8 +44,10 @@ def _spec_restitution(specimen, key: str):
     value = getattr(specimen, key, None)
     if value is None:
         kind = getattr(specimen, "kind", type(specimen).__name__)
-        raise InputError(f"restitution needs `{key}`, which a {kind!r} specimen does not have; "
-                         "give `restitution` explicitly (a value, 'housner' or 'modified')")
+        raise InputError(
+            f"restitution needs `{key}`, which a {kind!r} specimen does not have; "
+            "give `restitution` explicitly (a value, 'housner' or 'modified')"
+        )
     return value
 
 
@@ -76,15 +78,18 @@ def restitution_source(restitution, specimen=None, k: float | None = None) -> Re
         except ValueError:
             pass
         if name == "mean":
-            return CornerRestitution(_spec_restitution(specimen, "r_right"),
-                                     _spec_restitution(specimen, "r_left"))
+            return CornerRestitution(
+                _spec_restitution(specimen, "r_right"), _spec_restitution(specimen, "r_left")
+            )
         if name == "empirical":
             means = restitution_source("mean", specimen)
             return EmpiricalRestitution(tuple(_spec_restitution(specimen, "r_empirical")), means)
         if name == "random":
-            return RandomRestitution(_spec_restitution(specimen, "r_right"),
-                                     _spec_restitution(specimen, "r_left"),
-                                     _spec_restitution(specimen, "sigma_r"))
+            return RandomRestitution(
+                _spec_restitution(specimen, "r_right"),
+                _spec_restitution(specimen, "r_left"),
+                _spec_restitution(specimen, "sigma_r"),
+            )
         if name == "r_h":
             return AngularMomentumRestitution()
         if name == "housner":
@@ -92,15 +97,25 @@ def restitution_source(restitution, specimen=None, k: float | None = None) -> Re
         if name == "modified":
             kk = k if k is not None else getattr(specimen, "k", None)
             if kk is None:
-                raise InputError("`k` is needed for the modified restitution (paper 004, Eq 10): "
-                                 "give k or use a block specimen, which carries one")
+                raise InputError(
+                    "`k` is needed for the modified restitution (paper 004, Eq 10): "
+                    "give k or use a block specimen, which carries one"
+                )
             return ModifiedRestitution(float(kk))
-    raise InputError(f"`restitution` = {restitution!r}: use a number in (0, 1], one of "
-                     f"{', '.join(RESTITUTION_NAMES)}, or a Restitution object")
+    raise InputError(
+        f"`restitution` = {restitution!r}: use a number in (0, 1], one of "
+        f"{', '.join(RESTITUTION_NAMES)}, or a Restitution object"
+    )
 
 
-def impact_model(impact, specimen=None, restitution=None, k: float | None = None,
-                 C_p: float | None = None, eps_p: float | None = None) -> ImpactModel:
+def impact_model(
+    impact,
+    specimen=None,
+    restitution=None,
+    k: float | None = None,
+    C_p: float | None = None,
+    eps_p: float | None = None,
+) -> ImpactModel:
     """An impact model from a Table 2 name, "CIM"/"DD" with options, or a model.
 
     Parameters
@@ -126,7 +141,9 @@ def impact_model(impact, specimen=None, restitution=None, k: float | None = None
     if isinstance(impact, ImpactModel):
         return impact
     if not isinstance(impact, str):
-        raise InputError(f"`impact` = {impact!r}: give a name ({', '.join(TABLE_2)}, DD) or an ImpactModel")
+        raise InputError(
+            f"`impact` = {impact!r}: give a name ({', '.join(TABLE_2)}, DD) or an ImpactModel"
+        )
     name = impact.strip().upper()
     if name == "LCP":
         return PoissonLCP(eps_p=0.0 if eps_p is None else float(eps_p))
@@ -137,10 +154,12 @@ def impact_model(impact, specimen=None, restitution=None, k: float | None = None
     elif name in TABLE_2:
         kind, rest_name, cp = TABLE_2[name]
     else:
-        raise InputError(f"`impact` = {impact!r}: unknown impact model; use one of "
-                         f"{', '.join(TABLE_2)} (paper 001, Table 2), DD, LCP, or an ImpactModel object")
+        raise InputError(
+            f"`impact` = {impact!r}: unknown impact model; use one of "
+            f"{', '.join(TABLE_2)} (paper 001, Table 2), DD, LCP, or an ImpactModel object"
+        )
     if restitution is None and getattr(specimen, "kind", None) == "block":
-        restitution = "modified"       # paper 004: η_M(k) with the block's k
+        restitution = "modified"  # paper 004: η_M(k) with the block's k
     source = restitution_source(rest_name if restitution is None else restitution, specimen, k)
     if kind == "classical":
         return Classical(source, name=name)

@@ -6,9 +6,11 @@
 [20.5, 45.6]
 """
 
-if __name__ != "multimass.modal":          # one import name (pyproject: package-dir)
-    raise ImportError(f"this folder installs as `multimass.modal`; import that, not "
-                      f"`{__name__}` (is the repository's root on sys.path before site-packages?)")
+if __name__ != "multimass.modal":  # one import name (pyproject: package-dir)
+    raise ImportError(
+        f"this folder installs as `multimass.modal`; import that, not "
+        f"`{__name__}` (is the repository's root on sys.path before site-packages?)"
+    )
 
 from .analysis import ModalAnalysis, PhaseModes, analyse, default_shape_nodes
 from .assurance import mac

@@ -29,8 +29,14 @@ from .shapes import align_to_full_contact, normalise
 from .state_space import foss, frequency_and_damping, pair_frequency_and_damping
 from .validate import validate_shape_nodes, validate_structure
 
-__all__ = ["PhaseModes", "ModalAnalysis", "analyse", "phase_modes", "default_shape_nodes",
-           "nodal_points"]
+__all__ = [
+    "PhaseModes",
+    "ModalAnalysis",
+    "analyse",
+    "phase_modes",
+    "default_shape_nodes",
+    "nodal_points",
+]
 
 _TWO_PI = 2.0 * np.pi
 
@@ -45,9 +51,9 @@ class PhaseModes:
     eigenvalues : ndarray, complex
         All state-space eigenvalues Λ (paper 001, Eq 24), for plotting.
     vibration_eigenvalues : ndarray, complex, shape (k,)
-        The underdamped modes' Λ with Im Λ > 0, ascending in |Λ|.
+        The underdamped modes' Λ with Im Λ > 0, ascending in ``|Λ|``.
     omega, damping : ndarray, shape (k,)
-        Their ω = |Λ| (rad/s) and ζ = −Re Λ / |Λ| (paper 001, Eq 25).
+        Their ``ω = |Λ|`` (rad/s) and ``ζ = −Re Λ / |Λ|`` (paper 001, Eq 25).
     undamped_omega : ndarray, shape (N,)
         Frequencies of the undamped system (rad/s), ascending: mode j is
         ``undamped_omega[j - 1]``.
@@ -104,11 +110,17 @@ class PhaseModes:
         """One row per mode 1..N: ``mode``, ``kind`` ("underdamped" or "overdamped"),
         ``freq_hz``, ``damping``, ``participation``, ``undamped_freq_hz``."""
         kind = ["underdamped"] * self.mode.size + ["overdamped"] * self.overdamped_mode.size
-        df = pd.DataFrame({"mode": np.concatenate([self.mode, self.overdamped_mode]), "kind": kind,
-                           "freq_hz": np.concatenate([self.freq_hz, self.overdamped_freq_hz]),
-                           "damping": np.concatenate([self.damping, self.overdamped_damping]),
-                           "participation": np.concatenate([self.participation,
-                                                            self.overdamped_participation])})
+        df = pd.DataFrame(
+            {
+                "mode": np.concatenate([self.mode, self.overdamped_mode]),
+                "kind": kind,
+                "freq_hz": np.concatenate([self.freq_hz, self.overdamped_freq_hz]),
+                "damping": np.concatenate([self.damping, self.overdamped_damping]),
+                "participation": np.concatenate(
+                    [self.participation, self.overdamped_participation]
+                ),
+            }
+        )
         df = df.sort_values("mode", ignore_index=True)
         df["undamped_freq_hz"] = self.undamped_omega[df["mode"].to_numpy() - 1] / _TWO_PI
         return df
@@ -124,13 +136,17 @@ def _undamped(system: LinearSystem) -> tuple[np.ndarray, np.ndarray]:
     w2, Phi = sla.eigh(system.K, system.M)
     n_neg = int(np.count_nonzero(w2 <= 0.0))
     if system.phase == "rocking" and n_neg != 1:
-        raise ModalError("the undamped rocking system should have exactly one unstable (rocking) "
-                         f"mode; found {n_neg} non-positive eigenvalues "
-                         f"({', '.join(f'{x:.6g}' for x in w2[w2 <= 0.0])} rad²/s²): check the "
-                         "column's stiffness against its weight")
+        raise ModalError(
+            "the undamped rocking system should have exactly one unstable (rocking) "
+            f"mode; found {n_neg} non-positive eigenvalues "
+            f"({', '.join(f'{x:.6g}' for x in w2[w2 <= 0.0])} rad²/s²): check the "
+            "column's stiffness against its weight"
+        )
     if system.phase != "rocking" and n_neg:
-        raise ModalError(f"the {system.phase} stiffness is not positive definite (eigenvalues "
-                         f"{', '.join(f'{x:.6g}' for x in w2[w2 <= 0.0])} rad²/s²)")
+        raise ModalError(
+            f"the {system.phase} stiffness is not positive definite (eigenvalues "
+            f"{', '.join(f'{x:.6g}' for x in w2[w2 <= 0.0])} rad²/s²)"
+        )
     return w2, Phi
 
 
@@ -144,9 +160,9 @@ def phase_modes(system: LinearSystem, shape_idx: np.ndarray) -> tuple[PhaseModes
     ss = foss(system)
     lam, V = ss.eigenvalues, ss.eigenvectors
     w2, Phi = _undamped(system)
-    rocking_col = 0 if system.phase == "rocking" else None     # ω² < 0 sorts first
+    rocking_col = 0 if system.phase == "rocking" else None  # ω² < 0 sorts first
     pairing = pair_modes(lam, V, system.M, Phi, rocking_col, system.phase)
-    shift = 1 if rocking_col is None else 0                    # column of Φ -> mode number
+    shift = 1 if rocking_col is None else 0  # column of Φ -> mode number
     n_el = system.n - (rocking_col is not None)
     extra: dict = {}
     if rocking_col is not None:
@@ -159,15 +175,23 @@ def phase_modes(system: LinearSystem, shape_idx: np.ndarray) -> tuple[PhaseModes
     o_omega, o_zeta = pair_frequency_and_damping(l1, l2)
     vib = slice(1, None) if rocking_col is not None else slice(None)
     modes = PhaseModes(
-        phase=system.phase, eigenvalues=lam, vibration_eigenvalues=lam[under], omega=omega,
-        damping=zeta, undamped_omega=np.sqrt(w2[vib]),
+        phase=system.phase,
+        eigenvalues=lam,
+        vibration_eigenvalues=lam[under],
+        omega=omega,
+        damping=zeta,
+        undamped_omega=np.sqrt(w2[vib]),
         shapes=normalise(V[:, under], shape_idx, n_el),
         real_shapes=normalise(Phi[:, vib], shape_idx, n_el),
-        mode=under_mode + shift, overdamped_mode=pairing.over_mode + shift,
-        overdamped_eigenvalues=np.column_stack([l1, l2]), overdamped_omega=o_omega,
+        mode=under_mode + shift,
+        overdamped_mode=pairing.over_mode + shift,
+        overdamped_eigenvalues=np.column_stack([l1, l2]),
+        overdamped_omega=o_omega,
         overdamped_damping=o_zeta,
         overdamped_shapes=normalise(V[:, pairing.over[:, 1]], shape_idx, n_el).real,
-        participation=pairing.under_weight[order], overdamped_participation=pairing.over_weight)
+        participation=pairing.under_weight[order],
+        overdamped_participation=pairing.over_weight,
+    )
     return modes, extra
 
 
@@ -179,8 +203,10 @@ def _aligned(rk: PhaseModes, fc: PhaseModes, idx: np.ndarray, heights: np.ndarra
         rk,
         shapes=align_to_full_contact(rk.shapes, rk.mode - 1, v_n, idx, heights),
         real_shapes=align_to_full_contact(rk.real_shapes, np.arange(N), v_n, idx, heights),
-        overdamped_shapes=align_to_full_contact(rk.overdamped_shapes, rk.overdamped_mode - 1,
-                                                v_n, idx, heights))
+        overdamped_shapes=align_to_full_contact(
+            rk.overdamped_shapes, rk.overdamped_mode - 1, v_n, idx, heights
+        ),
+    )
 
 
 @dataclass(frozen=True, eq=False)
@@ -289,9 +315,14 @@ def analyse(structure: Structure | str, shape_nodes=None) -> ModalAnalysis:
     fc, _ = phase_modes(full_contact(s), idx)
     rk, extra = phase_modes(rocking(s), idx)
     rk = _aligned(rk, fc, idx, s.H[idx])
-    return ModalAnalysis(structure=s, shape_nodes=nodes, full_contact=fc, rocking=rk,
-                         rocking_eigenvalues=extra["rocking_eigenvalues"],
-                         rocking_shape=extra["rocking_shape_real"])
+    return ModalAnalysis(
+        structure=s,
+        shape_nodes=nodes,
+        full_contact=fc,
+        rocking=rk,
+        rocking_eigenvalues=extra["rocking_eigenvalues"],
+        rocking_shape=extra["rocking_shape_real"],
+    )
 
 
 def nodal_points(heights, shape) -> np.ndarray:

@@ -54,20 +54,30 @@ def _u_names(n: int) -> tuple[str, ...]:
 
 def _check_structure(structure) -> None:
     if not isinstance(structure, Structure):
-        raise ModalError(f"`structure` is a {type(structure).__name__}: give a multimass "
-                         "Structure, e.g. multimass.column('S1') or multimass.column('my.toml')")
+        raise ModalError(
+            f"`structure` is a {type(structure).__name__}: give a multimass "
+            "Structure, e.g. multimass.column('S1') or multimass.column('my.toml')"
+        )
 
 
 def full_contact(structure: Structure) -> LinearSystem:
     """The full-contact system, paper 001 Eq 3: M ü + C u̇ + K u = −M 1 ü_g."""
     _check_structure(structure)
     if structure.n == 0:
-        raise ModalError(f"structure {structure.name!r} has no elastic nodes: a rigid "
-                         "body has no full-contact vibration modes")
+        raise ModalError(
+            f"structure {structure.name!r} has no elastic nodes: a rigid "
+            "body has no full-contact vibration modes"
+        )
     M = structure.M
-    return LinearSystem("full_contact", M.copy(), structure.C.copy(), structure.K.copy(),
-                        r=M @ np.ones(structure.n), f0=np.zeros(structure.n),
-                        dofs=_u_names(structure.n))
+    return LinearSystem(
+        "full_contact",
+        M.copy(),
+        structure.C.copy(),
+        structure.K.copy(),
+        r=M @ np.ones(structure.n),
+        f0=np.zeros(structure.n),
+        dofs=_u_names(structure.n),
+    )
 
 
 def rocking(structure: Structure, side: int = +1) -> LinearSystem:
@@ -93,20 +103,20 @@ def rocking(structure: Structure, side: int = +1) -> LinearSystem:
     s, n, g = structure, structure.n, structure.g
     MH = s.m * s.H
     ML = np.zeros((n + 1, n + 1))
-    ML[:n, :n] = s.M                       # paper 001, Eq 19: M ü + M H θ̈
+    ML[:n, :n] = s.M  # paper 001, Eq 19: M ü + M H θ̈
     ML[:n, n] = MH
-    ML[n, :n] = MH                         # paper 001, Eq 20: Hᵀ M ü + J_p θ̈
+    ML[n, :n] = MH  # paper 001, Eq 20: Hᵀ M ü + J_p θ̈
     ML[n, n] = s.J_p
     CL = np.zeros((n + 1, n + 1))
-    CL[:n, :n] = s.C                       # paper 001, Eq 19: C u̇
+    CL[:n, :n] = s.C  # paper 001, Eq 19: C u̇
     KL = np.zeros((n + 1, n + 1))
-    KL[:n, :n] = s.K                       # paper 001, Eq 19: K u − M 1 g θ
+    KL[:n, :n] = s.K  # paper 001, Eq 19: K u − M 1 g θ
     KL[:n, n] = -g * s.m
-    KL[n, :n] = -g * s.m                   # paper 001, Eq 20: g(−uᵀ M 1 − Hᵀ M 1 θ)
+    KL[n, :n] = -g * s.m  # paper 001, Eq 20: g(−uᵀ M 1 − Hᵀ M 1 θ)
     KL[n, n] = -g * s.static_moment
-    r = np.append(s.m, s.static_moment)    # M 1 ü_g and m_t H_cg ü_g
+    r = np.append(s.m, s.static_moment)  # M 1 ü_g and m_t H_cg ü_g
     f0 = np.zeros(n + 1)
-    f0[n] = side * s.m_t * g * s.B         # paper 001, Eq 20: ± m_t g B
+    f0[n] = side * s.m_t * g * s.B  # paper 001, Eq 20: ± m_t g B
     return LinearSystem("rocking", ML, CL, KL, r=r, f0=f0, dofs=_u_names(n) + ("theta",))
 
 

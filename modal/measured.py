@@ -56,8 +56,10 @@ def read_measured_shapes(path: str | Path) -> MeasuredShapes:
         raise ModalError(f"{p}: not a readable CSV file ({exc})") from exc
     df.columns = [c.strip() for c in df.columns]
     if "node" not in df.columns:
-        raise ModalError(f"{p}: no `node` column; the first column must be `node` "
-                         "(1-based node numbers), then one column per mode")
+        raise ModalError(
+            f"{p}: no `node` column; the first column must be `node` "
+            "(1-based node numbers), then one column per mode"
+        )
     modes = [c for c in df.columns if c != "node"]
     if not modes:
         raise ModalError(f"{p}: no mode columns; add one column per measured mode")
@@ -70,16 +72,22 @@ def read_measured_shapes(path: str | Path) -> MeasuredShapes:
     try:
         nodes = tuple(int(x) for x in labels)
     except ValueError as exc:
-        raise ModalError(f"{p}: column `node` holds {list(labels)}; use integer node numbers "
-                         "(and `freq_hz` for the optional frequency row)") from exc
+        raise ModalError(
+            f"{p}: column `node` holds {list(labels)}; use integer node numbers "
+            "(and `freq_hz` for the optional frequency row)"
+        ) from exc
     if len(set(nodes)) != len(nodes) or not nodes:
         raise ModalError(f"{p}: column `node` = {list(nodes)}: give each node once")
     shapes = np.column_stack([_numbers(p, df[c], f"column `{c}`") for c in modes])
-    return MeasuredShapes(nodes=nodes, shapes=shapes, names=tuple(modes), freq_hz=freq, source=str(p))
+    return MeasuredShapes(
+        nodes=nodes, shapes=shapes, names=tuple(modes), freq_hz=freq, source=str(p)
+    )
 
 
 def _numbers(path: Path, values, where: str) -> np.ndarray:
     out = pd.to_numeric(values, errors="coerce").to_numpy(dtype=float)
     if not np.all(np.isfinite(out)):
-        raise ModalError(f"{path}: {where} holds {list(values)}: every entry must be a finite number")
+        raise ModalError(
+            f"{path}: {where} holds {list(values)}: every entry must be a finite number"
+        )
     return out

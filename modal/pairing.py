@@ -12,7 +12,7 @@ The pairing rule, stated once:
 1. Complex couples pair by conjugacy (LAPACK returns them as exact conjugates).
 2. Each eigenvector z is compared with the undamped modes Φ of the same phase
    (K Φ = M Φ Ω², Φᵀ M Φ = I) through its modal participation
-   w_k = |φ_kᵀ M z|² / Σ_j |φ_jᵀ M z|², so Σ_k w_k = 1.
+   ``w_k = |φ_kᵀ M z|² / Σ_j |φ_jᵀ M z|²``, so Σ_k w_k = 1.
 3. Each complex couple takes one undamped mode, by the assignment that
    maximises the total participation (`scipy.optimize.linear_sum_assignment`).
 4. The real eigenvalues go two by two to the undamped modes left over, by the
@@ -105,15 +105,24 @@ def _assign(weights: np.ndarray, rows: np.ndarray, cols: np.ndarray) -> np.ndarr
 def _conjugate_couples(lam: np.ndarray, phase: str) -> tuple[np.ndarray, np.ndarray]:
     """Indices of the Im > 0 eigenvalues and of the real ones; checks the couples."""
     up, down = np.flatnonzero(lam.imag > 0.0), np.flatnonzero(lam.imag < 0.0)
-    if up.size != down.size or not np.allclose(np.sort_complex(lam[up]),
-                                                np.sort_complex(lam[down].conj()), rtol=1e-10):
-        raise ModalError(f"the {phase} system has complex eigenvalues without their conjugates; "
-                         "its matrices must be real")
+    if up.size != down.size or not np.allclose(
+        np.sort_complex(lam[up]), np.sort_complex(lam[down].conj()), rtol=1e-10
+    ):
+        raise ModalError(
+            f"the {phase} system has complex eigenvalues without their conjugates; "
+            "its matrices must be real"
+        )
     return up, np.flatnonzero(lam.imag == 0.0)
 
 
-def pair_modes(lam: np.ndarray, Z: np.ndarray, M: np.ndarray, Phi: np.ndarray,
-               rocking_mode: int | None, phase: str) -> ModePairing:
+def pair_modes(
+    lam: np.ndarray,
+    Z: np.ndarray,
+    M: np.ndarray,
+    Phi: np.ndarray,
+    rocking_mode: int | None,
+    phase: str,
+) -> ModePairing:
     """Pair the eigenvalues of Eq 24 into modes by the rule of the module docstring.
 
     Parameters
@@ -144,14 +153,18 @@ def pair_modes(lam: np.ndarray, Z: np.ndarray, M: np.ndarray, Phi: np.ndarray,
     W = participation(Phi, M, Z)
     vib_cols = np.array([k for k in range(n) if k != rocking_mode], dtype=int)
     if rocking_mode is not None and real.size < 2:
-        raise ModalError(f"the {phase} system has no real eigenvalue couple for the rocking "
-                         "mode (expected ≈ ±p_l)")
+        raise ModalError(
+            f"the {phase} system has no real eigenvalue couple for the rocking "
+            "mode (expected ≈ ±p_l)"
+        )
     under_mode = _assign(W, up, vib_cols) if up.size else np.empty(0, dtype=int)
     left = np.setdiff1d(np.arange(n), under_mode)
-    if 2 * left.size != real.size:    # cannot happen for real matrices: 2n = 2k + #real
-        raise ModalError(f"the {phase} system has {real.size} real eigenvalues for "
-                         f"{left.size} modes; expected two per mode")
-    slot = np.repeat(np.arange(left.size), 2)              # two places per left-over mode
+    if 2 * left.size != real.size:  # cannot happen for real matrices: 2n = 2k + #real
+        raise ModalError(
+            f"the {phase} system has {real.size} real eigenvalues for "
+            f"{left.size} modes; expected two per mode"
+        )
+    slot = np.repeat(np.arange(left.size), 2)  # two places per left-over mode
     W_slots = np.zeros((slot.size, W.shape[1]))
     W_slots[:, real] = W[left[slot]][:, real]
     got = _assign(W_slots, real, np.arange(slot.size))
@@ -162,11 +175,18 @@ def pair_modes(lam: np.ndarray, Z: np.ndarray, M: np.ndarray, Phi: np.ndarray,
     if rocking_mode is not None:
         rocking = np.array(sorted(couples.pop(rocking_mode), key=lambda i: -lam[i].real))
     over_mode = np.array(sorted(couples), dtype=int)
-    over = np.array([sorted(couples[k], key=lambda i: lam[i].real) for k in over_mode],
-                    dtype=int).reshape(-1, 2)
-    pairing = ModePairing(under=up, under_mode=under_mode, over=over, over_mode=over_mode,
-                          rocking=rocking, under_weight=W[under_mode, up],
-                          over_weight=np.min(W[over_mode[:, None], over], axis=1, initial=1.0))
+    over = np.array(
+        [sorted(couples[k], key=lambda i: lam[i].real) for k in over_mode], dtype=int
+    ).reshape(-1, 2)
+    pairing = ModePairing(
+        under=up,
+        under_mode=under_mode,
+        over=over,
+        over_mode=over_mode,
+        rocking=rocking,
+        under_weight=W[under_mode, up],
+        over_weight=np.min(W[over_mode[:, None], over], axis=1, initial=1.0),
+    )
     _check_signs(lam, pairing, phase)
     return pairing
 
@@ -174,13 +194,17 @@ def pair_modes(lam: np.ndarray, Z: np.ndarray, M: np.ndarray, Phi: np.ndarray,
 def _check_signs(lam: np.ndarray, p: ModePairing, phase: str) -> None:
     """Vibration modes decay; the rocking couple is one positive, one negative eigenvalue."""
     vib = np.concatenate([p.under, p.over.ravel()])
-    grows = lam[vib].real > _UNDAMPED_NOISE * np.abs(lam[vib])   # an undamped mode has Re ≈ 0
+    grows = lam[vib].real > _UNDAMPED_NOISE * np.abs(lam[vib])  # an undamped mode has Re ≈ 0
     if np.any(grows) or np.any(lam[vib] == 0.0):
         bad = ", ".join(f"{x:.6g}" for x in lam[vib][grows | (lam[vib] == 0.0)])
-        raise ModalError(f"the {phase} system has vibration eigenvalues that do not decay ({bad} "
-                         "rad/s): the structure is unstable (or has a zero-frequency mode) beyond "
-                         "its rocking mode; check the stiffness and damping of the specimen")
+        raise ModalError(
+            f"the {phase} system has vibration eigenvalues that do not decay ({bad} "
+            "rad/s): the structure is unstable (or has a zero-frequency mode) beyond "
+            "its rocking mode; check the stiffness and damping of the specimen"
+        )
     if p.rocking is not None and not lam[p.rocking[0]].real > 0.0 > lam[p.rocking[1]].real:
         pair = ", ".join(f"{x.real:.6g}" for x in lam[p.rocking])
-        raise ModalError(f"the {phase} system's rocking couple is {pair} rad/s, not ±p_l: "
-                         "the rocking mode could not be identified")
+        raise ModalError(
+            f"the {phase} system's rocking couple is {pair} rad/s, not ±p_l: "
+            "the rocking mode could not be identified"
+        )

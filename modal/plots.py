@@ -44,8 +44,12 @@ def _zoom_set(analysis: ModalAnalysis):
     for key, pm in (("n", analysis.full_contact), ("u", analysis.rocking)):
         keep = pm.mode <= _ZOOM_MODES
         over = pm.overdamped_mode <= _ZOOM_MODES
-        out[key] = (pm.mode[keep], pm.vibration_eigenvalues[keep],
-                    pm.overdamped_mode[over], pm.overdamped_eigenvalues[over])
+        out[key] = (
+            pm.mode[keep],
+            pm.vibration_eigenvalues[keep],
+            pm.overdamped_mode[over],
+            pm.overdamped_eigenvalues[over],
+        )
     return out
 
 
@@ -65,7 +69,9 @@ def _zoom(ax, analysis: ModalAnalysis) -> None:
     zs = _zoom_set(analysis)
     p = analysis.structure.p_l
     im = [abs(l.imag) for key in zs for l in zs[key][1]] + [p]
-    re = [abs(l.real) for key in zs for l in zs[key][1]] + list(np.abs(analysis.rocking_eigenvalues))
+    re = [abs(l.real) for key in zs for l in zs[key][1]] + list(
+        np.abs(analysis.rocking_eigenvalues)
+    )
     xlim, ylim = 1.6 * max(re), 1.25 * max(im)
     side = _label_sides(zs)
     for key, style in (("n", _FC), ("u", _RK)):
@@ -74,17 +80,27 @@ def _zoom(ax, analysis: ModalAnalysis) -> None:
         ax.scatter(pts.real, pts.imag, **style)
         for j, l in zip(modes, lam):
             left = side[(key, j)]
-            ax.annotate(f"{key}{j}: {abs(l) / (2 * np.pi):.1f} Hz", (l.real, l.imag),
-                        textcoords="offset points", xytext=(-6 if left else 6, 5), fontsize=8,
-                        ha="right" if left else "left", color=style.get("color", "tab:blue"))
+            ax.annotate(
+                f"{key}{j}: {abs(l) / (2 * np.pi):.1f} Hz",
+                (l.real, l.imag),
+                textcoords="offset points",
+                xytext=(-6 if left else 6, 5),
+                fontsize=8,
+                ha="right" if left else "left",
+                color=style.get("color", "tab:blue"),
+            )
     rk = analysis.rocking_eigenvalues
     ax.scatter(rk, [0, 0], **_RK)
     ax.scatter([p, -p], [0, 0], marker="+", s=140, color="k", zorder=3)
     ax.set_xlim(-xlim, xlim)
     ax.set_ylim(-ylim, ylim)
-    notes = [f"\n{'full contact' if key == 'n' else 'uplifted'} mode {j} overdamped: Λ = "
-             + ", ".join(f"{x:.4g}" + (" (off frame)" if x < -xlim else "") for x in (a, b))
-             + " rad/s" for key in zs for j, (a, b) in zip(zs[key][2], zs[key][3])]
+    notes = [
+        f"\n{'full contact' if key == 'n' else 'uplifted'} mode {j} overdamped: Λ = "
+        + ", ".join(f"{x:.4g}" + (" (off frame)" if x < -xlim else "") for x in (a, b))
+        + " rad/s"
+        for key in zs
+        for j, (a, b) in zip(zs[key][2], zs[key][3])
+    ]
     ax.set_xlabel("Re Λ (rad/s)" + "".join(notes))
     ax.set_title(f"zoom: rocking pair and modes 1–{_ZOOM_MODES}")
 
@@ -105,9 +121,11 @@ def eigenvalue_figure(analysis: ModalAnalysis) -> Figure:
         ax.set_ylabel("Im Λ (rad/s)")
         ax.grid(alpha=0.3)
     axes[0].set_xlabel("Re Λ (rad/s)")
-    handles = [Line2D([], [], ls="none", marker="o", mfc="none", mec="tab:blue", label="full contact"),
-               Line2D([], [], ls="none", marker="x", color="tab:red", label="rocking (uplifted)"),
-               Line2D([], [], ls="none", marker="+", ms=11, color="k", label="±p_l (Eq 6)")]
+    handles = [
+        Line2D([], [], ls="none", marker="o", mfc="none", mec="tab:blue", label="full contact"),
+        Line2D([], [], ls="none", marker="x", color="tab:red", label="rocking (uplifted)"),
+        Line2D([], [], ls="none", marker="+", ms=11, color="k", label="±p_l (Eq 6)"),
+    ]
     fig.legend(handles=handles, loc="outside lower center", ncol=3, fontsize=9)
     return fig
 
@@ -129,14 +147,38 @@ def _freq_label(table, j: int) -> str:
 
 def _mode_panel(ax, analysis: ModalAnalysis, j: int, tables) -> None:
     """Mode j: v_n, v_t and v_c as stored (sign rule of `modal.shapes`)."""
-    h = analysis.heights        # v_n drawn last, hollow, so it shows where it coincides
+    h = analysis.heights  # v_n drawn last, hollow, so it shows where it coincides
     ms = _marker_size(h.size)
-    ax.plot(analysis.compound_shapes()[:, j - 1], h, "D-", color="tab:red", lw=2, ms=ms, zorder=2,
-            label="uplifted compound v_c")
-    ax.plot(analysis.elastic_shapes()[:, j - 1], h, "s-", color="tab:blue", lw=1, ms=ms, zorder=3,
-            label="uplifted elastic v_t")
-    ax.plot(analysis.full_contact_shapes()[:, j - 1], h, "o--", color="0.3", mfc="white", ms=ms,
-            zorder=4, label="full contact v_n")
+    ax.plot(
+        analysis.compound_shapes()[:, j - 1],
+        h,
+        "D-",
+        color="tab:red",
+        lw=2,
+        ms=ms,
+        zorder=2,
+        label="uplifted compound v_c",
+    )
+    ax.plot(
+        analysis.elastic_shapes()[:, j - 1],
+        h,
+        "s-",
+        color="tab:blue",
+        lw=1,
+        ms=ms,
+        zorder=3,
+        label="uplifted elastic v_t",
+    )
+    ax.plot(
+        analysis.full_contact_shapes()[:, j - 1],
+        h,
+        "o--",
+        color="0.3",
+        mfc="white",
+        ms=ms,
+        zorder=4,
+        label="full contact v_n",
+    )
     fn, fu = (_freq_label(t, j) for t in tables)
     ax.set_title(f"mode {j}\n[{fn}, {fu}] Hz", fontsize=10)
 
@@ -175,12 +217,14 @@ def shapes_figure(analysis: ModalAnalysis, n_modes: int = 3) -> Figure:
         ax.grid(alpha=0.3)
     axes[0].set_ylim(0.0, 1.06 * top)
     axes[0].set_ylabel("height above the base (m)")
-    handles = axes[0].get_legend_handles_labels()[0][::-1]       # v_n, v_t, v_c
+    handles = axes[0].get_legend_handles_labels()[0][::-1]  # v_n, v_t, v_c
     handles.append(Line2D([], [], color="k", lw=3, label="base (0 m)"))
     fig.legend(handles=handles, loc="outside lower center", ncol=4, fontsize=8)
     od = any(t["kind"].eq("overdamped").iloc[:k].any() for t in tables)
-    fig.suptitle(f"{analysis.structure.name}: mode shapes [f_full contact, f_uplifted]"
-                 + (" (od: overdamped)" if od else ""))
+    fig.suptitle(
+        f"{analysis.structure.name}: mode shapes [f_full contact, f_uplifted]"
+        + (" (od: overdamped)" if od else "")
+    )
     return fig
 
 

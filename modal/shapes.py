@@ -53,7 +53,7 @@ def normalise(v: np.ndarray, idx: np.ndarray, n_elastic: int) -> np.ndarray:
     weak = norm <= 1e-12 * np.linalg.norm(v[:n_elastic], axis=0)
     norm = np.where(weak, np.linalg.norm(v[:n_elastic], axis=0), norm)
     big = vt[np.argmax(np.abs(vt), axis=0), np.arange(v.shape[1])]
-    big = np.where(big == 0.0, 1.0, big)        # u = 0 at every shape node: no sign to fix
+    big = np.where(big == 0.0, 1.0, big)  # u = 0 at every shape node: no sign to fix
     out = v / (norm * (big / np.abs(big)))
     return out.real if np.isrealobj(v) else out
 
@@ -63,8 +63,9 @@ def _mac(a: np.ndarray, b: np.ndarray) -> float:
     return float(mac(a, b)[0, 0]) if np.any(a) and np.any(b) else 0.0
 
 
-def align_to_full_contact(shapes: np.ndarray, modes: np.ndarray, v_n: np.ndarray,
-                          idx: np.ndarray, heights: np.ndarray) -> np.ndarray:
+def align_to_full_contact(
+    shapes: np.ndarray, modes: np.ndarray, v_n: np.ndarray, idx: np.ndarray, heights: np.ndarray
+) -> np.ndarray:
     """Apply rule 3: flip uplifted shapes whose closer partner opposes v_n.
 
     Parameters

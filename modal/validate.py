@@ -32,20 +32,29 @@ def validate_structure(structure) -> Structure:
         For any other type, and for a rigid block (no elastic nodes, no vibration modes).
     """
     if isinstance(structure, (str, os.PathLike)):
-        structure = from_specimen(structure)      # its own errors name the file and the key
+        structure = from_specimen(structure)  # its own errors name the file and the key
     elif not isinstance(structure, Structure):
-        raise ModalError(f"`structure` = {show(structure)} ({type(structure).__name__}): give a "
-                         "Structure (multimass.column(...)), a bundled specimen name such as "
-                         "'S1', or the path of a column TOML file")
+        raise ModalError(
+            f"`structure` = {show(structure)} ({type(structure).__name__}): give a "
+            "Structure (multimass.column(...)), a bundled specimen name such as "
+            "'S1', or the path of a column TOML file"
+        )
     if structure.n == 0:
-        raise ModalError(f"`structure` {structure.name!r} is a rigid block: it has no elastic "
-                         f"nodes, so no vibration modes (it rocks with p = {structure.p:.4g} rad/s); "
-                         "modal analysis needs a column specimen (kind = \"column\")")
+        raise ModalError(
+            f"`structure` {structure.name!r} is a rigid block: it has no elastic "
+            f"nodes, so no vibration modes (it rocks with p = {structure.p:.4g} rad/s); "
+            'modal analysis needs a column specimen (kind = "column")'
+        )
     return structure
 
 
-def validate_shape_nodes(shape_nodes, n: int, default: tuple[int, ...], arg: str = "shape_nodes",
-                         example: str | None = None) -> tuple[int, ...]:
+def validate_shape_nodes(
+    shape_nodes,
+    n: int,
+    default: tuple[int, ...],
+    arg: str = "shape_nodes",
+    example: str | None = None,
+) -> tuple[int, ...]:
     """Distinct 1-based integer node numbers in 1..n; `default` for None.
 
     A string such as ``"2,3"`` is refused, not parsed (the command line's
@@ -73,24 +82,32 @@ def validate_shape_nodes(shape_nodes, n: int, default: tuple[int, ...], arg: str
     example = example or f"{arg}={default[:3]}"
     fix = f"give distinct integer node numbers in 1..{n}, e.g. {example}"
     if isinstance(shape_nodes, (str, bytes)):
-        raise ModalError(f"`{arg}` = {show(shape_nodes)} is a string: {fix} "
-                         "(a sequence of int, not text)")
+        raise ModalError(
+            f"`{arg}` = {show(shape_nodes)} is a string: {fix} (a sequence of int, not text)"
+        )
     if isinstance(shape_nodes, (Set, Mapping)) or not isinstance(shape_nodes, Iterable):
-        raise ModalError(f"`{arg}` = {show(shape_nodes)} ({type(shape_nodes).__name__}) "
-                         f"is not an ordered sequence: {fix}")
+        raise ModalError(
+            f"`{arg}` = {show(shape_nodes)} ({type(shape_nodes).__name__}) "
+            f"is not an ordered sequence: {fix}"
+        )
     items = list(shape_nodes)
-    odd = [x for x in items if isinstance(x, (bool, np.bool_))
-           or not isinstance(x, (int, np.integer))]
+    odd = [
+        x for x in items if isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, np.integer))
+    ]
     if odd:
-        raise ModalError(f"`{arg}` = {show(shape_nodes)} holds {show(odd[0])} "
-                         f"({type(odd[0]).__name__}), not an integer node number: {fix}")
+        raise ModalError(
+            f"`{arg}` = {show(shape_nodes)} holds {show(odd[0])} "
+            f"({type(odd[0]).__name__}), not an integer node number: {fix}"
+        )
     nodes = tuple(int(x) for x in items)
     if not nodes:
         raise ModalError(f"`{arg}` is empty: {fix}")
     outside = [i for i in nodes if not 1 <= i <= n]
     if outside:
-        raise ModalError(f"`{arg}` = {show(nodes)}: node(s) {show(outside)} outside 1..{n} "
-                         f"(the structure has {n} nodes): {fix}")
+        raise ModalError(
+            f"`{arg}` = {show(nodes)}: node(s) {show(outside)} outside 1..{n} "
+            f"(the structure has {n} nodes): {fix}"
+        )
     if len(set(nodes)) != len(nodes):
         twice = sorted({i for i in nodes if nodes.count(i) > 1})
         raise ModalError(f"`{arg}` = {show(nodes)} repeats node(s) {show(twice)}: {fix}")

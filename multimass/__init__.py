@@ -13,8 +13,7 @@ import importlib
 _PUBLIC = {
     "errors": ("InputError", "SolverError"),
     "structure": ("Structure", "column", "from_specimen", "rigid_block"),
-    "excitations": ("CosinePulse", "CosineWave", "Excitation", "FreeRelease", "Ricker",
-                    "SineWave"),
+    "excitations": ("CosinePulse", "CosineWave", "Excitation", "FreeRelease", "Ricker", "SineWave"),
     "records": ("Record", "read_at2", "read_record", "read_two_column"),
     "units": ("G", "parse_acceleration", "to_mps2"),
     "response": ("Event", "Response"),
@@ -66,7 +65,7 @@ def __getattr__(name: str):
     if module is None:
         raise AttributeError(f"module 'multimass' has no attribute {name!r}")
     value = getattr(importlib.import_module(f".{module}", __name__), name)
-    globals()[name] = value            # later lookups skip __getattr__
+    globals()[name] = value  # later lookups skip __getattr__
     return value
 
 

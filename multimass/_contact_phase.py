@@ -14,8 +14,7 @@ import numpy as np
 from ._contact_checks import tangential_groups
 from .errors import SolverError
 
-__all__ = ["_Phase", "_constraint_matrix", "_project", "_project_q", "_select", "_events",
-           "_grid"]
+__all__ = ["_Phase", "_constraint_matrix", "_project", "_project_q", "_select", "_events", "_grid"]
 
 
 def _independent(cols: list[np.ndarray], start: np.ndarray, rtol: float = 1e-9) -> list[int]:
@@ -57,7 +56,7 @@ class _Phase:
         S = list(self.S)
         W = np.column_stack([WN[:, S], WT[:, self.tk]])
         what = np.concatenate([wN[S], wT[self.tk]])
-        if W.shape[1]:                          # paper 000, Sec 2.1: M q̈ = h + W λ, g̈ = 0
+        if W.shape[1]:  # paper 000, Sec 2.1: M q̈ = h + W λ, g̈ = 0
             Mi = np.linalg.solve(M, np.column_stack([h, W]))
             G = W.T @ Mi[:, 1:]
             lam = np.linalg.solve(G, -(W.T @ Mi[:, 0]) - what)
@@ -69,7 +68,7 @@ class _Phase:
     def solve(self, t, q, v):
         """Accelerations, normal contact forces of S and all normal accelerations."""
         a, lam, gdd, g = self.multipliers(t, q, v)
-        return a, lam[:len(self.S)], gdd, g
+        return a, lam[: len(self.S)], gdd, g
 
     def force_map(self, q, v):
         """(L, c) with λ(t) = L h(t) + c (λ_N,S then λ_T) at a fixed state (locked phases)."""
@@ -84,7 +83,7 @@ class _Phase:
 
     def rhs(self, t, y):
         n = self.model.n
-        q, v = y[:n], y[n:2 * n]
+        q, v = y[:n], y[n : 2 * n]
         a = self.solve(t, q, v)[0]
         pg, pd = self.model.powers(t, q, v)
         return np.concatenate([v, a, [pg, pd]])
@@ -132,17 +131,20 @@ def _select(model, t, q, v, cands, ftol) -> tuple[int, ...]:
             if np.all(lam >= -ftol) and np.all(gdd[rest] >= -ftol):
                 return S
             a_scale = max(np.abs(a).max(), 1e-300)
-            viol = max(np.max(-lam, initial=0.0) / f_scale,
-                       np.max(-gdd[rest], initial=0.0) / a_scale)
+            viol = max(
+                np.max(-lam, initial=0.0) / f_scale, np.max(-gdd[rest], initial=0.0) / a_scale
+            )
             if viol < best_viol:
                 best, best_viol = S, viol
     if best_viol <= 1e-5:
         return best
-    raise SolverError(f"t = {t:.9g}: no consistent set of closed contacts among {cands} "
-                      f"(smallest relative violation {best_viol:.3g}): a sticking contact "
-                      "would need a tensile force while opening it would let it penetrate; "
-                      "a real contact slides here, which the sticking model of paper 000 "
-                      "does not cover")
+    raise SolverError(
+        f"t = {t:.9g}: no consistent set of closed contacts among {cands} "
+        f"(smallest relative violation {best_viol:.3g}): a sticking contact "
+        "would need a tensile force while opening it would let it penetrate; "
+        "a real contact slides here, which the sticking model of paper 000 "
+        "does not cover"
+    )
 
 
 def _events(model, ph: _Phase, k: int, y0, gap_eps: float):
@@ -153,22 +155,26 @@ def _events(model, ph: _Phase, k: int, y0, gap_eps: float):
     within the first step.
     """
     n = model.n
-    g0 = model.contacts(y0[:n], y0[n:2 * n])[0]
+    g0 = model.contacts(y0[:n], y0[n : 2 * n])[0]
     evs = []
     for j in range(k):
         if j in ph.S:
             i = ph.S.index(j)
 
             def f(t, y, i=i):
-                return ph.solve(t, y[:n], y[n:2 * n])[1][i]
+                return ph.solve(t, y[:n], y[n : 2 * n])[1][i]
         else:
+
             def f(t, y, j=j, off=gap_eps - min(g0[j], 0.0)):
-                return model.contacts(y[:n], y[n:2 * n])[0][j] + off
+                return model.contacts(y[:n], y[n : 2 * n])[0][j] + off
+
         f.terminal, f.direction = True, -1
         evs.append(f)
     for name, fn in getattr(model, "events", ()):
+
         def f(t, y, fn=fn):
-            return fn(t, y[:n], y[n:2 * n])
+            return fn(t, y[:n], y[n : 2 * n])
+
         f.terminal, f.direction, f.name = True, 0, name
         evs.append(f)
     return evs

@@ -20,7 +20,7 @@ from .errors import InputError
 
 __all__ = ["RockingEvent", "Run"]
 
-_SNAP = 1e-9          # an event within _SNAP·Δt of a grid point is put on it
+_SNAP = 1e-9  # an event within _SNAP·Δt of a grid point is put on it
 _AT_REST = "excitation over and the block at rest in full contact"
 
 
@@ -59,8 +59,10 @@ def _checked_r(fn, thd_minus: float, side: int) -> float:
     except (TypeError, ValueError):
         rf = float("nan")
     if not 0.0 < rf <= 1.0:
-        raise InputError(f"`restitution` returned {r!r} for thetadot_minus = {thd_minus!r}, "
-                         f"new_side = {side}: r must lie in (0, 1]")
+        raise InputError(
+            f"`restitution` returned {r!r} for thetadot_minus = {thd_minus!r}, "
+            f"new_side = {side}: r must lie in (0, 1]"
+        )
     return rf
 
 
@@ -84,9 +86,9 @@ def _locate_impact(ag, t_a, th, thd, thdd, h, s, th_cross, p2, alpha, g, max_ite
     k_hi = K(h)
     if s * k_hi <= 0.0:
         return h, 1
-    lo, hi = 0.0, h                       # s·K < 0 at lo (limit τ → 0+), > 0 at hi
+    lo, hi = 0.0, h  # s·K < 0 at lo (limit τ → 0+), > 0 at hi
     if th != 0.0:
-        tau = h * th / (th - th_cross)    # linear interpolation of θ
+        tau = h * th / (th - th_cross)  # linear interpolation of θ
     else:
         den = thdd + f0(h)
         tau = -4.0 * thd / den if den != 0.0 else 0.5 * h
@@ -120,7 +122,7 @@ def _locate_uplift(ag, lo, hi, thr):
     Brent's method (inverse quadratic interpolation with bisection safeguard) on
     ü_g(t) − thr; it also converges to a jump of ü_g.
     """
-    fn = lambda t: float(ag(t)) - thr          # noqa: E731
+    fn = lambda t: float(ag(t)) - thr  # noqa: E731
     if fn(lo) * fn(hi) > 0.0:
         return hi
     return brentq(fn, lo, hi, xtol=1e-15, rtol=8.9e-16, maxiter=200)
@@ -129,7 +131,7 @@ def _locate_uplift(ag, lo, hi, thr):
 def _locate_overturn(t_a, th, thd, thdd, thdd1, h, s, angle):
     """Instant where s θ = angle inside a step, on Newmark's quadratic interpolant."""
     abar = 0.5 * (thdd + thdd1)
-    fn = lambda tau: s * (th + tau * thd + 0.5 * tau * tau * abar) - angle   # noqa: E731
+    fn = lambda tau: s * (th + tau * thd + 0.5 * tau * tau * abar) - angle  # noqa: E731
     if fn(0.0) >= 0.0:
         return 0.0
     if fn(h) <= 0.0:
@@ -146,11 +148,11 @@ class Run:
         self.o, self.advance = opts, advance
         self.N = t_grid.size - 1
         self.dt = opts["dt"]
-        self.alpha, self.g, self.p2 = st.alpha_cg, st.g, st.p ** 2
-        self.thr = st.g * math.tan(st.alpha_cg)          # uplift: |ü_g| > g tan α
-        self.barrier = 1.0 - math.cos(st.alpha_cg)       # energy to reach θ = α, / m g R
+        self.alpha, self.g, self.p2 = st.alpha_cg, st.g, st.p**2
+        self.thr = st.g * math.tan(st.alpha_cg)  # uplift: |ü_g| > g tan α
+        self.barrier = 1.0 - math.cos(st.alpha_cg)  # energy to reach θ = α, / m g R
         self.out = np.zeros((3, self.N + 1))
-        self.inserts: list[tuple] = []                   # (grid position, t, θ, θ̇, θ̈)
+        self.inserts: list[tuple] = []  # (grid position, t, θ, θ̇, θ̈)
         self.events: list[RockingEvent] = []
         self.peaks: list[float] = []
         self.si = np.zeros(3, dtype=np.int64)
@@ -174,10 +176,16 @@ class Run:
         ra = self.o["rest_after"]
         if ra is None or t < ra or not abs(th) < self.alpha:
             return False
-        if not self.energy(th, thd) < self.barrier:     # beyond α it falls: no early stop
+        if not self.energy(th, thd) < self.barrier:  # beyond α it falls: no early stop
             return False
-        self.stop("rest", t, th, thd, "excitation over and energy below the overturning "
-                  "barrier m g R (1 − cos α): the block can no longer overturn")
+        self.stop(
+            "rest",
+            t,
+            th,
+            thd,
+            "excitation over and energy below the overturning "
+            "barrier m g R (1 − cos α): the block can no longer overturn",
+        )
         return True
 
     def stop(self, status, t, th, thd, message, kind="rest"):
@@ -186,7 +194,7 @@ class Run:
 
     def row(self, k, t, th, thd, thdd) -> tuple[float, int]:
         """Write the state of an event at t; returns (start time, next grid point)."""
-        if self.t[k] - t <= _SNAP * self.dt:             # on the grid point: snap
+        if self.t[k] - t <= _SNAP * self.dt:  # on the grid point: snap
             self.out[:, k] = (th, thd, thdd)
             self.written = k
             return float(self.t[k]), k + 1
@@ -205,21 +213,21 @@ class Run:
             self.stop("rest", t_a, 0.0, 0.0, _AT_REST)
             return None
         a0 = float(self.ag(t_a))
-        if abs(a0) > self.thr:                           # uplift at once (at t_a)
+        if abs(a0) > self.thr:  # uplift at once (at t_a)
             side = 1 if a0 < 0.0 else -1
             return self.uplift(t_a, k, side, at_start=True)
         over = np.flatnonzero(np.abs(self.agg[k:]) > self.thr)
         j = k + int(over[0]) if over.size else None
         kc = self.k_check
-        if kc >= k and (j is None or j >= kc):           # rests until the excitation ends
+        if kc >= k and (j is None or j >= kc):  # rests until the excitation ends
             self.written = kc
             self.stop("rest", float(self.t[kc]), 0.0, 0.0, _AT_REST)
             return None
-        if j is None:                                    # rests to t_end
+        if j is None:  # rests to t_end
             self.written = self.N
             return None
-        self.written = j - 1                             # rows k..j-1 stay 0 (full contact)
-        side = 1 if self.agg[j] < 0.0 else -1            # ü_g < −g tan α: right pivot
+        self.written = j - 1  # rows k..j-1 stay 0 (full contact)
+        side = 1 if self.agg[j] < 0.0 else -1  # ü_g < −g tan α: right pivot
         lo = t_a if j == k else float(self.t[j - 1])
         t_u = _locate_uplift(self.ag, lo, float(self.t[j]), -side * self.thr)
         return self.uplift(t_u, j, side, at_start=False)
@@ -227,7 +235,7 @@ class Run:
     def uplift(self, t_u, k, side, at_start):
         """Start rocking at t_u about `side` with θ = θ̇ = 0 (paper 004, Eq 1 at θ = 0)."""
         thdd = self.f(0.0, side, t_u)
-        if at_start:                                     # the row at t_u exists already
+        if at_start:  # the row at t_u exists already
             if self.inserts and self.inserts[-1][1] == t_u:
                 self.inserts[-1] = self.inserts[-1][:4] + (thdd,)
             else:
@@ -244,12 +252,33 @@ class Run:
         o = self.o
         while True:
             kc = self.k_check if self.k_check >= k else -1
-            code, kk = self.advance(self.t, self.agg, k, self.N, t_a, th, thd, thdd, side,
-                                    self.p2, self.alpha, self.g, o["tol"], o["max_iter"],
-                                    o["overturn_angle"], kc, self.out, self.si, self.sf)
+            code, kk = self.advance(
+                self.t,
+                self.agg,
+                k,
+                self.N,
+                t_a,
+                th,
+                thd,
+                thdd,
+                side,
+                self.p2,
+                self.alpha,
+                self.g,
+                o["tol"],
+                o["max_iter"],
+                o["overturn_angle"],
+                kc,
+                self.out,
+                self.si,
+                self.sf,
+            )
             code, kk = int(code), int(kk)
-            pre = ((t_a, th, thd, thdd) if kk == k else
-                   (float(self.t[kk - 1]), *(float(x) for x in self.out[:, kk - 1])))
+            pre = (
+                (t_a, th, thd, thdd)
+                if kk == k
+                else (float(self.t[kk - 1]), *(float(x) for x in self.out[:, kk - 1]))
+            )
             if code in (kern.END, kern.OVERTURN, kern.CHECK):
                 self.written = kk
             else:
@@ -269,7 +298,7 @@ class Run:
                     self.peaks.append(float(self.sf[0]))
                     return None
                 continue
-            nxt = self.impact(pre, kk, side)             # code == CROSS
+            nxt = self.impact(pre, kk, side)  # code == CROSS
             if nxt is None or nxt[5] == 0:
                 return nxt
             t_a, k, th, thd, thdd, side = nxt
@@ -279,21 +308,33 @@ class Run:
         """θ crossed 0 in the step to grid point kk: locate, restitute, switch side."""
         t_p, th, thd, thdd = pre
         h = float(self.t[kk]) - t_p
-        tau, its = _locate_impact(self.ag, t_p, th, thd, thdd, h, side, float(self.sf[1]),
-                                  self.p2, self.alpha, self.g, self.o["max_iter"])
+        tau, its = _locate_impact(
+            self.ag,
+            t_p,
+            th,
+            thd,
+            thdd,
+            h,
+            side,
+            float(self.sf[1]),
+            self.p2,
+            self.alpha,
+            self.g,
+            self.o["max_iter"],
+        )
         self.count(its)
         t_i = t_p + tau
-        thdd_m = self.f(0.0, side, t_i)                              # paper 004, Eq 8
-        thd_m = thd + 0.5 * tau * (thdd + thdd_m)                    # paper 004, Eq 7
+        thdd_m = self.f(0.0, side, t_i)  # paper 004, Eq 8
+        thd_m = thd + 0.5 * tau * (thdd + thdd_m)  # paper 004, Eq 7
         self.peaks.append(float(self.sf[0]))
         self.sf[0] = 0.0
         new = -side
-        if abs(thd_m) <= self.o["thetadot_min"]:                     # paper 001, Eq 9
+        if abs(thd_m) <= self.o["thetadot_min"]:  # paper 001, Eq 9
             self.events.append(RockingEvent("full_contact", t_i, 0.0, thd_m, 0.0, None, 0))
             t_a, k = self.row(kk, t_i, 0.0, 0.0, 0.0)
             return t_a, k, 0.0, 0.0, 0.0, 0
         r = _checked_r(self.r_fn, thd_m, new)
-        thd_p = r * thd_m                                # θ̇+ = r θ̇− (paper 004, Sec 2.3)
+        thd_p = r * thd_m  # θ̇+ = r θ̇− (paper 004, Sec 2.3)
         thdd_p = self.f(0.0, new, t_i)
         self.events.append(RockingEvent("impact", t_i, 0.0, thd_m, thd_p, r, new))
         t_a, k = self.row(kk, t_i, 0.0, thd_p, thdd_p)
@@ -319,10 +360,12 @@ class Run:
         t_p, th, thd, _ = pre
         self.peaks.append(float(self.sf[0]))
         self.status = "failed"
-        self.message = (f"Newton–Raphson did not converge in max_iter = {self.o['max_iter']} "
-                        f"iterations in the step from t = {t_p:.6g} s (θ = {th:.6g} rad, "
-                        f"θ̇ = {thd:.6g} rad/s) to t = {float(self.t[kk]):.6g} s; reduce `dt` "
-                        "or raise `max_iter`")
+        self.message = (
+            f"Newton–Raphson did not converge in max_iter = {self.o['max_iter']} "
+            f"iterations in the step from t = {t_p:.6g} s (θ = {th:.6g} rad, "
+            f"θ̇ = {thd:.6g} rad/s) to t = {float(self.t[kk]):.6g} s; reduce `dt` "
+            "or raise `max_iter`"
+        )
         return None
 
     def fields(self) -> dict:
@@ -336,9 +379,18 @@ class Run:
         if ins:
             pos = [r[0] for r in ins]
             cols = [np.insert(c, pos, [r[i + 1] for r in ins]) for i, c in enumerate(cols)]
-        return dict(t=cols[0], theta=cols[1], thetadot=cols[2], thetaddot=cols[3],
-                    events=tuple(self.events), status=self.status,
-                    message=self.message or "reached t_end", overturn_time=self.t_over,
-                    peaks=np.asarray(self.peaks, dtype=float), n_steps=int(self.si[0]),
-                    n_newton_iterations=int(self.si[1]),
-                    max_newton_iterations=int(self.si[2]), dt=self.dt)
+        return dict(
+            t=cols[0],
+            theta=cols[1],
+            thetadot=cols[2],
+            thetaddot=cols[3],
+            events=tuple(self.events),
+            status=self.status,
+            message=self.message or "reached t_end",
+            overturn_time=self.t_over,
+            peaks=np.asarray(self.peaks, dtype=float),
+            n_steps=int(self.si[0]),
+            n_newton_iterations=int(self.si[1]),
+            max_newton_iterations=int(self.si[2]),
+            dt=self.dt,
+        )

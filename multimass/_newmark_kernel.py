@@ -32,22 +32,41 @@ import numpy as np
 __all__ = ["advance", "compiled_advance", "rhs", "END", "CROSS", "OVERTURN", "CHECK", "FAIL"]
 
 # return codes of `advance`
-END = 0        # reached the last grid point
-CROSS = 1      # the step to grid point k crossed θ = 0 (k not written)
-OVERTURN = 2   # |θ_k| ≥ overturn angle (k written)
-CHECK = 3      # reached the check point k_check (k written)
-FAIL = 4       # Newton did not converge in the step to k (k not written)
+END = 0  # reached the last grid point
+CROSS = 1  # the step to grid point k crossed θ = 0 (k not written)
+OVERTURN = 2  # |θ_k| ≥ overturn angle (k written)
+CHECK = 3  # reached the check point k_check (k written)
+FAIL = 4  # Newton did not converge in the step to k (k not written)
 
 
 def rhs(theta: float, side: int, ag: float, p2: float, alpha: float, g: float) -> float:
     """θ̈ on `side` at angle θ and ground acceleration ü_g (paper 004, Eqs 1–2)."""
     s = float(side)
     phi = alpha - s * theta
-    return -p2 * (s * math.sin(phi) + ag / g * math.cos(phi))   # paper 004, Eqs 1–2
+    return -p2 * (s * math.sin(phi) + ag / g * math.cos(phi))  # paper 004, Eqs 1–2
 
 
-def advance(t_grid, ag_grid, k, k_last, t_a, th, thd, thdd, side, p2, alpha, g,
-            tol, max_iter, overturn, k_check, out, stats_i, stats_f):
+def advance(
+    t_grid,
+    ag_grid,
+    k,
+    k_last,
+    t_a,
+    th,
+    thd,
+    thdd,
+    side,
+    p2,
+    alpha,
+    g,
+    tol,
+    max_iter,
+    overturn,
+    k_check,
+    out,
+    stats_i,
+    stats_f,
+):
     """Newmark steps from the state at `t_a` to grid points k, k+1, …, k_last.
 
     Parameters
@@ -86,8 +105,8 @@ def advance(t_grid, ag_grid, k, k_last, t_a, th, thd, thdd, side, p2, alpha, g,
         h = t_grid[k] - t_a
         q = 0.25 * h * h
         agn = ag_grid[k] / g
-        a = thdd                                   # predictor: θ̈_{n+1} = θ̈_n
-        th1 = th + h * thd + q * (thdd + a)        # paper 004, Eq 4 solved for θ_{n+1}
+        a = thdd  # predictor: θ̈_{n+1} = θ̈_n
+        th1 = th + h * thd + q * (thdd + a)  # paper 004, Eq 4 solved for θ_{n+1}
         it = 0
         converged = False
         while it < max_iter:
@@ -95,9 +114,9 @@ def advance(t_grid, ag_grid, k, k_last, t_a, th, thd, thdd, side, p2, alpha, g,
             phi = alpha - s * th1
             sn = math.sin(phi)
             cs = math.cos(phi)
-            f = -p2 * (s * sn + agn * cs)          # paper 004, Eqs 1–2
-            df = p2 * (cs - s * agn * sn)          # ∂f/∂θ, analytic tangent
-            d = (f - a) / (1.0 - q * df)           # Newton on paper 004, Eq 5 / Eq 6
+            f = -p2 * (s * sn + agn * cs)  # paper 004, Eqs 1–2
+            df = p2 * (cs - s * agn * sn)  # ∂f/∂θ, analytic tangent
+            d = (f - a) / (1.0 - q * df)  # Newton on paper 004, Eq 5 / Eq 6
             a += d
             th1 += q * d
             if abs(q * d) <= tol:
@@ -112,7 +131,7 @@ def advance(t_grid, ag_grid, k, k_last, t_a, th, thd, thdd, side, p2, alpha, g,
         if s * th1 <= 0.0:
             stats_f[1] = th1
             return CROSS, k
-        thd1 = thd + 0.5 * h * (thdd + a)          # paper 004, Eq 3 (with Eq 4)
+        thd1 = thd + 0.5 * h * (thdd + a)  # paper 004, Eq 3 (with Eq 4)
         # half-cycle peak: θ̇ changes sign inside the step; Newmark's constant average
         # acceleration makes θ quadratic there, with its extremum at τ = −θ̇_n / ā
         abar = 0.5 * (thdd + a)
@@ -145,6 +164,7 @@ def compiled_advance():
     global _COMPILED
     if _COMPILED is None:
         import numba
+
         _COMPILED = numba.njit(cache=True)(advance)
     return _COMPILED
 
@@ -152,6 +172,24 @@ def compiled_advance():
 def _warm_up() -> None:
     """Compile the numba kernel on a two-point grid (used by benchmarks)."""
     out = np.zeros((3, 2))
-    compiled_advance()(np.array([0.0, 1e-3]), np.zeros(2), 1, 1, 0.0, 0.1, 0.0, 0.0, 1,
-                       70.0, 0.2, 9.81, 1e-9, 50, 1.5, -1, out,
-                       np.zeros(3, dtype=np.int64), np.zeros(2))
+    compiled_advance()(
+        np.array([0.0, 1e-3]),
+        np.zeros(2),
+        1,
+        1,
+        0.0,
+        0.1,
+        0.0,
+        0.0,
+        1,
+        70.0,
+        0.2,
+        9.81,
+        1e-9,
+        50,
+        1.5,
+        -1,
+        out,
+        np.zeros(3, dtype=np.int64),
+        np.zeros(2),
+    )

@@ -16,8 +16,13 @@ from .response import Event, Response
 
 __all__ = ["simulate_newmark"]
 
-_KINDS = {"uplift": "uplift", "impact": "impact", "full_contact": "full_contact",
-          "overturn": "overturn", "rest": "rest"}
+_KINDS = {
+    "uplift": "uplift",
+    "impact": "impact",
+    "full_contact": "full_contact",
+    "overturn": "overturn",
+    "rest": "rest",
+}
 
 
 def _restitution(st, model, rng):
@@ -35,15 +40,31 @@ def _restitution(st, model, rng):
 def check_newmark(st, model) -> None:
     """Raise InputError unless paper 004's Newmark integrator applies (rigid block, classical)."""
     if st.n != 0:
-        raise InputError(f"`integrator` = 'newmark' integrates rigid blocks only; {st.name!r} has "
-                         f"{st.n} elastic nodes: use integrator='solve_ivp'")
+        raise InputError(
+            f"`integrator` = 'newmark' integrates rigid blocks only; {st.name!r} has "
+            f"{st.n} elastic nodes: use integrator='solve_ivp'"
+        )
     if not isinstance(model, Classical):
-        raise InputError(f"`integrator` = 'newmark' implements classical impacts (paper 004); "
-                         f"impact {getattr(model, 'name', model)!r} needs integrator='solve_ivp'")
+        raise InputError(
+            f"`integrator` = 'newmark' implements classical impacts (paper 004); "
+            f"impact {getattr(model, 'name', model)!r} needs integrator='solve_ivp'"
+        )
 
 
-def simulate_newmark(st, model, excitation, t_end, *, dt, seed, theta_dot_min, overturn_angle,
-                     stop_when_safe, options, floor: float = 0.0) -> Response:
+def simulate_newmark(
+    st,
+    model,
+    excitation,
+    t_end,
+    *,
+    dt,
+    seed,
+    theta_dot_min,
+    overturn_angle,
+    stop_when_safe,
+    options,
+    floor: float = 0.0,
+) -> Response:
     """Rigid block by Newmark + Newton–Raphson (paper 004, Eqs 3–8) as a `Response`.
 
     `floor` is the smallest energy scale of the ledger (`multimass.checks.energy_floor`).
@@ -53,9 +74,17 @@ def simulate_newmark(st, model, excitation, t_end, *, dt, seed, theta_dot_min, o
     duration = float(getattr(excitation, "duration", math.inf))
     ag = getattr(excitation, "acceleration", excitation)
     wall = time.perf_counter()
-    res = newmark_block(st, ag, t_end, dt=dt, restitution=_restitution(st, model, np.random.default_rng(seed)),
-                        theta0=theta0, overturn_angle=overturn_angle, thetadot_min=theta_dot_min,
-                        rest_after=duration if stop_when_safe and math.isfinite(duration) else None)
+    res = newmark_block(
+        st,
+        ag,
+        t_end,
+        dt=dt,
+        restitution=_restitution(st, model, np.random.default_rng(seed)),
+        theta0=theta0,
+        overturn_angle=overturn_angle,
+        thetadot_min=theta_dot_min,
+        rest_after=duration if stop_when_safe and math.isfinite(duration) else None,
+    )
     wall = time.perf_counter() - wall
     return _to_response(st, res, ag, wall, options, t_end, floor)
 
@@ -66,9 +95,24 @@ def _to_response(st, res, ag_fn, wall, options, t_end, floor) -> Response:
     side = int(np.sign(th[0]))
     for e in res.events:
         kind = _KINDS.get(e.kind, e.kind)
-        loss = 0.5 * st.J_p * (e.thetadot_minus**2 - e.thetadot_plus**2) if kind in ("impact", "full_contact") else 0.0
-        events.append(Event(kind, e.time, side, e.side, theta=e.theta, thetadot_minus=e.thetadot_minus,
-                            thetadot_plus=e.thetadot_plus, restitution=e.restitution, energy_change=-loss))
+        loss = (
+            0.5 * st.J_p * (e.thetadot_minus**2 - e.thetadot_plus**2)
+            if kind in ("impact", "full_contact")
+            else 0.0
+        )
+        events.append(
+            Event(
+                kind,
+                e.time,
+                side,
+                e.side,
+                theta=e.theta,
+                thetadot_minus=e.thetadot_minus,
+                thetadot_plus=e.thetadot_plus,
+                restitution=e.restitution,
+                energy_change=-loss,
+            )
+        )
         side = e.side
     # phase of each row: the side of θ, or of the pivot just taken at θ = 0
     phase = np.sign(th).astype(int)
@@ -91,16 +135,42 @@ def _to_response(st, res, ag_fn, wall, options, t_end, floor) -> Response:
     E = T + V
     balance = E + losses - Wg - E[0]
     ref = max(abs(E[0]), float(np.max(np.abs(Wg))), floor, 1e-300)
-    series = pd.DataFrame({"t": t, "phase": phase, "theta": th, "thetadot": thd, "F_i": 0.0,
-                           "ag": ag, "kinetic": T, "gravitational": V, "elastic": 0.0,
-                           "damping": 0.0, "impact": losses, "ground_work": Wg,
-                           "balance_error": balance})
+    series = pd.DataFrame(
+        {
+            "t": t,
+            "phase": phase,
+            "theta": th,
+            "thetadot": thd,
+            "F_i": 0.0,
+            "ag": ag,
+            "kinetic": T,
+            "gravitational": V,
+            "elastic": 0.0,
+            "damping": 0.0,
+            "impact": losses,
+            "ground_work": Wg,
+            "balance_error": balance,
+        }
+    )
     status = {"rest": "completed"}.get(res.status, res.status)
-    return Response(structure_name=st.name, status=status, message=res.message, series=series,
-                    events=events, peaks=np.asarray(res.peaks, dtype=float),
-                    peak_times=np.full(len(res.peaks), np.nan), energy_reference=ref,
-                    energy_balance_error=float(np.max(np.abs(balance)) / ref), wall_time_s=wall,
-                    options=options | {"integrator": "newmark", "dt": res.dt,
-                                       "n_steps": res.n_steps,
-                                       "max_newton_iterations": res.max_newton_iterations},
-                    n_rhs=res.n_newton_iterations, t_end=t_end)
+    return Response(
+        structure_name=st.name,
+        status=status,
+        message=res.message,
+        series=series,
+        events=events,
+        peaks=np.asarray(res.peaks, dtype=float),
+        peak_times=np.full(len(res.peaks), np.nan),
+        energy_reference=ref,
+        energy_balance_error=float(np.max(np.abs(balance)) / ref),
+        wall_time_s=wall,
+        options=options
+        | {
+            "integrator": "newmark",
+            "dt": res.dt,
+            "n_steps": res.n_steps,
+            "max_newton_iterations": res.max_newton_iterations,
+        },
+        n_rhs=res.n_newton_iterations,
+        t_end=t_end,
+    )

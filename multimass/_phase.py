@@ -31,8 +31,8 @@ class Model:
     C: np.ndarray
     mH: np.ndarray
     HmH: float
-    height: float      # Hᵀ M 1 + m0 h0
-    m_sum: float       # 1ᵀ M 1
+    height: float  # Hᵀ M 1 + m0 h0
+    m_sum: float  # 1ᵀ M 1
     J_p: float
     B: float
     g: float
@@ -41,15 +41,29 @@ class Model:
     m_t: float
 
     @classmethod
-    def of(cls, st: Structure) -> "Model":
-        return cls(st=st, n=st.n, m=st.m, H=st.H, K=st.K, C=st.C, mH=st.m * st.H,
-                   HmH=float(st.H @ (st.m * st.H)), height=float(st.m @ st.H + st.m0 * st.h0),
-                   m_sum=float(st.m.sum()), J_p=st.J_p, B=st.B, g=st.g, m0=st.m0, h0=st.h0,
-                   m_t=st.m_t)
+    def of(cls, st: Structure) -> Model:
+        return cls(
+            st=st,
+            n=st.n,
+            m=st.m,
+            H=st.H,
+            K=st.K,
+            C=st.C,
+            mH=st.m * st.H,
+            HmH=float(st.H @ (st.m * st.H)),
+            height=float(st.m @ st.H + st.m0 * st.h0),
+            m_sum=float(st.m.sum()),
+            J_p=st.J_p,
+            B=st.B,
+            g=st.g,
+            m0=st.m0,
+            h0=st.h0,
+            m_t=st.m_t,
+        )
 
     def split(self, y):
         n = self.n
-        return y[:n], y[n], y[n + 1:2 * n + 1], y[2 * n + 1]
+        return y[:n], y[n], y[n + 1 : 2 * n + 1], y[2 * n + 1]
 
 
 @dataclass(frozen=True)
@@ -70,15 +84,15 @@ def rocking_rhs(model: Model, side: int, ag_fn, force: ActiveForce | None):
     """dy/dt of the rocking phase about pivot `side` (paper 001, Eqs 4–5)."""
     mdl, s = model, float(side)
     n, m, H, K, C, B, g = mdl.n, mdl.m, mdl.H, mdl.K, mdl.C, mdl.B, mdl.g
-    pivot_arm = s * B * m                    # M (±B 1)
+    pivot_arm = s * B * m  # M (±B 1)
     schur0 = mdl.J_p - mdl.HmH
-    lever0 = s * B * mdl.m_t                 # ±(1ᵀ M B 1 + m0 B)
+    lever0 = s * B * mdl.m_t  # ±(1ᵀ M B 1 + m0 B)
     if force is not None:
-        f_amp = -s * force.E_ini * (1.0 - force.r**2) / (B * force.n * _SQRT_PI)   # paper 001, Eq 14
+        f_amp = -s * force.E_ini * (1.0 - force.r**2) / (B * force.n * _SQRT_PI)  # paper 001, Eq 14
         inv_n2 = 1.0 / force.n**2
 
     def rhs(t, y):
-        u, th, ud, thd = y[:n], y[n], y[n + 1:2 * n + 1], y[2 * n + 1]
+        u, th, ud, thd = y[:n], y[n], y[n + 1 : 2 * n + 1], y[2 * n + 1]
         ag = ag_fn(t)
         c, sn = math.cos(th), math.sin(th)
         F = f_amp * math.exp(-th * th * inv_n2) if force is not None else 0.0
@@ -87,18 +101,26 @@ def rocking_rhs(model: Model, side: int, ag_fn, force: ActiveForce | None):
         Cud = C @ ud if n else ud
         # paper 001, Eq 4 (right-hand side)
         bu = -(pivot_arm - mu) * thd * thd - Cud - (K @ u if n else u) - m * (ag * c - g * sn)
-        lever = lever0 - smu                 # ±1ᵀM(B1 ∓ u) ± m0 B, using s² = 1
+        lever = lever0 - smu  # ±1ᵀM(B1 ∓ u) ± m0 B, using s² = 1
         # paper 001, Eq 5 (right-hand side)
-        bt = (2.0 * thd * (ud @ (pivot_arm - mu) if n else 0.0) - 2.0 * B * F
-              - ag * (mdl.height * c + lever * sn) - g * (-mdl.height * sn + lever * c))
+        bt = (
+            2.0 * thd * (ud @ (pivot_arm - mu) if n else 0.0)
+            - 2.0 * B * F
+            - ag * (mdl.height * c + lever * sn)
+            - g * (-mdl.height * sn + lever * c)
+        )
         a_tt_minus_hmh = schur0 + (u @ mu if n else 0.0) - 2.0 * s * B * smu
         thdd = (bt - (H @ bu if n else 0.0)) / a_tt_minus_hmh
         udd = bu / m - H * thdd if n else bu
-        xdot = (ud @ m) * c + thd * (mdl.height * c + lever * sn) if n else thd * (mdl.height * c + lever * sn)
+        xdot = (
+            (ud @ m) * c + thd * (mdl.height * c + lever * sn)
+            if n
+            else thd * (mdl.height * c + lever * sn)
+        )
         out = np.empty_like(y)
         out[:n] = ud
         out[n] = thd
-        out[n + 1:2 * n + 1] = udd
+        out[n + 1 : 2 * n + 1] = udd
         out[2 * n + 1] = thdd
         out[-3] = ud @ Cud if n else 0.0
         out[-2] = -ag * xdot
@@ -113,12 +135,12 @@ def full_contact_rhs(model: Model, ag_fn):
     n, m, K, C = model.n, model.m, model.K, model.C
 
     def rhs(t, y):
-        u, ud = y[:n], y[n + 1:2 * n + 1]
+        u, ud = y[:n], y[n + 1 : 2 * n + 1]
         ag = ag_fn(t)
         Cud = C @ ud
         out = np.zeros_like(y)
         out[:n] = ud
-        out[n + 1:2 * n + 1] = -(Cud + K @ u) / m - ag       # paper 001, Eq 3
+        out[n + 1 : 2 * n + 1] = -(Cud + K @ u) / m - ag  # paper 001, Eq 3
         out[-3] = ud @ Cud
         out[-2] = -ag * (m @ ud)
         return out
@@ -126,8 +148,9 @@ def full_contact_rhs(model: Model, ag_fn):
     return rhs
 
 
-def guard(fn, t_start: float, delay: float, quiet: float, terminal: bool = True,
-          direction: float = 0.0):
+def guard(
+    fn, t_start: float, delay: float, quiet: float, terminal: bool = True, direction: float = 0.0
+):
     """Wrap an event function so it cannot fire within `delay` after `t_start`.
 
     Before `t_start + delay` it returns `quiet` (a value on the side the event

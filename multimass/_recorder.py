@@ -27,7 +27,7 @@ class Recorder:
         self.last_t = None
         self.loss = 0.0
         self.peaks, self.peak_times = [], []
-        self.cand = None          # (|θ|, t) of the current half-cycle
+        self.cand = None  # (|θ|, t) of the current half-cycle
 
     # -- sampling ---------------------------------------------------------------
     def grid(self, t0: float, t1: float, with_end: bool = True):
@@ -104,7 +104,7 @@ class Recorder:
         """Vectorised ü_g, F_i, total accelerations (Eq 7) and energies for rows of one kind."""
         st, n = self.st, self.st.n
         m, H, B, g = st.m, st.H, st.B, st.g
-        U, th, Ud, thd = Y[:, :n], Y[:, n], Y[:, n + 1:2 * n + 1], Y[:, 2 * n + 1]
+        U, th, Ud, thd = Y[:, :n], Y[:, n], Y[:, n + 1 : 2 * n + 1], Y[:, 2 * n + 1]
         ag = np.asarray(self.ag(t), dtype=float).reshape(t.shape)
         F = np.zeros_like(t)
         elastic = 0.5 * np.einsum("ij,jk,ik->i", U, st.K, U) if n else np.zeros_like(t)
@@ -114,37 +114,56 @@ class Recorder:
             return ag, F, Udd + ag[:, None], kinetic, np.zeros_like(t), elastic
         s = float(phase)
         if force is not None:
-            F = (-s * force.E_ini * (1 - force.r**2) / (B * force.n * math.sqrt(math.pi))
-                 * np.exp(-(th / force.n) ** 2))                       # paper 001, Eq 14
+            F = (
+                -s
+                * force.E_ini
+                * (1 - force.r**2)
+                / (B * force.n * math.sqrt(math.pi))
+                * np.exp(-((th / force.n) ** 2))
+            )  # paper 001, Eq 14
         c, sn = np.cos(th), np.sin(th)
         mu = U * m
         smu = mu.sum(axis=1)
         height = float(m @ H) + st.m0 * st.h0
         lever = s * B * st.m_t - smu
         arm = s * B * m - mu
-        bu = (-arm * (thd**2)[:, None] - Ud @ st.C.T - U @ st.K.T
-              - m * (ag * c - g * sn)[:, None])                         # paper 001, Eq 4
-        bt = (2.0 * thd * np.einsum("ij,ij->i", Ud, arm) - 2.0 * B * F
-              - ag * (height * c + lever * sn) - g * (-height * sn + lever * c))   # Eq 5
+        bu = (
+            -arm * (thd**2)[:, None] - Ud @ st.C.T - U @ st.K.T - m * (ag * c - g * sn)[:, None]
+        )  # paper 001, Eq 4
+        bt = (
+            2.0 * thd * np.einsum("ij,ij->i", Ud, arm)
+            - 2.0 * B * F
+            - ag * (height * c + lever * sn)
+            - g * (-height * sn + lever * c)
+        )  # Eq 5
         a_tt = st.J_p + np.einsum("ij,ij->i", U, mu) - 2.0 * s * B * smu
         thdd = (bt - bu @ H) / (a_tt - H @ (m * H))
         Udd = bu / m - np.outer(thdd, H) if n else bu
-        acc = (Udd + np.outer(thdd, H) + (s * B - U) * (thd**2)[:, None]        # paper 001, Eq 7
-               + (ag * c)[:, None] - g * sn[:, None])
-        kinetic = (0.5 * (Ud * Ud) @ m + thd * (Ud @ (m * H)) + 0.5 * a_tt * thd**2
-                   if n else 0.5 * a_tt * thd**2)
+        acc = (
+            Udd
+            + np.outer(thdd, H)
+            + (s * B - U) * (thd**2)[:, None]  # paper 001, Eq 7
+            + (ag * c)[:, None]
+            - g * sn[:, None]
+        )
+        kinetic = (
+            0.5 * (Ud * Ud) @ m + thd * (Ud @ (m * H)) + 0.5 * a_tt * thd**2
+            if n
+            else 0.5 * a_tt * thd**2
+        )
         grav = g * (height * (c - 1.0) + lever * sn)
         return ag, F, acc, kinetic, grav, elastic
 
-    def response(self, name, status, message, events, wall, options, n_rhs, t_end,
-                 floor: float = 0.0) -> Response:
+    def response(
+        self, name, status, message, events, wall, options, n_rhs, t_end, floor: float = 0.0
+    ) -> Response:
         """The `Response`; `floor` is the smallest energy scale (`multimass.checks.energy_floor`)."""
         n = self.st.n
         sizes = [b[0].size for b in self.blocks]
         t = np.concatenate([b[0] for b in self.blocks])
         Y = np.concatenate([b[1] for b in self.blocks])
-        groups: dict = {}                  # (phase, id(force)) -> group number
-        kinds, codes = [], []              # (phase, force) per group; group per block
+        groups: dict = {}  # (phase, id(force)) -> group number
+        kinds, codes = [], []  # (phase, force) per group; group per block
         for _, _, p, f, _ in self.blocks:
             g = groups.setdefault((int(p), id(f)), len(groups))
             if g == len(kinds):
@@ -159,7 +178,9 @@ class Recorder:
         A = np.zeros((t.size, n))
         for g, (p, f) in enumerate(kinds):
             rows = code == g
-            ag[rows], F[rows], A[rows], T[rows], V[rows], U[rows] = self._derived(p, f, t[rows], Y[rows])
+            ag[rows], F[rows], A[rows], T[rows], V[rows], U[rows] = self._derived(
+                p, f, t[rows], Y[rows]
+            )
         D, Wg, WF = Y[:, -3], Y[:, -2], Y[:, -1]
         impact = WF + loss
         E = T + V + U
@@ -172,11 +193,29 @@ class Recorder:
             data[f"udot{i + 1}"] = Y[:, n + 1 + i]
         for i in range(n):
             data[f"a{i + 1}"] = A[:, i]
-        data.update(F_i=F, ag=ag, kinetic=T, gravitational=V, elastic=U, damping=D,
-                    impact=impact, ground_work=Wg, balance_error=balance)
-        return Response(structure_name=name, status=status, message=message,
-                        series=pd.DataFrame(data), events=events,
-                        peaks=np.array(self.peaks), peak_times=np.array(self.peak_times),
-                        energy_reference=ref,
-                        energy_balance_error=float(np.max(np.abs(balance)) / ref),
-                        wall_time_s=wall, options=options, n_rhs=n_rhs, t_end=t_end)
+        data.update(
+            F_i=F,
+            ag=ag,
+            kinetic=T,
+            gravitational=V,
+            elastic=U,
+            damping=D,
+            impact=impact,
+            ground_work=Wg,
+            balance_error=balance,
+        )
+        return Response(
+            structure_name=name,
+            status=status,
+            message=message,
+            series=pd.DataFrame(data),
+            events=events,
+            peaks=np.array(self.peaks),
+            peak_times=np.array(self.peak_times),
+            energy_reference=ref,
+            energy_balance_error=float(np.max(np.abs(balance)) / ref),
+            wall_time_s=wall,
+            options=options,
+            n_rhs=n_rhs,
+            t_end=t_end,
+        )

@@ -45,12 +45,17 @@ def next_uplift(st, ag, t0: float, t1: float, step: float = 1e-3, margin: float 
     first = int(over[0]) if over.size else a.size
     # local maxima before the first sampled exceedance, close to the threshold
     inner = np.arange(1, min(first, a.size - 1))
-    near = inner[(a[inner] >= a[inner - 1]) & (a[inner] >= a[inner + 1])
-                 & (a[inner] > (1.0 - margin) * a_th)]
+    near = inner[
+        (a[inner] >= a[inner - 1]) & (a[inner] >= a[inner + 1]) & (a[inner] > (1.0 - margin) * a_th)
+    ]
     for j in near:
         lo, hi = grid[j - 1], grid[j + 1]
-        best = minimize_scalar(lambda t: -abs(float(ag(t))), bounds=(lo, hi), method="bounded",
-                               options={"xatol": 1e-12})
+        best = minimize_scalar(
+            lambda t: -abs(float(ag(t))),
+            bounds=(lo, hi),
+            method="bounded",
+            options={"xatol": 1e-12},
+        )
         if -best.fun > a_th:
             return _crossing(ag, a_th, lo, float(best.x))
     if not over.size:
@@ -61,5 +66,5 @@ def next_uplift(st, ag, t0: float, t1: float, step: float = 1e-3, margin: float 
 def _crossing(ag, a_th, lo, hi):
     """The time in [lo, hi] where |ü_g| rises through a_th, and the pivot it lifts about."""
     side = -1 if float(ag(hi)) > 0 else 1
-    f = lambda t: side * -float(ag(t)) - a_th          # > 0 once uplifted about `side`
+    f = lambda t: side * -float(ag(t)) - a_th  # > 0 once uplifted about `side`
     return brentq(f, lo, hi, xtol=1e-13, rtol=4 * _EPS), side

@@ -25,7 +25,7 @@ from .response import Event
 
 __all__ = ["_Run", "QUIET_DELAY"]
 
-QUIET_DELAY = 1e-9     # s: events are held quiet this long after a restart
+QUIET_DELAY = 1e-9  # s: events are held quiet this long after a restart
 
 
 def _reporting(rhs, progress, every: int = 2000):
@@ -44,9 +44,27 @@ def _reporting(rhs, progress, every: int = 2000):
 class _Run:
     """State of one simulation while it runs (phase, force, draws, log)."""
 
-    def __init__(self, st, model, ag_fn, duration, bps, t_end, phase, y, seed, ivp,
-                 theta_dot_min, output_dt, overturn_angle, chatter_window, chatter_count,
-                 stop_at_rest, stop_when_safe, energy_floor=0.0):
+    def __init__(
+        self,
+        st,
+        model,
+        ag_fn,
+        duration,
+        bps,
+        t_end,
+        phase,
+        y,
+        seed,
+        ivp,
+        theta_dot_min,
+        output_dt,
+        overturn_angle,
+        chatter_window,
+        chatter_count,
+        stop_at_rest,
+        stop_when_safe,
+        energy_floor=0.0,
+    ):
         self.st, self.mdl, self.model = st, Model.of(st), model
         self.ag, self.duration, self.t_end = ag_fn, duration, t_end
         ends = [b for b in bps if 0.0 < b < t_end] + ([duration] if 0 < duration < t_end else [])
@@ -68,14 +86,14 @@ class _Run:
         self.recorder = Recorder(st, self.mdl, output_dt, ag_fn)
         self.recorder.start_phase(phase, 0.0, y)
         self.energy_floor = float(energy_floor)
-        self.e0 = self.energy(phase, y)            # the ledger starts from the given state
-        self.progress = None                       # a callback progress(t), see `loop`
+        self.e0 = self.energy(phase, y)  # the ledger starts from the given state
+        self.progress = None  # a callback progress(t), see `loop`
         if phase and model.has_force:
             self.r_pending = self.draw(-phase)
 
     # -- restitution draws -------------------------------------------------
     def draw(self, side_new: int) -> float:
-        ctx = ImpactContext(self.st, side_new, self.y[:self.st.n].copy(), self.n_draws, self.rng)
+        ctx = ImpactContext(self.st, side_new, self.y[: self.st.n].copy(), self.n_draws, self.rng)
         self.n_draws += 1
         return float(self.model.restitution.value(ctx))
 
@@ -91,9 +109,16 @@ class _Run:
                 continue
             self.integrate(t_stop)
             if self.status == "completed" and self.is_safe():
-                self.events.append(Event("rest", self.t, self.phase, self.phase,
-                                         theta=float(self.y[self.st.n]),
-                                         detail="excitation over; too little energy to overturn"))
+                self.events.append(
+                    Event(
+                        "rest",
+                        self.t,
+                        self.phase,
+                        self.phase,
+                        theta=float(self.y[self.st.n]),
+                        detail="excitation over; too little energy to overturn",
+                    )
+                )
                 break
             if progress is not None:
                 progress(self.t)
@@ -120,7 +145,9 @@ class _Run:
     def note_transition(self, t: float) -> bool:
         """Record a transition time; True if the chattering guard trips."""
         self.chatter.append(t)
-        return len(self.chatter) == self.chatter.maxlen and t - self.chatter[0] < self.chatter_window
+        return (
+            len(self.chatter) == self.chatter.maxlen and t - self.chatter[0] < self.chatter_window
+        )
 
     # -- rigid bodies at rest --------------------------------------------------
     def rest_until_uplift(self, t_stop: float) -> bool:
@@ -153,38 +180,49 @@ class _Run:
             self.trip_guard()
 
     # -- one solve_ivp call ------------------------------------------------------
-    fast = None     # a multimass.fast.FastPath with backend="compiled"
+    fast = None  # a multimass.fast.FastPath with backend="compiled"
 
     def integrate(self, t_stop: float):
         if self.fast is not None:
             return self.fast.integrate(self, t_stop)
 
-        rhs = (full_contact_rhs(self.mdl, self.ag) if self.phase == 0
-               else rocking_rhs(self.mdl, self.phase, self.ag, self.force))
+        rhs = (
+            full_contact_rhs(self.mdl, self.ag)
+            if self.phase == 0
+            else rocking_rhs(self.mdl, self.phase, self.ag, self.force)
+        )
         if self.progress is not None:
             rhs = _reporting(rhs, self.progress)
         names, events = phase_events(self, QUIET_DELAY)
         t_eval = self.recorder.grid(self.t, t_stop)
         try:
-            sol = solve_ivp(rhs, (self.t, t_stop), self.y, t_eval=t_eval, events=events,
-                            **self.ivp)
-        except ValueError as exc:      # e.g. LSODA's interpolant defeats the event root search
-            self.fail(self.t, f"solve_ivp ({self.ivp['method']}) raised in the segment starting "
-                              f"at t = {self.t:.6g} s: {exc}")
+            sol = solve_ivp(rhs, (self.t, t_stop), self.y, t_eval=t_eval, events=events, **self.ivp)
+        except ValueError as exc:  # e.g. LSODA's interpolant defeats the event root search
+            self.fail(
+                self.t,
+                f"solve_ivp ({self.ivp['method']}) raised in the segment starting "
+                f"at t = {self.t:.6g} s: {exc}",
+            )
             return
         self.n_rhs += sol.nfev
         if sol.status == -1:
-            self.fail(float(sol.t[-1]) if sol.t.size else self.t,
-                      f"solve_ivp failed at t = {sol.t[-1]:.6g} s: {sol.message}")
+            self.fail(
+                float(sol.t[-1]) if sol.t.size else self.t,
+                f"solve_ivp failed at t = {sol.t[-1]:.6g} s: {sol.message}",
+            )
             return
         if not np.all(np.isfinite(sol.y)):
-            self.fail(self.t, f"solve_ivp ({self.ivp['method']}) produced a non-finite state in "
-                              f"the segment starting at t = {self.t:.6g} s")
+            self.fail(
+                self.t,
+                f"solve_ivp ({self.ivp['method']}) produced a non-finite state in "
+                f"the segment starting at t = {self.t:.6g} s",
+            )
             return
         self.recorder.segment(sol, rhs, self.phase, self.force, names)
         if sol.status == 1:
-            i = next(i for i, name in enumerate(names)
-                     if events[i].terminal and sol.t_events[i].size)
+            i = next(
+                i for i, name in enumerate(names) if events[i].terminal and sol.t_events[i].size
+            )
             self.t, self.y = float(sol.t_events[i][0]), sol.y_events[i][0].copy()
             self.handle(names[i])
         else:
@@ -209,16 +247,24 @@ class _Run:
         u, th, ud, thd = self.mdl.split(self.y)
         y = self.y.copy()
         if self.phase:
-            y[self.st.n + 1:2 * self.st.n + 1] = ud + self.st.H * thd    # paper 001, Eq 10
+            y[self.st.n + 1 : 2 * self.st.n + 1] = ud + self.st.H * thd  # paper 001, Eq 10
         y[self.st.n] = 0.0
         y[2 * self.st.n + 1] = 0.0
         loss = self.energy(self.phase, self.y) - self.energy(0, y)
         self.recorder.end_phase(self.t, self.y, self.phase)
         self.recorder.add_loss(loss)
-        self.events.append(Event("chatter_guard", self.t, self.phase, 0, theta=float(th),
-                                 thetadot_minus=float(thd), energy_change=-loss,
-                                 detail=f"{self.chatter.maxlen} transitions within "
-                                        f"{self.chatter_window:g} s"))
+        self.events.append(
+            Event(
+                "chatter_guard",
+                self.t,
+                self.phase,
+                0,
+                theta=float(th),
+                thetadot_minus=float(thd),
+                energy_change=-loss,
+                detail=f"{self.chatter.maxlen} transitions within {self.chatter_window:g} s",
+            )
+        )
         self.phase, self.y, self.force = 0, y, None
         self.recorder.start_phase(0, self.t, y)
         self.hold_until = self.t + self.chatter_window

@@ -33,12 +33,18 @@ def beam_element_stiffness(EI: float, length: float) -> np.ndarray:
     L = float(length)
     if L <= 0.0:
         raise InputError(f"`length` = {L!r}: a beam element needs a positive length")
-    return EI / L**3 * np.array([
-        [12.0, 6.0 * L, -12.0, 6.0 * L],
-        [6.0 * L, 4.0 * L * L, -6.0 * L, 2.0 * L * L],
-        [-12.0, -6.0 * L, 12.0, -6.0 * L],
-        [6.0 * L, 2.0 * L * L, -6.0 * L, 4.0 * L * L],
-    ])
+    return (
+        EI
+        / L**3
+        * np.array(
+            [
+                [12.0, 6.0 * L, -12.0, 6.0 * L],
+                [6.0 * L, 4.0 * L * L, -6.0 * L, 2.0 * L * L],
+                [-12.0, -6.0 * L, 12.0, -6.0 * L],
+                [6.0 * L, 2.0 * L * L, -6.0 * L, 4.0 * L * L],
+            ]
+        )
+    )
 
 
 def column_stiffness(heights, EI: float, K_fp: float, K_rot: float) -> np.ndarray:

@@ -45,9 +45,11 @@ def energy_check(error: float, limit: float) -> dict:
 
 
 def _energy_warning(check: dict) -> str:
-    return (f"energy ledger does not close: balance error {check['value']:.3g} of the energy "
-            f"scale (limit {check['limit']:.3g}); the solution is not accurate — tighten "
-            "rtol/atol (e.g. rtol=1e-10, atol=1e-12) or shorten max_step")
+    return (
+        f"energy ledger does not close: balance error {check['value']:.3g} of the energy "
+        f"scale (limit {check['limit']:.3g}); the solution is not accurate — tighten "
+        "rtol/atol (e.g. rtol=1e-10, atol=1e-12) or shorten max_step"
+    )
 
 
 def judge(result, energy_tol: float):
@@ -74,5 +76,6 @@ def judge(result, energy_tol: float):
             warnings.append(_energy_warning(checks["energy_balance"]))
     failed = any(not c["passed"] for c in checks.values())
     status = "inaccurate" if failed and outcome != "failed" else outcome
-    return dataclasses.replace(result, status=status, outcome=outcome, checks=checks,
-                               warnings=tuple(warnings))
+    return dataclasses.replace(
+        result, status=status, outcome=outcome, checks=checks, warnings=tuple(warnings)
+    )

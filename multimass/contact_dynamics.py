@@ -14,7 +14,7 @@ bouncing and flight happen exactly when the impact LCP and the force signs
 say so.
 
 A run that starts on the ground starts from the given state: a touching
-contact (|g_N| ≤ ``gap_tol``) that separates (ġ_N > 0) is open; one that
+contact (``|g_N| ≤ gap_tol``) that separates (ġ_N > 0) is open; one that
 approaches (ġ_N < 0), or a closed one that slips (ġ_T ≠ 0, which sticking
 stops), makes an impact at t0, resolved by the Poisson LCPs like any other;
 only contacts with ġ_N ≈ 0 are closed or opened by the force signs.
@@ -35,7 +35,7 @@ that state, and every change of the state outside the equations of motion is
 booked — impacts and "zeno_rest" in ``impact_loss``, drift projections in
 ``projection_loss`` — so a loss never hides. The run reports its checks
 (`multimass._contact_checks`): the ledger's balance error, the housekeeping
-energy, and the friction demand |λ_T|/λ_N of the sticking contacts against a
+energy, and the friction demand ``|λ_T|/λ_N`` of the sticking contacts against a
 friction coefficient ``mu`` when one is given.
 
 A model supplies ``n``, ``k``, ``mass(q)``, ``forces(t, q, v)``,
@@ -128,7 +128,7 @@ class ContactResponse:
     warnings : tuple of str
         One line per failed check: what, value, limit, what to do.
     friction : FrictionDemand
-        Largest friction demand |λ_T|/λ_N over the smooth phases and the
+        Largest friction demand ``|λ_T|/λ_N`` over the smooth phases and the
         impacts, with their times (always reported, `mu` or not).
     """
 
@@ -153,8 +153,14 @@ class ContactResponse:
     def ledger_error(self) -> np.ndarray:
         """E(t) − E(t0) − W_ground + D + impact and projection losses: zero if the ledger
         closes (J); E(t0) is the energy of the given initial state."""
-        return (self.energy - self.energy[0] - self.ground_work + self.damping
-                + self.impact_loss + self.projection_loss)
+        return (
+            self.energy
+            - self.energy[0]
+            - self.ground_work
+            + self.damping
+            + self.impact_loss
+            + self.projection_loss
+        )
 
     @property
     def impacts(self) -> tuple[ContactEvent, ...]:
@@ -172,11 +178,22 @@ class _Driver:
 
     def record(self, ts, ys, S):
         n = self.model.n
-        qs, vs = ys[:n].T, ys[n:2 * n].T
+        qs, vs = ys[:n].T, ys[n : 2 * n].T
         E = np.array([self.model.energy(a, b) for a, b in zip(qs, vs)])
         mask = sum(1 << j for j in S)
-        self.out.append((ts, qs, vs, np.full(ts.size, mask), E, ys[2 * n], ys[2 * n + 1],
-                         np.full(ts.size, self.loss), np.full(ts.size, self.proj)))
+        self.out.append(
+            (
+                ts,
+                qs,
+                vs,
+                np.full(ts.size, mask),
+                E,
+                ys[2 * n],
+                ys[2 * n + 1],
+                np.full(ts.size, self.loss),
+                np.full(ts.size, self.proj),
+            )
+        )
 
     def note(self, kind: str, value: float, t: float):
         """Keep the largest friction demand of `kind` ("smooth" or "impact") and its time."""
@@ -186,7 +203,7 @@ class _Driver:
     def book_projection(self, y_new, y_old):
         """Book the energy change of a housekeeping correction y_old → y_new."""
         n, m = self.model.n, self.model
-        dE = m.energy(y_old[:n], y_old[n:2 * n]) - m.energy(y_new[:n], y_new[n:2 * n])
+        dE = m.energy(y_old[:n], y_old[n : 2 * n]) - m.energy(y_new[:n], y_new[n : 2 * n])
         self.proj += dE
         self.proj_abs += abs(dE)
 
@@ -194,8 +211,8 @@ class _Driver:
         """Remove integration drift at a phase start (booked as projection loss)."""
         if S:
             n = self.model.n
-            old = y[:2 * n].copy()
-            y[:2 * n] = _project(self.model, S, y[:n], y[n:2 * n])
+            old = y[: 2 * n].copy()
+            y[: 2 * n] = _project(self.model, S, y[:n], y[n : 2 * n])
             self.book_projection(y, old)
 
     def peak_demand(self, ph, ts, lams, lam_at):
@@ -209,41 +226,54 @@ class _Driver:
         i = int(np.argmax(vals))
         best = [float(vals[i]), float(ts[i])]
 
-        def neg(s):                     # −demand, kept finite for Brent's arithmetic
+        def neg(s):  # −demand, kept finite for Brent's arithmetic
             d = dem(lam_at(s))
             if d > best[0]:
                 best[:] = [d, float(s)]
             return -min(d, 1e300)
 
         if 0 < i < vals.size - 1 and math.isfinite(best[0]) and ts[i + 1] > ts[i - 1]:
-            minimize_scalar(neg, bounds=(ts[i - 1], ts[i + 1]), method="bounded",
-                            options={"xatol": 1e-12 * max(1.0, ts[i])})
+            minimize_scalar(
+                neg,
+                bounds=(ts[i - 1], ts[i + 1]),
+                method="bounded",
+                options={"xatol": 1e-12 * max(1.0, ts[i])},
+            )
         self.note("smooth", best[0], best[1])
 
     def smooth(self, ph, t, t_stop, y):
         """Integrate a phase; returns (t1, y1, indices of the events that fired)."""
         o, k, n = self.o, self.model.k, self.model.n
-        sol = solve_ivp(ph.rhs, (t, t_stop), y, method="DOP853", rtol=o["rtol"],
-                        atol=o["atol"], max_step=o["max_step"], dense_output=True,
-                        events=_events(self.model, ph, k, y, 1e-3 * o["gap_tol"]))
+        sol = solve_ivp(
+            ph.rhs,
+            (t, t_stop),
+            y,
+            method="DOP853",
+            rtol=o["rtol"],
+            atol=o["atol"],
+            max_step=o["max_step"],
+            dense_output=True,
+            events=_events(self.model, ph, k, y, 1e-3 * o["gap_tol"]),
+        )
         if sol.status == -1:
             raise SolverError(f"solve_ivp failed at t = {sol.t[-1]:.6g}: {sol.message}")
         t1 = float(sol.t[-1])
         ts = _grid(t, t1, o["dt_out"])
         self.record(ts, sol.sol(ts), ph.S)
-        if ph.tk:                         # sticking contacts carry tangential forces
+        if ph.tk:  # sticking contacts carry tangential forces
+
             def lam_at(s, yy=None):
                 yy = sol.sol(s) if yy is None else yy
-                return ph.multipliers(s, yy[:n], yy[n:2 * n])[1]
-            self.peak_demand(ph, sol.t, [lam_at(s, yy) for s, yy in zip(sol.t, sol.y.T)],
-                             lam_at)
+                return ph.multipliers(s, yy[:n], yy[n : 2 * n])[1]
+
+            self.peak_demand(ph, sol.t, [lam_at(s, yy) for s, yy in zip(sol.t, sol.y.T)], lam_at)
         hit = [i for i, te in enumerate(sol.t_events) if te.size] if sol.status == 1 else []
         return t1, sol.y[:, -1].copy(), hit
 
     def locked(self, ph, t, t_stop, y):
         """A phase without free coordinates: scan λ_N(t) for the first sign change."""
         n, dt, ns = self.model.n, self.o["locked_dt"], len(ph.S)
-        q, v = y[:n], y[n:2 * n]
+        q, v = y[:n], y[n : 2 * n]
         L, c = ph.force_map(q, v)
 
         def lam(s):
@@ -258,8 +288,10 @@ class _Driver:
             lb = lam(b)
             neg = np.flatnonzero(lb[:ns] < 0.0)
             if neg.size:
-                roots = [brentq(lambda s, i=i: lam(s)[i], a, b, xtol=1e-14) if la[i] > 0 else a
-                         for i in neg]
+                roots = [
+                    brentq(lambda s, i=i: lam(s)[i], a, b, xtol=1e-14) if la[i] > 0 else a
+                    for i in neg
+                ]
                 t1, hit = min(roots), [int(neg[np.argmin(roots)])]
                 seen_t.append(t1)
                 seen.append(lam(t1))
@@ -276,25 +308,29 @@ class _Driver:
     def impact(self, t, y, S, closing):
         """Impact at time t of the `closing` contacts (or a slip stopped by sticking)."""
         m, n, k, o = self.model, self.model.n, self.model.k, self.o
-        q, v = y[:n], y[n:2 * n]
+        q, v = y[:n], y[n : 2 * n]
         g = m.contacts(q, v)[0]
-        K = tuple(sorted(int(j) for j in set(S) | set(closing)
-                         | {j for j in range(k) if abs(g[j]) <= o["gap_tol"]}))
-        old = y[:2 * n].copy()
-        y[:n] = q = _project_q(m, K, q, v)              # the impact happens at g_N = 0
+        K = tuple(
+            sorted(
+                int(j)
+                for j in set(S) | set(closing) | {j for j in range(k) if abs(g[j]) <= o["gap_tol"]}
+            )
+        )
+        old = y[: 2 * n].copy()
+        y[:n] = q = _project_q(m, K, q, v)  # the impact happens at g_N = 0
         self.book_projection(y, old)
         _, WN, WT, _, _ = m.contacts(q, v)
         _, tk = _constraint_matrix(WN, WT, K)
         approach = -(WN[:, list(closing)].T @ v).min(initial=0.0)
-        if closing and approach < o["zeno_velocity"]:   # accumulation of impacts: come to rest
+        if closing and approach < o["zeno_velocity"]:  # accumulation of impacts: come to rest
             res, kind = None, "zeno_rest"
             e_before = m.energy(q, v)
-            y[:2 * n] = _project(m, K, q.copy(), v.copy())
-            self.loss += e_before - m.energy(y[:n], y[n:2 * n])
+            y[: 2 * n] = _project(m, K, q.copy(), v.copy())
+            self.loss += e_before - m.energy(y[:n], y[n : 2 * n])
             cands = list(K)
         else:
             res = poisson_impact(m.mass(q), WN[:, list(K)], WT[:, tk], v, self.eps[list(K)])
-            y[n:2 * n] = res.u_plus
+            y[n : 2 * n] = res.u_plus
             self.loss += res.energy_loss
             cands = [K[i] for i, st in enumerate(res.final_states) if st == "closed"]
             kind = "impact"
@@ -304,7 +340,7 @@ class _Driver:
     def after(self, t, y, S, cands, kind, res, K):
         """Log the event, choose the new closed set among `cands` and record the state."""
         n = self.model.n
-        S_new = _select(self.model, t, y[:n], y[n:2 * n], cands, self.o["ftol"])
+        S_new = _select(self.model, t, y[:n], y[n : 2 * n], cands, self.o["ftol"])
         self.events.append(ContactEvent(t, kind, tuple(S), S_new, res, tuple(int(j) for j in K)))
         self.record(np.array([t]), y[:, None], S_new)
         return S_new
@@ -314,18 +350,18 @@ class _Driver:
         closing = [j for j in hit_contacts if j not in S]
         if closing:
             return self.impact(t, y, S, closing)
-        cands = [j for j in S if j not in hit_contacts]   # lift-off: the unloading contact leaves
+        cands = [j for j in S if j not in hit_contacts]  # lift-off: the unloading contact leaves
         return self.after(t, y, S, cands, "liftoff", None, tuple(hit_contacts))
 
     def start(self, t, y):
         """Closed set at t0 from the given state; records it, applies an impact at t0 if due.
 
-        Touching contacts (|g_N| ≤ gap_tol) that separate are open; approaching
+        Touching contacts (``|g_N| ≤ gap_tol``) that separate are open; approaching
         ones, or a resting one that slips, make an impact at t0; the resting
-        ones (|ġ_N| ≤ 1e-9 of the largest contact speed) are chosen by force signs.
+        ones (``|ġ_N|`` ≤ 1e-9 of the largest contact speed) are chosen by force signs.
         """
         m, n, o = self.model, self.model.n, self.o
-        q, v = y[:n], y[n:2 * n]
+        q, v = y[:n], y[n : 2 * n]
         g, WN, WT, _, _ = m.contacts(q, v)
         touch = [int(j) for j in np.flatnonzero(np.abs(g) <= o["gap_tol"])]
         gn, gt = WN[:, touch].T @ v, WT[:, touch].T @ v
@@ -333,7 +369,7 @@ class _Driver:
         rest = tuple(j for j, x in zip(touch, gn) if abs(x) <= vtol)
         closing = [j for j, x in zip(touch, gn) if x < -vtol]
         slip = any(abs(x) > vtol for j, x in zip(touch, gt) if j in rest)
-        self.record(np.array([t]), y[:, None], rest)            # the given state
+        self.record(np.array([t]), y[:, None], rest)  # the given state
         if closing or slip:
             return self.impact(t, y, rest, closing)
         return _select(m, t, q, v, rest, o["ftol"])
@@ -356,7 +392,7 @@ class _Driver:
                 message = f"stopped after {len(self.events)} events at t = {t:.6g} s"
                 break
             self.project(S, y)
-            ph = _Phase(m, S, y[:n], y[n:2 * n])
+            ph = _Phase(m, S, y[:n], y[n : 2 * n])
             t_stop = next((b for b in breakpoints if b > t + 1e-12), t_end)
             if len(S) + len(ph.tk) >= n:
                 t, y, hit = self.locked(ph, t, t_stop, y)
@@ -376,26 +412,51 @@ class _Driver:
         cat = [np.concatenate([o[i] for o in self.out]) for i in range(9)]
         demand = FrictionDemand(**self.fd)
         ledger = cat[4] - cat[4][0] - cat[5] + cat[6] + cat[7] + cat[8]
-        checks, warnings = run_checks(cat[4], ledger, cat[5], self.proj_abs, demand, mu,
-                                      self.o["e_floor"])
+        checks, warnings = run_checks(
+            cat[4], ledger, cat[5], self.proj_abs, demand, mu, self.o["e_floor"]
+        )
         failed = not all(c["passed"] for c in checks.values())
         if failed:
             message = f"{message}; checks failed: " + "; ".join(warnings)
-        return ContactResponse(t=cat[0], q=cat[1], v=cat[2], closed=cat[3].astype(int),
-                               energy=cat[4], ground_work=cat[5], damping=cat[6],
-                               impact_loss=cat[7], projection_loss=cat[8],
-                               events=tuple(self.events),
-                               status="inaccurate" if failed and status != "failed" else status,
-                               message=message,
-                               outcome=status, checks=checks, warnings=warnings,
-                               friction=demand)
+        return ContactResponse(
+            t=cat[0],
+            q=cat[1],
+            v=cat[2],
+            closed=cat[3].astype(int),
+            energy=cat[4],
+            ground_work=cat[5],
+            damping=cat[6],
+            impact_loss=cat[7],
+            projection_loss=cat[8],
+            events=tuple(self.events),
+            status="inaccurate" if failed and status != "failed" else status,
+            message=message,
+            outcome=status,
+            checks=checks,
+            warnings=warnings,
+            friction=demand,
+        )
 
 
-def simulate_contacts(model, q0, v0, t_end: float, eps_p, *, t0: float = 0.0,
-                      dt_out: float | None = None, rtol: float = 1e-10, atol: float = 1e-10,
-                      gap_tol: float = 1e-8, zeno_velocity: float = 0.0,
-                      max_events: int = 10_000, breakpoints=(), max_step: float = np.inf,
-                      locked_dt: float = 0.005, mu: float | None = None) -> ContactResponse:
+def simulate_contacts(
+    model,
+    q0,
+    v0,
+    t_end: float,
+    eps_p,
+    *,
+    t0: float = 0.0,
+    dt_out: float | None = None,
+    rtol: float = 1e-10,
+    atol: float = 1e-10,
+    gap_tol: float = 1e-8,
+    zeno_velocity: float = 0.0,
+    max_events: int = 10_000,
+    breakpoints=(),
+    max_step: float = np.inf,
+    locked_dt: float = 0.005,
+    mu: float | None = None,
+) -> ContactResponse:
     """Integrate a contact model phase by phase with Poisson impacts (paper 000).
 
     Parameters
@@ -403,7 +464,7 @@ def simulate_contacts(model, q0, v0, t_end: float, eps_p, *, t0: float = 0.0,
     model : object
         See the module docstring.
     q0, v0 : array_like, shape (n,)
-        Initial state. Contacts with |g_N| ≤ `gap_tol` touch: a separating one
+        Initial state. Contacts with ``|g_N| ≤ gap_tol`` touch: a separating one
         is open, an approaching one impacts at t0, a resting one is closed or
         opened by the force signs (module docstring). No gap may be below
         −`gap_tol` (penetration).
@@ -432,7 +493,7 @@ def simulate_contacts(model, q0, v0, t_end: float, eps_p, *, t0: float = 0.0,
         and a sign change is located by Brent's method.
     mu : float, optional
         Friction coefficient of the contacts. The sticking model needs
-        |λ_T| ≤ μ λ_N; a run whose friction demand exceeds it gets status
+        ``|λ_T| ≤ μ λ_N``; a run whose friction demand exceeds it gets status
         "inaccurate" and a warning. The demand is reported either way
         (``ContactResponse.friction``); None (default) checks nothing.
 
@@ -452,8 +513,16 @@ def simulate_contacts(model, q0, v0, t_end: float, eps_p, *, t0: float = 0.0,
         An argument out of range, or an initial state that penetrates a contact.
     """
     n, k = model.n, model.k
-    opts = dict(rtol=rtol, atol=atol, gap_tol=gap_tol, zeno_velocity=zeno_velocity,
-                max_events=max_events, max_step=max_step, locked_dt=locked_dt, dt_out=dt_out)
+    opts = dict(
+        rtol=rtol,
+        atol=atol,
+        gap_tol=gap_tol,
+        zeno_velocity=zeno_velocity,
+        max_events=max_events,
+        max_step=max_step,
+        locked_dt=locked_dt,
+        dt_out=dt_out,
+    )
     eps, t0, t_end, opts = _options(k, eps_p, t0, t_end, opts)
     mu = validate_mu(mu)
     q, v = _state("q0", q0, n), _state("v0", v0, n)
@@ -461,13 +530,16 @@ def simulate_contacts(model, q0, v0, t_end: float, eps_p, *, t0: float = 0.0,
     g = model.contacts(q, v)[0]
     if g.min() < -opts["gap_tol"]:
         j = int(np.argmin(g))
-        raise InputError(f"`q0` = {q.tolist()!r}: contact {j} penetrates by {-g[j]:.3g} m "
-                         f"(more than gap_tol = {opts['gap_tol']:.3g} m); start with every "
-                         "gap g_N ≥ 0")
+        raise InputError(
+            f"`q0` = {q.tolist()!r}: contact {j} penetrates by {-g[j]:.3g} m "
+            f"(more than gap_tol = {opts['gap_tol']:.3g} m); start with every "
+            "gap g_N ≥ 0"
+        )
     h0 = np.abs(model.forces(t0, q, v)).max()
     opts["ftol"] = 1e-10 * max(h0, 1.0)
-    opts["e_floor"] = h0 * opts["gap_tol"]        # energy resolved by the contact geometry
+    opts["e_floor"] = h0 * opts["gap_tol"]  # energy resolved by the contact geometry
     drv = _Driver(model, eps, opts)
-    status, message = drv.run(np.concatenate([q, v, [0.0, 0.0]]), t0, t_end,
-                              [b for b in bps if t0 < b < t_end])
+    status, message = drv.run(
+        np.concatenate([q, v, [0.0, 0.0]]), t0, t_end, [b for b in bps if t0 < b < t_end]
+    )
     return drv.response(status, message, mu)

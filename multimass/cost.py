@@ -29,15 +29,15 @@ __all__ = ["spectral_radius", "simulation_cost"]
 
 # method -> (stability extent c, right-hand sides per step), see the module docstring
 _EXPLICIT = {"DOP853": (3.4, 12), "RK45": (1.7, 6), "RK23": (0.2, 3)}
-_RHS_SECONDS = {"compiled": 0.6e-6, "scipy": 60e-6}      # per right-hand side, N ≈ 5
-_IMPLICIT_RHS_SECONDS = 200e-6                             # solve_ivp Radau/BDF/LSODA
-_NEWMARK_STEP_SECONDS = 5e-6                               # a few Newton iterations
-_IMPLICIT_STEPS_PER_CAP = 3.0                              # steps per max_step (≤ 5 ms)
-_ACCURACY_STEP = 5e-3                                      # s, a smooth motion's step
+_RHS_SECONDS = {"compiled": 0.6e-6, "scipy": 60e-6}  # per right-hand side, N ≈ 5
+_IMPLICIT_RHS_SECONDS = 200e-6  # solve_ivp Radau/BDF/LSODA
+_NEWMARK_STEP_SECONDS = 5e-6  # a few Newton iterations
+_IMPLICIT_STEPS_PER_CAP = 3.0  # steps per max_step (≤ 5 ms)
+_ACCURACY_STEP = 5e-3  # s, a smooth motion's step
 
 
 def spectral_radius(structure) -> float:
-    """Largest |λ| of the full-contact state matrix (rad/s); 0 for a rigid body.
+    """Largest ``|λ|`` of the full-contact state matrix (rad/s); 0 for a rigid body.
 
     The rocking phase couples θ to u but leaves the stiffest modes nearly
     unchanged (S1: 280.7 Hz in full contact, 281.0 Hz uplifted), so the
@@ -62,15 +62,25 @@ def _explicit_steps(t_end, rho, method, max_step) -> tuple[float, int, str]:
     cap = min(max_step, _ACCURACY_STEP)
     capped = t_end / cap
     if stiff >= capped:
-        basis = (f"{method} steps ≤ {c / rho:.2g} s, set by the stiffest mode of the structure "
-                 f"(|λ| = {rho:.3g} rad/s, {rho / (2 * math.pi):.3g} Hz)")
+        basis = (
+            f"{method} steps ≤ {c / rho:.2g} s, set by the stiffest mode of the structure "
+            f"(|λ| = {rho:.3g} rad/s, {rho / (2 * math.pi):.3g} Hz)"
+        )
         return stiff, per_step, basis
     return capped, per_step, f"steps of ≤ {cap:g} s over t_end = {t_end:g} s"
 
 
-def simulation_cost(structure, t_end: float, *, method: str, max_step: float,
-                    output_dt: float | None, backend: str, integrator: str,
-                    dt: float | None = None) -> RunCost:
+def simulation_cost(
+    structure,
+    t_end: float,
+    *,
+    method: str,
+    max_step: float,
+    output_dt: float | None,
+    backend: str,
+    integrator: str,
+    dt: float | None = None,
+) -> RunCost:
     """Estimated steps, wall time and output memory of one `simulate` run.
 
     Parameters
@@ -87,7 +97,7 @@ def simulation_cost(structure, t_end: float, *, method: str, max_step: float,
     RunCost
     """
     n = int(structure.n)
-    size = 1.0 + (n / 20.0) ** 2                 # matrix-vector work grows with N²
+    size = 1.0 + (n / 20.0) ** 2  # matrix-vector work grows with N²
     if integrator == "newmark":
         steps = t_end / dt
         seconds = steps * _NEWMARK_STEP_SECONDS
@@ -102,7 +112,7 @@ def simulation_cost(structure, t_end: float, *, method: str, max_step: float,
         seconds = steps * (2 * n + 5) * _IMPLICIT_RHS_SECONDS * size
         basis = f"implicit steps of ~{cap / _IMPLICIT_STEPS_PER_CAP:.2g} s over t_end = {t_end:g} s"
     rows = 0.0 if output_dt is None else t_end / output_dt
-    memory = rows * 8.0 * (6 * n + 19)           # states + the series' columns, float64
+    memory = rows * 8.0 * (6 * n + 19)  # states + the series' columns, float64
     if rows:
         basis += f"; {rows:.3g} output samples (t_end / output_dt)"
     return RunCost(steps=steps, seconds=seconds, memory=memory, basis=basis)

@@ -8,8 +8,9 @@ import scipy.linalg as sla
 __all__ = ["rayleigh_coefficients", "rayleigh_damping"]
 
 
-def rayleigh_coefficients(omega_1: float, omega_2: float, zeta_1: float,
-                          zeta_2: float) -> tuple[float, float]:
+def rayleigh_coefficients(
+    omega_1: float, omega_2: float, zeta_1: float, zeta_2: float
+) -> tuple[float, float]:
     """Coefficients (a0, a1) of C = a0 M + a1 K giving ζ_1 at ω_1 and ζ_2 at ω_2.
 
     Solves ζ_k = a0 / (2 ω_k) + a1 ω_k / 2 for k = 1, 2.
@@ -20,8 +21,9 @@ def rayleigh_coefficients(omega_1: float, omega_2: float, zeta_1: float,
     return float(a0), float(a1)
 
 
-def rayleigh_damping(M: np.ndarray, K: np.ndarray, zeta_1: float,
-                     zeta_2: float) -> tuple[np.ndarray, tuple[float, float]]:
+def rayleigh_damping(
+    M: np.ndarray, K: np.ndarray, zeta_1: float, zeta_2: float
+) -> tuple[np.ndarray, tuple[float, float]]:
     """Rayleigh damping matrix fitted at the first two undamped modes of (K, M).
 
     With a single degree of freedom there is no second mode: the damping is

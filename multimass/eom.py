@@ -27,11 +27,19 @@ __all__ = [
 def full_contact_accelerations(structure: Structure, u, udot, ag: float) -> np.ndarray:
     """ü of the full-contact phase: M ü + C u̇ + K u = −M 1 ü_g (paper 001, Eq 3)."""
     s = structure
-    return -(s.C @ udot + s.K @ u) / s.m - ag   # paper 001, Eq 3 (M is diagonal)
+    return -(s.C @ udot + s.K @ u) / s.m - ag  # paper 001, Eq 3 (M is diagonal)
 
 
-def rocking_system(structure: Structure, side: int, u, theta: float, udot, thetadot: float,
-                   ag: float, F_i: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+def rocking_system(
+    structure: Structure,
+    side: int,
+    u,
+    theta: float,
+    udot,
+    thetadot: float,
+    ag: float,
+    F_i: float = 0.0,
+) -> tuple[np.ndarray, np.ndarray]:
     """Mass matrix A and forcing b of the rocking phase: A [ü; θ̈] = b.
 
     Parameters
@@ -59,7 +67,7 @@ def rocking_system(structure: Structure, side: int, u, theta: float, udot, theta
     n, m, H, B, g = st.n, st.m, st.H, st.B, st.g
     c, sn = np.cos(theta), np.sin(theta)
     mu = m * u
-    arm = m * (sg * B - u)                  # M(±B1 − u)
+    arm = m * (sg * B - u)  # M(±B1 − u)
     A = np.empty((n + 1, n + 1))
     b = np.empty(n + 1)
     if n:
@@ -69,17 +77,21 @@ def rocking_system(structure: Structure, side: int, u, theta: float, udot, theta
         # paper 001, Eq 4
         b[:n] = -arm * thetadot**2 - st.C @ udot - st.K @ u - m * (ag * c - g * sn)
     A[n, n] = st.J_p + u @ mu - 2.0 * sg * B * mu.sum()
-    lever = sg * (B * m.sum() - sg * mu.sum()) + sg * st.m0 * B   # ±1ᵀM(B1 ∓ u) ± m0 B
-    height = m @ H + st.m0 * st.h0                               # Hᵀ M 1 (+ m0 h0)
+    lever = sg * (B * m.sum() - sg * mu.sum()) + sg * st.m0 * B  # ±1ᵀM(B1 ∓ u) ± m0 B
+    height = m @ H + st.m0 * st.h0  # Hᵀ M 1 (+ m0 h0)
     # paper 001, Eq 5 (all terms but the inertia moved to the right)
-    b[n] = (2.0 * sg * (udot @ (m * B - sg * mu)) * thetadot
-            - 2.0 * B * F_i
-            - ag * (height * c + lever * sn)
-            - g * (-height * sn + lever * c))
+    b[n] = (
+        2.0 * sg * (udot @ (m * B - sg * mu)) * thetadot
+        - 2.0 * B * F_i
+        - ag * (height * c + lever * sn)
+        - g * (-height * sn + lever * c)
+    )
     return A, b
 
 
-def solve_rocking(m: np.ndarray, H: np.ndarray, a_tt: float, b: np.ndarray) -> tuple[np.ndarray, float]:
+def solve_rocking(
+    m: np.ndarray, H: np.ndarray, a_tt: float, b: np.ndarray
+) -> tuple[np.ndarray, float]:
     """Solve [[M, M H], [Hᵀ M, a_tt]] [ü; θ̈] = b by the Schur complement (M diagonal).
 
     θ̈ = (b_θ − Hᵀ b_u) / (a_tt − Hᵀ M H), ü = b_u / m − H θ̈: exact, O(N),
@@ -90,15 +102,24 @@ def solve_rocking(m: np.ndarray, H: np.ndarray, a_tt: float, b: np.ndarray) -> t
     return bu / m - H * thetaddot if m.size else bu.copy(), float(thetaddot)
 
 
-def rocking_accelerations(structure: Structure, side: int, u, theta: float, udot,
-                          thetadot: float, ag: float, F_i: float = 0.0) -> tuple[np.ndarray, float]:
+def rocking_accelerations(
+    structure: Structure,
+    side: int,
+    u,
+    theta: float,
+    udot,
+    thetadot: float,
+    ag: float,
+    F_i: float = 0.0,
+) -> tuple[np.ndarray, float]:
     """ü and θ̈ of the rocking phase, solving (not inverting) Eqs 4–5."""
     A, b = rocking_system(structure, side, u, theta, udot, thetadot, ag, F_i)
     return solve_rocking(structure.m, structure.H, A[-1, -1], b)
 
 
-def total_accelerations(structure: Structure, side: int, u, theta, uddot, thetaddot,
-                        thetadot, ag) -> np.ndarray:
+def total_accelerations(
+    structure: Structure, side: int, u, theta, uddot, thetaddot, thetadot, ag
+) -> np.ndarray:
     """Total lateral accelerations of nodes 1..N in the direction of u (paper 001, Eq 7).
 
     a = ü + H θ̈ + (±B1 − u) θ̇² + ü_g cos θ − 1 g sin θ; in full contact
@@ -107,5 +128,10 @@ def total_accelerations(structure: Structure, side: int, u, theta, uddot, thetad
     st = structure
     if side == 0:
         return uddot + ag
-    return (uddot + st.H * thetaddot + (side * st.B - u) * thetadot**2   # paper 001, Eq 7
-            + ag * np.cos(theta) - st.g * np.sin(theta))
+    return (
+        uddot
+        + st.H * thetaddot
+        + (side * st.B - u) * thetadot**2  # paper 001, Eq 7
+        + ag * np.cos(theta)
+        - st.g * np.sin(theta)
+    )

@@ -34,8 +34,16 @@ import numpy as np
 from .errors import InputError
 from .validation import number, positive
 
-__all__ = ["Excitation", "FreeRelease", "SineWave", "CosineWave", "CosinePulse", "Ricker",
-           "PULSE_NAMES", "pulse"]
+__all__ = [
+    "Excitation",
+    "FreeRelease",
+    "SineWave",
+    "CosineWave",
+    "CosinePulse",
+    "Ricker",
+    "PULSE_NAMES",
+    "pulse",
+]
 
 TWO_PI = 2.0 * math.pi
 
@@ -58,7 +66,8 @@ def _amplitude(name: str, value) -> float:
         raise InputError(
             f"`{name}` = {value!r}: an amplitude must be >= 0 (m/s²). To reverse the pulse, "
             f"pass {-x:g} and mirror the response (θ → −θ, u → −u): for a symmetric "
-            f"structure the response to −ü_g is the mirror image of the response to +ü_g")
+            f"structure the response to −ü_g is the mirror image of the response to +ü_g"
+        )
     return x
 
 
@@ -122,8 +131,14 @@ class Excitation(ABC):
 
 
 # names of earlier releases and of the papers' symbols -> the keyword to use now
-_RENAMED = {"a0": "amplitude", "a_p": "amplitude", "a_g": "amplitude", "omega_p": "omega",
-            "omega_g": "omega", "w": "omega"}
+_RENAMED = {
+    "a0": "amplitude",
+    "a_p": "amplitude",
+    "a_g": "amplitude",
+    "omega_p": "omega",
+    "omega_g": "omega",
+    "w": "omega",
+}
 
 
 class _Pulse(Excitation):
@@ -139,11 +154,14 @@ class _Pulse(Excitation):
                 f"{cls.__name__}{tuple(args)!r}: give the pulse by keyword, e.g. "
                 f"{cls.__name__}(amplitude=0.4 * multimass.G, omega=15.0) (amplitude in m/s², "
                 "omega in rad/s); positional arguments are refused so that an amplitude and "
-                "a frequency cannot be swapped")
+                "a frequency cannot be swapped"
+            )
         for old, new in _RENAMED.items():
             if old in kwargs:
-                raise InputError(f"{cls.__name__}: unknown keyword `{old}`; write `{new}=` "
-                                 f"(amplitude in m/s², omega in rad/s)")
+                raise InputError(
+                    f"{cls.__name__}: unknown keyword `{old}`; write `{new}=` "
+                    f"(amplitude in m/s², omega in rad/s)"
+                )
         return super().__new__(cls)
 
     @abstractmethod
@@ -173,7 +191,7 @@ class FreeRelease(Excitation):
     ----------
     theta0 : float, optional
         Initial base rotation θ0 (rad); θ0 > 0 leans onto the right pivot (paper 001,
-        Fig 1). Only finiteness is checked here; the simulator checks |θ0| < α_cg.
+        Fig 1). Only finiteness is checked here; the simulator checks ``|θ0| < α_cg``.
     u0 : None, float or sequence of float, optional
         Initial elastic displacements of nodes 1..N (m). ``None``: u = 0. A sequence:
         one value per node. A scalar: the static deflected shape under a lateral point
@@ -195,8 +213,10 @@ class FreeRelease(Excitation):
             return
         arr = np.asarray(u0)
         if arr.ndim != 1:
-            raise InputError(f"`u0` has shape {arr.shape}: expected a scalar (top displacement, "
-                             f"m) or a 1-D sequence with one displacement per node 1..N")
+            raise InputError(
+                f"`u0` has shape {arr.shape}: expected a scalar (top displacement, "
+                f"m) or a 1-D sequence with one displacement per node 1..N"
+            )
         values = tuple(_finite(f"u0[{i}]", v, "a displacement in m") for i, v in enumerate(u0))
         object.__setattr__(self, "u0", values)
 
@@ -236,20 +256,24 @@ class FreeRelease(Excitation):
             if len(self.u0) != n:
                 raise InputError(
                     f"`u0` has {len(self.u0)} values but {name} has N = {n} elastic nodes; "
-                    f"give one displacement per node 1..N (m), or a scalar top displacement")
+                    f"give one displacement per node 1..N (m), or a scalar top displacement"
+                )
             return np.array(self.u0, dtype=float)
         if self.u0 == 0.0:
             return np.zeros(n)
         if n == 0:
             raise InputError(
                 f"`u0` = {self.u0!r}: {name} has no elastic nodes (N = 0, a rigid block), so it "
-                f"cannot start deformed; pass u0=None and release it with theta0 instead")
+                f"cannot start deformed; pass u0=None and release it with theta0 instead"
+            )
         e_top = np.zeros(n)
         e_top[-1] = 1.0
         shape = np.linalg.solve(np.asarray(structure.K, dtype=float), e_top)  # u = K⁻¹ e_N
         if not np.all(np.isfinite(shape)) or shape[-1] <= 0.0:
-            raise InputError(f"`structure.K` of {name}: its static deflection under a top load "
-                             f"is not positive; check the stiffness matrix")
+            raise InputError(
+                f"`structure.K` of {name}: its static deflection under a top load "
+                f"is not positive; check the stiffness matrix"
+            )
         return shape * (self.u0 / shape[-1])
 
     def describe(self) -> dict:
@@ -271,8 +295,11 @@ class _SingleWave(_Pulse):
     def __post_init__(self):
         object.__setattr__(self, "amplitude", _amplitude("amplitude", self.amplitude))
         object.__setattr__(self, "omega", _positive("omega", self.omega, "rad/s"))
-        _finite_duration(type(self).__name__, self.duration,
-                         f"`omega` = {self.omega!r} rad/s is too small; give ω in rad/s")
+        _finite_duration(
+            type(self).__name__,
+            self.duration,
+            f"`omega` = {self.omega!r} rad/s is too small; give ω in rad/s",
+        )
 
     @property
     def duration(self) -> float:
@@ -285,8 +312,12 @@ class _SingleWave(_Pulse):
         return self.amplitude * self._math_f(self.omega * t)  # paper 004, Fig 2
 
     def describe(self) -> dict:
-        return {"kind": self.kind, "amplitude": self.amplitude, "omega": self.omega,
-                "duration": self.duration}
+        return {
+            "kind": self.kind,
+            "amplitude": self.amplitude,
+            "omega": self.omega,
+            "duration": self.duration,
+        }
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -360,8 +391,11 @@ class CosinePulse(_Pulse):
     def __post_init__(self):
         object.__setattr__(self, "amplitude", _amplitude("amplitude", self.amplitude))
         object.__setattr__(self, "omega", _positive("omega", self.omega, "rad/s"))
-        _finite_duration("CosinePulse", self.duration,
-                         f"`omega` = {self.omega!r} rad/s is too small; give ω in rad/s")
+        _finite_duration(
+            "CosinePulse",
+            self.duration,
+            f"`omega` = {self.omega!r} rad/s is too small; give ω in rad/s",
+        )
 
     @property
     def duration(self) -> float:
@@ -379,8 +413,12 @@ class CosinePulse(_Pulse):
         return self.amplitude / self.omega**2 * (1.0 - np.cos(self.omega * t))
 
     def describe(self) -> dict:
-        return {"kind": self.kind, "amplitude": self.amplitude, "omega": self.omega,
-                "duration": self.duration}
+        return {
+            "kind": self.kind,
+            "amplitude": self.amplitude,
+            "omega": self.omega,
+            "duration": self.duration,
+        }
 
 
 # ---------------------------------------------------------------------------- Ricker
@@ -405,7 +443,7 @@ class Ricker(_Pulse):
         Characteristic angular frequency ω_p (rad/s, > 0).
     t0 : float, optional
         Centre of the wavelet (s, > 0). Default: t0 = 8.327/ω_p, so that
-        |ü_g(0)| = |ü_g(2 t0)| < 1e-6 a_p (≈ 0.997e-6 a_p): the jumps at the
+        ``|ü_g(0)| = |ü_g(2 t0)| < 1e-6 a_p`` (≈ 0.997e-6 a_p): the jumps at the
         truncation points 0 and 2 t0 are negligible. duration = 2 t0.
     """
 
@@ -421,15 +459,18 @@ class Ricker(_Pulse):
             object.__setattr__(self, "t0", RICKER_X0 / self.omega)
         else:
             object.__setattr__(self, "t0", _positive("t0", self.t0, "the centre time in s"))
-        _finite_duration("Ricker", self.duration, f"`t0` = {self.t0!r} s (or ω) gives no finite "
-                                                  "window [0, 2 t0]; give t0 in s")
+        _finite_duration(
+            "Ricker",
+            self.duration,
+            f"`t0` = {self.t0!r} s (or ω) gives no finite window [0, 2 t0]; give t0 in s",
+        )
 
     @property
     def duration(self) -> float:
         return 2.0 * self.t0
 
     def _shape(self, t):
-        x2 = (self.omega * (t - self.t0)) ** 2      # the bracket is bounded by 1: no inf·0
+        x2 = (self.omega * (t - self.t0)) ** 2  # the bracket is bounded by 1: no inf·0
         return self.amplitude * ((1.0 - 0.5 * x2) * np.exp(-0.25 * x2))  # Ricker wavelet
 
     def _shape_scalar(self, t: float) -> float:
@@ -437,8 +478,13 @@ class Ricker(_Pulse):
         return self.amplitude * ((1.0 - 0.5 * x2) * math.exp(-0.25 * x2))  # Ricker wavelet
 
     def describe(self) -> dict:
-        return {"kind": self.kind, "amplitude": self.amplitude, "omega": self.omega,
-                "t0": self.t0, "duration": self.duration}
+        return {
+            "kind": self.kind,
+            "amplitude": self.amplitude,
+            "omega": self.omega,
+            "t0": self.t0,
+            "duration": self.duration,
+        }
 
 
 # ---------------------------------------------------------------------------- by name
@@ -446,7 +492,9 @@ class Ricker(_Pulse):
 PULSE_NAMES = ("sine", "cosine", "ricker")
 
 
-def pulse(name: str, *, amplitude: float, omega: float, structure_kind: str = "column") -> Excitation:
+def pulse(
+    name: str, *, amplitude: float, omega: float, structure_kind: str = "column"
+) -> Excitation:
     """A pulse by its command-line name.
 
     Parameters

@@ -34,13 +34,15 @@ from .validation import number, positive
 
 __all__ = ["FlexibleOscillator", "OscillatorResponse", "simulate_oscillator"]
 
-SHAPE = (0.0, 0.0, 1.5, -0.5)          # α0, α1, α2, α3: paper 000, Sec 4 (Chopra)
+SHAPE = (0.0, 0.0, 1.5, -0.5)  # α0, α1, α2, α3: paper 000, Sec 4 (Chopra)
 
 
 def _shape(value) -> tuple[float, float, float, float]:
     """(α0, α1, α2, α3) of Eq 26 as floats, finite, ψ(h) = Σα = 1, with stiffness."""
-    need = ("expected four finite numbers (α0, α1, α2, α3) with ψ(h) = α0 + α1 + α2 + α3 "
-            "= 1 (u is the top deflection), e.g. (0, 0, 1.5, -0.5)")
+    need = (
+        "expected four finite numbers (α0, α1, α2, α3) with ψ(h) = α0 + α1 + α2 + α3 "
+        "= 1 (u is the top deflection), e.g. (0, 0, 1.5, -0.5)"
+    )
     try:
         shape = tuple(float(a) for a in value)
     except (TypeError, ValueError, OverflowError):
@@ -48,9 +50,11 @@ def _shape(value) -> tuple[float, float, float, float]:
     if len(shape) != 4 or not all(map(math.isfinite, shape)) or abs(sum(shape) - 1.0) > 1e-12:
         raise InputError(f"`shape` = {value!r}: {need}")
     a2, a3 = shape[2], shape[3]
-    if not 3 * a3 * a3 + a2 * a2 + 3 * a3 * a2 > 0.0:          # k̃ > 0, paper 000, Eq 27
-        raise InputError(f"`shape` = {value!r}: ψ'' ≡ 0, so the column has no stiffness "
-                         "(k̃ = 0, Eq 27); give α2 or α3 ≠ 0")
+    if not 3 * a3 * a3 + a2 * a2 + 3 * a3 * a2 > 0.0:  # k̃ > 0, paper 000, Eq 27
+        raise InputError(
+            f"`shape` = {value!r}: ψ'' ≡ 0, so the column has no stiffness "
+            "(k̃ = 0, Eq 27); give α2 or α3 ≠ 0"
+        )
     return shape
 
 
@@ -61,27 +65,35 @@ def _check_derived(osc) -> None:
     from the SymPy derivation the properties use.
     """
     psi = np.polynomial.Polynomial(osc.shape)
-    integral = lambda p: float(p.integ()(1.0))                     # noqa: E731
+    integral = lambda p: float(p.integ()(1.0))  # noqa: E731
     a2, a3 = osc.shape[2], osc.shape[3]
     try:
         with np.errstate(all="ignore"):
             m_t = osc.m + osc.m_c * integral(psi * psi)
-            k_t = osc.EI / osc.h**3 * 4.0 * (3 * a3 * a3 + a2 * a2 + 3 * a3 * a2)   # Eq 27
-            values = dict(m_tilde=m_t, k_tilde=k_t,
-                          omega_n=math.sqrt(k_t / m_t) if m_t > 0 and k_t >= 0 else 0.0,
-                          c=2.0 * osc.zeta * math.sqrt(m_t * k_t) if m_t * k_t >= 0 else 0.0,
-                          L0=osc.m_c * integral(psi),
-                          L1=osc.m_c * integral(psi * np.polynomial.Polynomial([0, 1])),
-                          total_weight=(osc.m + osc.m_c + osc.m_b) * osc.g)
-        bad = [k for k, v in values.items() if not math.isfinite(v)
-               or (k in ("m_tilde", "k_tilde", "omega_n") and not v > 0.0)]
+            k_t = osc.EI / osc.h**3 * 4.0 * (3 * a3 * a3 + a2 * a2 + 3 * a3 * a2)  # Eq 27
+            values = dict(
+                m_tilde=m_t,
+                k_tilde=k_t,
+                omega_n=math.sqrt(k_t / m_t) if m_t > 0 and k_t >= 0 else 0.0,
+                c=2.0 * osc.zeta * math.sqrt(m_t * k_t) if m_t * k_t >= 0 else 0.0,
+                L0=osc.m_c * integral(psi),
+                L1=osc.m_c * integral(psi * np.polynomial.Polynomial([0, 1])),
+                total_weight=(osc.m + osc.m_c + osc.m_b) * osc.g,
+            )
+        bad = [
+            k
+            for k, v in values.items()
+            if not math.isfinite(v) or (k in ("m_tilde", "k_tilde", "omega_n") and not v > 0.0)
+        ]
     except (OverflowError, ZeroDivisionError):
         bad = ["quantities"]
     if bad:
-        raise InputError(f"FlexibleOscillator(m={osc.m!r}, m_c={osc.m_c!r}, m_b={osc.m_b!r}, "
-                         f"h={osc.h!r}, EI={osc.EI!r}, zeta={osc.zeta!r}): derived "
-                         f"{', '.join(bad)} not finite and positive; give SI values of "
-                         "ordinary size (kg, m, N m²)")
+        raise InputError(
+            f"FlexibleOscillator(m={osc.m!r}, m_c={osc.m_c!r}, m_b={osc.m_b!r}, "
+            f"h={osc.h!r}, EI={osc.EI!r}, zeta={osc.zeta!r}): derived "
+            f"{', '.join(bad)} not finite and positive; give SI values of "
+            "ordinary size (kg, m, N m²)"
+        )
 
 
 @dataclass(frozen=True)
@@ -124,7 +136,7 @@ class FlexibleOscillator:
         _check_derived(self)
 
     @classmethod
-    def from_frequency(cls, f_n: float, **kw) -> "FlexibleOscillator":
+    def from_frequency(cls, f_n: float, **kw) -> FlexibleOscillator:
         """Oscillator whose fixed-base frequency √(k̃/m̃)/2π is `f_n` (Hz)."""
         probe = cls(EI=1.0, **kw)
         k = (2.0 * math.pi * positive("f_n", f_n)) ** 2 * probe.m_tilde
@@ -182,18 +194,23 @@ class FlexibleOscillator:
         m, g, hb = self.m, self.g, self.h / self.b
         l1, l0 = 1.0 + self.L1 / m, 1.0 + self.L0 / m
         mt = self.m_tilde / m
-        return (hb * l1 / mt * (self.c * udot / (m * g) + self.k_tilde * u / (m * g)
-                                + l0 * ag / g)
-                - (1.0 + self.m_b / m + self.m_c / m)
-                - hb * (1.0 + 0.5 * self.m_c / m) * ag / g + l0 * u / self.b)  # paper 000, Eq 28
+        return (
+            hb * l1 / mt * (self.c * udot / (m * g) + self.k_tilde * u / (m * g) + l0 * ag / g)
+            - (1.0 + self.m_b / m + self.m_c / m)
+            - hb * (1.0 + 0.5 * self.m_c / m) * ag / g
+            + l0 * u / self.b
+        )  # paper 000, Eq 28
 
     @cached_property
     def u_cr(self) -> float:
         """Static deflection that starts rocking (paper 000, Eq 29)."""
         m, g = self.m, self.g
-        return ((1.0 + self.m_b / m + self.m_c / m) * self.b * g
-                / ((1.0 + self.L1 / m) * self.h * self.omega_n**2
-                   + (1.0 + self.L0 / m) * g))                               # paper 000, Eq 29
+        return (
+            (1.0 + self.m_b / m + self.m_c / m)
+            * self.b
+            * g
+            / ((1.0 + self.L1 / m) * self.h * self.omega_n**2 + (1.0 + self.L0 / m) * g)
+        )  # paper 000, Eq 29
 
 
 class _OscillatorModel:
@@ -244,16 +261,22 @@ class OscillatorResponse:
     y = property(lambda self: self.raw.q[:, 2])
     phi = property(lambda self: self.raw.q[:, 3], doc="Rotation, counter-clockwise positive.")
     theta = property(lambda self: -self.raw.q[:, 3], doc="Toolkit convention θ = −φ.")
-    status = property(lambda self: self.raw.status,
-                      doc='``outcome`` when every check passed, else "inaccurate".')
-    outcome = property(lambda self: self.raw.outcome,
-                       doc='How the run ended: "completed", "overturned", "max_events", '
-                           '"failed".')
-    checks = property(lambda self: self.raw.checks,
-                      doc="Energy balance, housekeeping and (with ``mu``) friction checks.")
+    status = property(
+        lambda self: self.raw.status, doc='``outcome`` when every check passed, else "inaccurate".'
+    )
+    outcome = property(
+        lambda self: self.raw.outcome,
+        doc='How the run ended: "completed", "overturned", "max_events", "failed".',
+    )
+    checks = property(
+        lambda self: self.raw.checks,
+        doc="Energy balance, housekeeping and (with ``mu``) friction checks.",
+    )
     warnings = property(lambda self: self.raw.warnings)
-    friction = property(lambda self: self.raw.friction,
-                        doc="Largest friction demand |λ_T|/λ_N (`FrictionDemand`).")
+    friction = property(
+        lambda self: self.raw.friction,
+        doc="Largest friction demand ``|λ_T|/λ_N`` (`FrictionDemand`).",
+    )
     events = property(lambda self: self.raw.events)
 
     @property
@@ -262,11 +285,21 @@ class OscillatorResponse:
         return np.array(["flight", "rock_left", "rock_right", "full"])[self.raw.closed]
 
 
-def simulate_oscillator(osc: FlexibleOscillator, eps_p: float, t_end: float, *, ag=None,
-                        u0: float = 0.0, udot0: float = 0.0, dt_out: float | None = 0.005,
-                        rtol: float = 1e-10, atol: float = 1e-12,
-                        zeno_velocity: float | None = None,
-                        max_events: int = 20_000, mu: float | None = None) -> OscillatorResponse:
+def simulate_oscillator(
+    osc: FlexibleOscillator,
+    eps_p: float,
+    t_end: float,
+    *,
+    ag=None,
+    u0: float = 0.0,
+    udot0: float = 0.0,
+    dt_out: float | None = 0.005,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    zeno_velocity: float | None = None,
+    max_events: int = 20_000,
+    mu: float | None = None,
+) -> OscillatorResponse:
     """Event-driven response of the oscillator, starting with its base flat on the ground.
 
     Parameters
@@ -280,7 +313,7 @@ def simulate_oscillator(osc: FlexibleOscillator, eps_p: float, t_end: float, *, 
         ``breakpoints`` attributes are honoured.
     u0, udot0 : float
         Initial deflection and rate of the column top (base at rest, flat). The
-        base rocks from t = 0 when the contact forces say so (|u0| beyond
+        base rocks from t = 0 when the contact forces say so (``|u0|`` beyond
         `FlexibleOscillator.u_cr`, Eq 29); the energy ledger starts from this
         state, ½ k̃ u0² + ½ m̃ u̇0².
     dt_out, rtol, atol, zeno_velocity, max_events
@@ -288,7 +321,7 @@ def simulate_oscillator(osc: FlexibleOscillator, eps_p: float, t_end: float, *, 
         defaults to 1e-4 √(g b).
     mu : float, optional
         Friction coefficient of the base corners: the run reports the largest
-        friction demand |T/N| of its sticking corners (``friction``) and, when
+        friction demand ``|T/N|`` of its sticking corners (``friction``) and, when
         it exceeds `mu`, status "inaccurate" with a warning (the base would
         slide). None: reported, not checked.
 
@@ -307,8 +340,19 @@ def simulate_oscillator(osc: FlexibleOscillator, eps_p: float, t_end: float, *, 
     zv = 1e-4 * math.sqrt(osc.g * osc.b) if zeno_velocity is None else zeno_velocity
     q0 = np.array([u0, 0.0, 0.0, 0.0])
     v0 = np.array([udot0, 0.0, 0.0, 0.0])
-    raw = simulate_contacts(_OscillatorModel(osc, ag, quiet), q0, v0, t_end, eps_p,
-                            dt_out=dt_out, rtol=rtol, atol=atol, gap_tol=1e-9 * osc.h,
-                            zeno_velocity=zv, max_events=max_events,
-                            breakpoints=bps, mu=mu)
+    raw = simulate_contacts(
+        _OscillatorModel(osc, ag, quiet),
+        q0,
+        v0,
+        t_end,
+        eps_p,
+        dt_out=dt_out,
+        rtol=rtol,
+        atol=atol,
+        gap_tol=1e-9 * osc.h,
+        zeno_velocity=zv,
+        max_events=max_events,
+        breakpoints=bps,
+        mu=mu,
+    )
     return OscillatorResponse(osc, eps_p, raw)

@@ -23,7 +23,7 @@ per process and per shape (cached).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache
 
 import sympy as sp
 
@@ -77,13 +77,17 @@ class OscillatorSymbols:
 
 def _tidy(e: sp.Expr) -> sp.Expr:
     """Cheap canonical form: expand, then collect sin²+cos² (full simplify is slow)."""
-    return sp.expand(sp.expand(e).subs(sp.sin(sp.Symbol("phi", real=True)) ** 2,
-                                       1 - sp.cos(sp.Symbol("phi", real=True)) ** 2))
+    return sp.expand(
+        sp.expand(e).subs(
+            sp.sin(sp.Symbol("phi", real=True)) ** 2, 1 - sp.cos(sp.Symbol("phi", real=True)) ** 2
+        )
+    )
 
 
-@lru_cache(maxsize=None)
-def symbolic(shape: tuple[float, float, float, float] = (0, 0, sp.Rational(3, 2),
-                                                       -sp.Rational(1, 2))) -> OscillatorSymbols:
+@cache
+def symbolic(
+    shape: tuple[float, float, float, float] = (0, 0, sp.Rational(3, 2), -sp.Rational(1, 2)),
+) -> OscillatorSymbols:
     """Derive T, V, M and the forcing from the Lagrangian (paper 000, Eqs 26, 27, 30).
 
     Parameters
@@ -97,10 +101,10 @@ def symbolic(shape: tuple[float, float, float, float] = (0, 0, sp.Rational(3, 2)
     m, mc, mb, h, b, g, k, c = (P[n] for n in PARAMS)
     ag, xi = sp.Symbol("a_g", real=True), sp.Symbol("xi", nonnegative=True)
     a0, a1, a2, a3 = (sp.nsimplify(a) for a in shape)
-    psi = a3 * xi**3 / h**3 + a2 * xi**2 / h**2 + a1 * xi / h + a0      # paper 000, Eq 26
+    psi = a3 * xi**3 / h**3 + a2 * xi**2 / h**2 + a1 * xi / h + a0  # paper 000, Eq 26
     cs, sn = sp.cos(ph), sp.sin(ph)
 
-    def pos(w, z):                      # point at height z deflected by w, base frame
+    def pos(w, z):  # point at height z deflected by w, base frame
         return sp.Matrix([x + w * cs - z * sn, y + w * sn + z * cs])
 
     def vel(r):
@@ -108,10 +112,16 @@ def symbolic(shape: tuple[float, float, float, float] = (0, 0, sp.Rational(3, 2)
 
     r_m, r_c = pos(u * psi.subs(xi, h), h), pos(u * psi, xi)
     v_m, v_c = vel(r_m), vel(r_c)
-    T = (m * v_m.dot(v_m) / 2 + mb * (xd**2 + yd**2) / 2 + mb * b**2 / 3 * phd**2 / 2
-         + sp.integrate(sp.expand(mc / h * v_c.dot(v_c) / 2), (xi, 0, h)))
-    V = (g * (m * (r_m[1] - h) + mb * y + sp.integrate(mc / h * (r_c[1] - xi), (xi, 0, h)))
-         + k * u**2 / 2)
+    T = (
+        m * v_m.dot(v_m) / 2
+        + mb * (xd**2 + yd**2) / 2
+        + mb * b**2 / 3 * phd**2 / 2
+        + sp.integrate(sp.expand(mc / h * v_c.dot(v_c) / 2), (xi, 0, h))
+    )
+    V = (
+        g * (m * (r_m[1] - h) + mb * y + sp.integrate(mc / h * (r_c[1] - xi), (xi, 0, h)))
+        + k * u**2 / 2
+    )
     X_tot = m * r_m[0] + mb * x + sp.integrate(mc / h * r_c[0], (xi, 0, h))
     Q = -ag * sp.Matrix([sp.diff(X_tot, s) for s in q]) - sp.Matrix([c * ud, 0, 0, 0])
     T, V = _tidy(T), _tidy(V)
@@ -119,19 +129,28 @@ def symbolic(shape: tuple[float, float, float, float] = (0, 0, sp.Rational(3, 2)
     p = sp.Matrix([sp.diff(T, s) for s in qd])
     convective = p.jacobian(q) * sp.Matrix(qd) - sp.Matrix([sp.diff(T, s) for s in q])
     dV = sp.Matrix([sp.diff(V, s) for s in q])
-    forcing = (Q - dV - convective).applyfunc(_tidy)                  # paper 000, Eq 30
-    m_tilde = m + sp.integrate(mc / h * psi**2, (xi, 0, h))            # paper 000, Eq 27
+    forcing = (Q - dV - convective).applyfunc(_tidy)  # paper 000, Eq 30
+    m_tilde = m + sp.integrate(mc / h * psi**2, (xi, 0, h))  # paper 000, Eq 27
     k_fac = sp.simplify(h**3 * sp.integrate(sp.diff(psi, xi, 2) ** 2, (xi, 0, h)))  # Eq 27
     return OscillatorSymbols(
-        q=q, qd=qd, params=P, ag=ag, T=T, V=V, M=M, forcing=forcing,
-        ground_power=_tidy((-ag * sp.Matrix([sp.diff(X_tot, s) for s in q])).dot(
-            sp.Matrix(qd))),
-        damping_power=c * ud**2, m_tilde=sp.simplify(m_tilde), k_tilde_factor=k_fac,
+        q=q,
+        qd=qd,
+        params=P,
+        ag=ag,
+        T=T,
+        V=V,
+        M=M,
+        forcing=forcing,
+        ground_power=_tidy((-ag * sp.Matrix([sp.diff(X_tot, s) for s in q])).dot(sp.Matrix(qd))),
+        damping_power=c * ud**2,
+        m_tilde=sp.simplify(m_tilde),
+        k_tilde_factor=k_fac,
         L0=sp.simplify(sp.integrate(mc / h * psi, (xi, 0, h))),
-        L1=sp.simplify(sp.integrate(mc / h**2 * psi * xi, (xi, 0, h))))
+        L1=sp.simplify(sp.integrate(mc / h**2 * psi * xi, (xi, 0, h))),
+    )
 
 
-@lru_cache(maxsize=None)
+@cache
 def numeric(shape: tuple[float, float, float, float] = (0.0, 0.0, 1.5, -0.5)):
     """Lambdified functions, built once per process and shape.
 
@@ -149,6 +168,5 @@ def numeric(shape: tuple[float, float, float, float] = (0.0, 0.0, 1.5, -0.5)):
         "M": sp.lambdify([args_q, P], s.M, "numpy", cse=True),
         "forcing": sp.lambdify([args_q, args_qd, s.ag, P], list(s.forcing), "math", cse=True),
         "energy": sp.lambdify([args_q, args_qd, P], s.T + s.V, "math", cse=True),
-        "ground_power": sp.lambdify([args_q, args_qd, s.ag, P], s.ground_power, "math",
-                                    cse=True),
+        "ground_power": sp.lambdify([args_q, args_qd, s.ag, P], s.ground_power, "math", cse=True),
     }

@@ -40,7 +40,7 @@ def gravitational_energy(st: Structure, side: int, u, theta) -> float:
         return 0.0
     c, s = np.cos(theta), np.sin(theta)
     height = float(st.m @ st.H) + st.m0 * st.h0
-    lever = side * (st.B * st.m_t - side * float(st.m @ u))     # ±(1ᵀM(B1 ∓ u) + m0 B)
+    lever = side * (st.B * st.m_t - side * float(st.m @ u))  # ±(1ᵀM(B1 ∓ u) + m0 B)
     return st.g * (height * (c - 1.0) + lever * s)
 
 
@@ -51,8 +51,11 @@ def elastic_energy(st: Structure, u) -> float:
 
 def total_energy(st: Structure, side: int, u, theta, udot, thetadot) -> float:
     """T + V_g + U relative to rest (E_ini of paper 001, Eqs 14–15)."""
-    return (kinetic_energy(st, side, u, udot, thetadot) + gravitational_energy(st, side, u, theta)
-            + elastic_energy(st, u))
+    return (
+        kinetic_energy(st, side, u, udot, thetadot)
+        + gravitational_energy(st, side, u, theta)
+        + elastic_energy(st, u)
+    )
 
 
 def ground_power(st: Structure, side: int, u, theta, udot, thetadot, ag: float) -> float:
@@ -89,7 +92,7 @@ def full_contact_moments(st: Structure, u, udot, ag: float) -> tuple[float, floa
     (M_o, M_res_right, M_res_left)
     """
     if st.n:
-        uddot = -(st.C @ udot + st.K @ u) / st.m - ag          # paper 001, Eq 3
+        uddot = -(st.C @ udot + st.K @ u) / st.m - ag  # paper 001, Eq 3
         M_o = float(st.H @ (st.m * (uddot + ag))) + st.m0 * st.h0 * ag
         mu = float(st.m @ u)
     else:

@@ -47,15 +47,15 @@ class NewmarkResult:
         run is the overturning instant). t is strictly increasing.
     events : tuple of RockingEvent
     status : {"completed", "overturned", "rest", "failed"}
-        "completed": `t_end` reached; "overturned": |θ| reached `overturn_angle`;
+        "completed": `t_end` reached; "overturned": ``|θ|`` reached `overturn_angle`;
         "rest": stopped early after `rest_after` (see `newmark_block`); "failed": a
         Newton iteration did not converge (arrays end at the last converged step).
     message : str
     overturn_time : float or None
-        Instant |θ| reached `overturn_angle` (s).
+        Instant ``|θ|`` reached `overturn_angle` (s).
     peaks : ndarray
-        max |θ| of each rocking half-cycle in order (rad), the unfinished last one
-        included; a free release's first entry is |θ0|.
+        max ``|θ|`` of each rocking half-cycle in order (rad), the unfinished last one
+        included; a free release's first entry is ``|θ0|``.
     n_steps : int
         Newmark steps solved (full and partial).
     n_newton_iterations, max_newton_iterations : int
@@ -84,31 +84,37 @@ class NewmarkResult:
 
     @property
     def max_abs_theta(self) -> float:
-        """Largest |θ| of the run (rad), refined inside steps."""
+        """Largest ``|θ|`` of the run (rad), refined inside steps."""
         return float(self.peaks.max()) if self.peaks.size else 0.0
 
 
 def rocking_energy(structure: Structure, theta, thetadot):
-    """Total energy above rest, ½ J_p θ̇² + m g R [cos(α − |θ|) − cos α] (J).
+    """Total energy above rest, ½ J_p θ̇² + m g R [cos(α − ``|θ|``) − cos α] (J).
 
     Kinetic plus gravitational energy of a rigid block rocking on a pivot (the
     first integral of paper 004, Eqs 1–2 without ground motion).
     """
     st = structure
     th = np.abs(np.asarray(theta, dtype=float))
-    return (0.5 * st.J_p * np.asarray(thetadot, dtype=float) ** 2
-            + st.m_t * st.g * st.R_cg * (np.cos(st.alpha_cg - th) - np.cos(st.alpha_cg)))
+    return 0.5 * st.J_p * np.asarray(thetadot, dtype=float) ** 2 + st.m_t * st.g * st.R_cg * (
+        np.cos(st.alpha_cg - th) - np.cos(st.alpha_cg)
+    )
 
 
 # ---------------------------------------------------------------------------- validation
 def _restitution_fn(restitution) -> Callable[[float, int], float]:
     if callable(restitution):
         return restitution
-    r = v.number("restitution", restitution, what="coefficient r in (0, 1], or a callable "
-                 "(thetadot_minus, new_side) -> r")
+    r = v.number(
+        "restitution",
+        restitution,
+        what="coefficient r in (0, 1], or a callable (thetadot_minus, new_side) -> r",
+    )
     if not 0.0 < r <= 1.0:
-        raise InputError(f"`restitution` = {restitution!r}: r must lie in (0, 1] "
-                         "(θ̇+ = r θ̇−; e.g. impact_models.housner_eta(alpha))")
+        raise InputError(
+            f"`restitution` = {restitution!r}: r must lie in (0, 1] "
+            "(θ̇+ = r θ̇−; e.g. impact_models.housner_eta(alpha))"
+        )
     return lambda *_: r
 
 
@@ -120,49 +126,84 @@ def _sample(ag, t: np.ndarray) -> np.ndarray:
         v = np.asarray(ag(t), dtype=float)
         if v.shape == t.shape:
             probe = np.unique(np.linspace(0, t.size - 1, 7).astype(int))
-            if all(float(ag(float(t[i]))) == v[i] or math.isclose(float(ag(float(t[i]))), v[i],
-                   rel_tol=1e-12, abs_tol=1e-12) for i in probe):
+            if all(
+                float(ag(float(t[i]))) == v[i]
+                or math.isclose(float(ag(float(t[i]))), v[i], rel_tol=1e-12, abs_tol=1e-12)
+                for i in probe
+            ):
                 vals = v
-    except Exception:            # noqa: BLE001 - any failure means "scalar only"
+    except Exception:  # noqa: BLE001 - any failure means "scalar only"
         vals = None
     if vals is None:
         vals = np.fromiter((float(ag(float(x))) for x in t), dtype=float, count=t.size)
     if not np.all(np.isfinite(vals)):
         bad = int(np.flatnonzero(~np.isfinite(vals))[0])
-        raise InputError(f"`ag` returned {vals[bad]!r} at t = {t[bad]!r}: the ground "
-                         "acceleration must be finite (m/s²)")
+        raise InputError(
+            f"`ag` returned {vals[bad]!r} at t = {t[bad]!r}: the ground "
+            "acceleration must be finite (m/s²)"
+        )
     return vals
 
+
 # ---------------------------------------------------------------------------- public
-def _validate(structure, ag, t_end, dt, tol, max_iter, overturn_angle, rest_after,
-              theta0, thetadot0, thetadot_min, engine) -> dict:
+def _validate(
+    structure,
+    ag,
+    t_end,
+    dt,
+    tol,
+    max_iter,
+    overturn_angle,
+    rest_after,
+    theta0,
+    thetadot0,
+    thetadot_min,
+    engine,
+) -> dict:
     if not isinstance(structure, Structure):
-        raise InputError(f"`structure` = {structure!r}: expected a multimass.Structure "
-                         "(e.g. multimass.rigid_block(\"B6M\"))")
+        raise InputError(
+            f"`structure` = {structure!r}: expected a multimass.Structure "
+            '(e.g. multimass.rigid_block("B6M"))'
+        )
     if not structure.is_rigid:
-        raise InputError(f"`structure` = {structure.name!r} has n = {structure.n} elastic "
-                         "nodes: `newmark_block` integrates a rigid block only (n == 0); build "
-                         "one with multimass.rigid_block(...)")
+        raise InputError(
+            f"`structure` = {structure.name!r} has n = {structure.n} elastic "
+            "nodes: `newmark_block` integrates a rigid block only (n == 0); build "
+            "one with multimass.rigid_block(...)"
+        )
     if not callable(ag):
-        raise InputError(f"`ag` = {ag!r}: expected a callable ü_g(t) in m/s² "
-                         "(a function or an object with __call__)")
-    o = {"t_end": v.positive("t_end", t_end, "duration of the run in s"),
-         "dt": v.positive("dt", dt, "time step in s"),
-         "tol": v.positive("tol", tol, "Newton tolerance on θ in rad"),
-         "thetadot_min": v.number("thetadot_min", thetadot_min, low=0.0, what="rad/s"),
-         "max_iter": v.integer("max_iter", max_iter, low=1)}
-    ang = math.pi / 2 if overturn_angle is None else v.number(
-        "overturn_angle", overturn_angle, low=0.0, low_open=True, high=math.pi / 2, what="rad")
+        raise InputError(
+            f"`ag` = {ag!r}: expected a callable ü_g(t) in m/s² "
+            "(a function or an object with __call__)"
+        )
+    o = {
+        "t_end": v.positive("t_end", t_end, "duration of the run in s"),
+        "dt": v.positive("dt", dt, "time step in s"),
+        "tol": v.positive("tol", tol, "Newton tolerance on θ in rad"),
+        "thetadot_min": v.number("thetadot_min", thetadot_min, low=0.0, what="rad/s"),
+        "max_iter": v.integer("max_iter", max_iter, low=1),
+    }
+    ang = (
+        math.pi / 2
+        if overturn_angle is None
+        else v.number(
+            "overturn_angle", overturn_angle, low=0.0, low_open=True, high=math.pi / 2, what="rad"
+        )
+    )
     o["overturn_angle"] = ang
-    o["rest_after"] = None if rest_after is None else v.number(
-        "rest_after", rest_after, low=0.0, what="time in s after which ü_g ≡ 0")
+    o["rest_after"] = (
+        None
+        if rest_after is None
+        else v.number("rest_after", rest_after, low=0.0, what="time in s after which ü_g ≡ 0")
+    )
     o["theta0"] = v.number("theta0", theta0, what="initial angle in rad")
     o["thetadot0"] = v.number("thetadot0", thetadot0, what="initial rate in rad/s")
     if abs(o["theta0"]) >= ang:
-        raise InputError(f"`theta0` = {theta0!r}: |θ0| must be below "
-                         f"overturn_angle = {ang:.6g} rad")
+        raise InputError(
+            f"`theta0` = {theta0!r}: |θ0| must be below overturn_angle = {ang:.6g} rad"
+        )
     if engine not in ("auto", "numba", "python"):
-        raise InputError(f"`engine` = {engine!r}: expected \"auto\", \"numba\" or \"python\"")
+        raise InputError(f'`engine` = {engine!r}: expected "auto", "numba" or "python"')
     return o
 
 
@@ -177,11 +218,22 @@ def _kernel(engine):
         return kern.advance
 
 
-def newmark_block(structure: Structure, ag, t_end: float, *, dt: float = 1e-3,
-                  restitution, theta0: float = 0.0, thetadot0: float = 0.0,
-                  tol: float = 1e-9, max_iter: int = 50, overturn_angle: float | None = None,
-                  rest_after: float | None = None, thetadot_min: float = 0.01,
-                  engine: str = "auto") -> NewmarkResult:
+def newmark_block(
+    structure: Structure,
+    ag,
+    t_end: float,
+    *,
+    dt: float = 1e-3,
+    restitution,
+    theta0: float = 0.0,
+    thetadot0: float = 0.0,
+    tol: float = 1e-9,
+    max_iter: int = 50,
+    overturn_angle: float | None = None,
+    rest_after: float | None = None,
+    thetadot_min: float = 0.01,
+    engine: str = "auto",
+) -> NewmarkResult:
     """Rocking of a rigid block by paper 004's Newmark scheme (Section 2, Eqs 1–8).
 
     Parameters
@@ -206,17 +258,17 @@ def newmark_block(structure: Structure, ag, t_end: float, *, dt: float = 1e-3,
         Newton–Raphson stops when the θ correction is ≤ `tol` (rad); more than
         `max_iter` iterations gives status "failed" with a message.
     overturn_angle : float, optional
-        Stop with status "overturned" when |θ| reaches it (rad, in (0, π/2]; default π/2).
+        Stop with status "overturned" when ``|θ|`` reaches it (rad, in (0, π/2]; default π/2).
     rest_after : float, optional
         Time (s) after which the caller guarantees ü_g ≡ 0 (e.g. the pulse duration).
         From then on the run stops with status "rest" as soon as the block is at rest in
-        full contact, or |θ| < α and its energy ½J_pθ̇² + mgR[cos(α − |θ|) − cos α] is
+        full contact, or ``|θ|`` < α and its energy ½J_pθ̇² + mgR[cos(α − ``|θ|``) − cos α] is
         below mgR(1 − cos α), the energy needed to reach θ = α — it then can never
         overturn in free rocking (energy is conserved in flight and lost at impacts). Checked at
         `rest_after`, at every impact after it and in full contact. None: run to `t_end`.
         Overturning maps rely on it; for time histories leave it None.
     thetadot_min : float
-        An impact with |θ̇−| ≤ thetadot_min (rad/s) ends in full contact (paper 001,
+        An impact with ``|θ̇−|`` ≤ thetadot_min (rad/s) ends in full contact (paper 001,
         Eq 9, θ̇_min = 0.01 rad/s).
     engine : {"auto", "numba", "python"}
         Step kernel: numba-compiled (auto, when numba imports) or the pure-Python
@@ -228,7 +280,7 @@ def newmark_block(structure: Structure, ag, t_end: float, *, dt: float = 1e-3,
 
     Notes
     -----
-    Full contact lasts while |ü_g| ≤ g tan α: at θ = 0 Eq 1 gives θ̈ > 0 (right pivot)
+    Full contact lasts while ``|ü_g|`` ≤ g tan α: at θ = 0 Eq 1 gives θ̈ > 0 (right pivot)
     iff ü_g < −g tan α, and Eq 2 gives θ̈ < 0 (left pivot) iff ü_g > g tan α. The uplift
     instant is located inside the step by Brent's method on ü_g(t) ∓ g tan α. In flight,
     each step solves Eq 5 (θ > 0) or Eq 6 (θ < 0) by Newton–Raphson with the analytic
@@ -236,8 +288,20 @@ def newmark_block(structure: Structure, ag, t_end: float, *, dt: float = 1e-3,
     with θ_{n+1} := 0 (Newton, bracketed), θ̇− and θ̈− follow from Eqs 7–8, θ̇+ = r θ̇−,
     the other equation takes over, and the step is completed to the grid point.
     """
-    o = _validate(structure, ag, t_end, dt, tol, max_iter, overturn_angle, rest_after,
-                  theta0, thetadot0, thetadot_min, engine)
+    o = _validate(
+        structure,
+        ag,
+        t_end,
+        dt,
+        tol,
+        max_iter,
+        overturn_angle,
+        rest_after,
+        theta0,
+        thetadot0,
+        thetadot_min,
+        engine,
+    )
     r_fn = _restitution_fn(restitution)
     n = max(int(math.ceil(o["t_end"] / o["dt"] - 1e-9)), 1)
     t_grid = np.arange(n + 1, dtype=float) * o["dt"]
@@ -254,12 +318,13 @@ def newmark_block(structure: Structure, ag, t_end: float, *, dt: float = 1e-3,
         nxt = None if run.energy_stop(0.0, th, thd) else (0.0, 1, th, thd, thdd, side)
         if nxt is None:
             run.peaks.append(abs(th))
-    for _ in range(_MAX_PHASES):                         # guard against endless chattering
+    for _ in range(_MAX_PHASES):  # guard against endless chattering
         if nxt is None:
             break
         nxt = run.rest(nxt[0], nxt[1]) if nxt[5] == 0 else run.fly(*nxt)
     else:
         run.status = "failed"
-        run.message = (f"more than {_MAX_PHASES} phase changes before t_end (chattering); "
-                       "raise `thetadot_min`")
+        run.message = (
+            f"more than {_MAX_PHASES} phase changes before t_end (chattering); raise `thetadot_min`"
+        )
     return NewmarkResult(**run.fields())

@@ -24,11 +24,13 @@ def _save(fig: Figure, path) -> Path:
 
 
 # event kind -> (marker, colour, label) drawn on the θ line where the event happens
-_EVENT_MARKS = {"uplift": ("^", "tab:green", "uplift"),
-                "impact": ("|", "0.1", "impact (new half-cycle)"),
-                "full_contact": ("s", "tab:orange", "full contact"),
-                "chatter_guard": ("D", "tab:purple", "chattering guard"),
-                "overturn": ("X", "k", "overturned")}
+_EVENT_MARKS = {
+    "uplift": ("^", "tab:green", "uplift"),
+    "impact": ("|", "0.1", "impact (new half-cycle)"),
+    "full_contact": ("s", "tab:orange", "full contact"),
+    "chatter_guard": ("D", "tab:purple", "chattering guard"),
+    "overturn": ("X", "k", "overturned"),
+}
 
 
 def _event_marks(ax, resp: Response) -> None:
@@ -37,20 +39,39 @@ def _event_marks(ax, resp: Response) -> None:
         times = [e.time for e in resp.events if e.kind == kind]
         thetas = [e.theta for e in resp.events if e.kind == kind]
         if times:
-            ax.plot(times, thetas, ls="", marker=marker, color=colour, ms=4 if marker != "|" else 7,
-                    mew=1.0, alpha=0.8, zorder=3, label=f"{label} ({len(times)})")
+            ax.plot(
+                times,
+                thetas,
+                ls="",
+                marker=marker,
+                color=colour,
+                ms=4 if marker != "|" else 7,
+                mew=1.0,
+                alpha=0.8,
+                zorder=3,
+                label=f"{label} ({len(times)})",
+            )
 
 
 def plot_rocking(resp: Response, path, title: str = "", g: float = 9.81) -> Path:
     """Ground acceleration (if any), θ(t) with its transitions marked, θ̇(t), and the
     Dirac-delta impact force F_i (if any), each on its own panel."""
     df = resp.series
-    panels = (["ag"] if np.any(df.ag != 0) else []) + ["theta", "thetadot"] \
+    panels = (
+        (["ag"] if np.any(df.ag != 0) else [])
+        + ["theta", "thetadot"]
         + (["F_i"] if np.any(df.F_i != 0) else [])
+    )
     ratios = {"ag": 1.0, "theta": 2.2, "thetadot": 1.2, "F_i": 1.0}
     fig = Figure(figsize=(10, 1.0 + 1.6 * sum(ratios[p] for p in panels)), layout="constrained")
-    axes = dict(zip(panels, np.atleast_1d(fig.subplots(len(panels), 1, sharex=True,
-                                                       height_ratios=[ratios[p] for p in panels]))))
+    axes = dict(
+        zip(
+            panels,
+            np.atleast_1d(
+                fig.subplots(len(panels), 1, sharex=True, height_ratios=[ratios[p] for p in panels])
+            ),
+        )
+    )
     if "ag" in axes:
         axes["ag"].plot(df.t, df.ag / g, color="0.3", lw=0.8)
         axes["ag"].set_ylabel("ground ü_g (g)")
@@ -68,9 +89,14 @@ def plot_rocking(resp: Response, path, title: str = "", g: float = 9.81) -> Path
         a.grid(alpha=0.3)
     axes[panels[-1]].set_xlabel("t (s)")
     status = resp.status + (f" — {resp.warnings[0]}" if resp.warnings else "")
-    fig.suptitle(title or f"{resp.structure_name}: {resp.options.get('impact', '')}, "
-                 f"{resp.n_impacts} impacts, {resp.n_full_contact} full-contact transitions; "
-                 f"status {status}", fontsize=10, wrap=True)
+    fig.suptitle(
+        title
+        or f"{resp.structure_name}: {resp.options.get('impact', '')}, "
+        f"{resp.n_impacts} impacts, {resp.n_full_contact} full-contact transitions; "
+        f"status {status}",
+        fontsize=10,
+        wrap=True,
+    )
     return _save(fig, path)
 
 
@@ -79,8 +105,14 @@ def plot_energy(resp: Response, path) -> Path:
     df = resp.series
     fig = Figure(figsize=(10, 5.5), layout="constrained")
     ax, ax2 = fig.subplots(2, 1, sharex=True, height_ratios=[3, 1])
-    for col, style in (("kinetic", "-"), ("gravitational", "-"), ("elastic", "-"),
-                       ("damping", "--"), ("impact", "--"), ("ground_work", ":")):
+    for col, style in (
+        ("kinetic", "-"),
+        ("gravitational", "-"),
+        ("elastic", "-"),
+        ("damping", "--"),
+        ("impact", "--"),
+        ("ground_work", ":"),
+    ):
         ax.plot(df.t, df[col], style, lw=1.0, label=col.replace("_", " "))
     ax.plot(df.t, df.kinetic + df.gravitational + df.elastic, "k", lw=1.2, label="mechanical total")
     ax.set_ylabel("energy (J)")
@@ -90,8 +122,10 @@ def plot_energy(resp: Response, path) -> Path:
     ax2.set_ylabel("balance error\n(relative)")
     ax2.set_xlabel("t (s)")
     ax2.grid(alpha=0.3)
-    ax.set_title(f"{resp.structure_name}: energy ledger (max relative balance error "
-                 f"{resp.energy_balance_error:.2e})")
+    ax.set_title(
+        f"{resp.structure_name}: energy ledger (max relative balance error "
+        f"{resp.energy_balance_error:.2e})"
+    )
     return _save(fig, path)
 
 
@@ -109,8 +143,17 @@ def plot_accelerations(resp: Response, nodes: dict[str, int], path, g: float = 9
     return _save(fig, path)
 
 
-def plot_overlay(trace, name: str, responses: dict, structure, path, *, t_offset: float = 0.0,
-                 metrics: dict | None = None, title: str = "") -> Path:
+def plot_overlay(
+    trace,
+    name: str,
+    responses: dict,
+    structure,
+    path,
+    *,
+    t_offset: float = 0.0,
+    metrics: dict | None = None,
+    title: str = "",
+) -> Path:
     """A measured channel against one or more simulations, with the residuals below.
 
     Parameters
@@ -136,8 +179,13 @@ def plot_overlay(trace, name: str, responses: dict, structure, path, *, t_offset
     unit = trace.units[name]
     fig = Figure(figsize=(10, 5.2 + 0.2 * len(responses)), layout="constrained")
     ax, ax2 = fig.subplots(2, 1, sharex=True, height_ratios=[3, 1.3])
-    ax.plot(trace.time, trace.to_written_units(name, trace.channels[name]), color="k", lw=1.1,
-            label="measured")
+    ax.plot(
+        trace.time,
+        trace.to_written_units(name, trace.channels[name]),
+        color="k",
+        lw=1.1,
+        label="measured",
+    )
     lo, hi = trace.time[0], trace.time[-1]
     for i, (label, resp) in enumerate(responses.items()):
         color = f"C{(i + 3) % 10}"
@@ -145,13 +193,24 @@ def plot_overlay(trace, name: str, responses: dict, structure, path, *, t_offset
         t = df["t"].to_numpy() + t_offset
         keep = (t >= lo) & (t <= hi)
         m = (metrics or {}).get(label)
-        text = label if m is None else (
-            f"{label}: RMS err {float(trace.to_written_units(name, m.rms_error)):.3g} {unit}"
-            + (f" (NRMSE {100 * m.nrmse:.1f} %)" if m.nrmse is not None else "")
-            + f", peak err {float(trace.to_written_units(name, m.peak_error)):+.3g} {unit}, "
-              f"peak-time shift {m.peak_time_shift_s:+.3f} s")
-        ax.plot(t[keep], trace.to_written_units(name, df[column].to_numpy()[keep]), color=color,
-                lw=0.9, alpha=0.85, label=text)
+        text = (
+            label
+            if m is None
+            else (
+                f"{label}: RMS err {float(trace.to_written_units(name, m.rms_error)):.3g} {unit}"
+                + (f" (NRMSE {100 * m.nrmse:.1f} %)" if m.nrmse is not None else "")
+                + f", peak err {float(trace.to_written_units(name, m.peak_error)):+.3g} {unit}, "
+                f"peak-time shift {m.peak_time_shift_s:+.3f} s"
+            )
+        )
+        ax.plot(
+            t[keep],
+            trace.to_written_units(name, df[column].to_numpy()[keep]),
+            color=color,
+            lw=0.9,
+            alpha=0.85,
+            label=text,
+        )
         tt, meas, sim = align(trace, resp, structure, name, t_offset=t_offset)
         ax2.plot(tt, trace.to_written_units(name, sim - meas), color=color, lw=0.8)
     ax.set_ylabel(f"{name} ({unit})")
@@ -171,8 +230,12 @@ def plot_models(responses: dict, path, title: str = "") -> Path:
     ax, ax2 = fig.subplots(2, 1, sharex=True)
     for label, resp in responses.items():
         df = resp.series
-        ax.plot(df.t, df.theta, lw=0.9, label=f"{label}: {resp.n_impacts} impacts, "
-                f"{resp.n_full_contact} full contacts")
+        ax.plot(
+            df.t,
+            df.theta,
+            lw=0.9,
+            label=f"{label}: {resp.n_impacts} impacts, {resp.n_full_contact} full contacts",
+        )
         ax2.plot(df.t, df.kinetic + df.gravitational + df.elastic, lw=0.9, label=label)
     ax.set_ylabel("θ (rad)")
     ax.legend(fontsize=8)

@@ -58,18 +58,26 @@ class PoissonBlock:
         for name in ("b", "h", "mass", "g"):
             object.__setattr__(self, name, positive(name, getattr(self, name)))
         try:
-            derived = dict(alpha=self.alpha, R=self.R, I_G=self.I_G, p=self.p,
-                           weight=self.mass * self.g, R_squared=self.R**2)
+            derived = dict(
+                alpha=self.alpha,
+                R=self.R,
+                I_G=self.I_G,
+                p=self.p,
+                weight=self.mass * self.g,
+                R_squared=self.R**2,
+            )
             bad = [k for k, v in derived.items() if not (math.isfinite(v) and v > 0.0)]
         except (OverflowError, ZeroDivisionError):
             bad = ["quantities"]
         if bad:
-            raise InputError(f"PoissonBlock(b={self.b!r}, h={self.h!r}, mass={self.mass!r}, "
-                             f"g={self.g!r}): derived {', '.join(bad)} not finite and "
-                             "positive; give SI values of ordinary size (m, kg, m/s²)")
+            raise InputError(
+                f"PoissonBlock(b={self.b!r}, h={self.h!r}, mass={self.mass!r}, "
+                f"g={self.g!r}): derived {', '.join(bad)} not finite and "
+                "positive; give SI values of ordinary size (m, kg, m/s²)"
+            )
 
     @classmethod
-    def from_slenderness(cls, h_over_b: float, width: float = 1.0, **kw) -> "PoissonBlock":
+    def from_slenderness(cls, h_over_b: float, width: float = 1.0, **kw) -> PoissonBlock:
         """Block of base width 2b = `width` and H/b = `h_over_b` (paper 000, Sec 3.3)."""
         b = positive("width", width) / 2.0
         return cls(b=b, h=positive("h_over_b", h_over_b) * b, **kw)
@@ -87,7 +95,7 @@ class PoissonBlock:
     @property
     def I_G(self) -> float:
         """Moment of inertia about the centre of mass, m R²/3 (kg m²)."""
-        return self.mass * self.R**2 / 3.0          # paper 000, after Eq 13
+        return self.mass * self.R**2 / 3.0  # paper 000, after Eq 13
 
     @property
     def p(self) -> float:
@@ -101,8 +109,8 @@ class PoissonBlock:
     def impact_matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(M, W_N, W_T) at φ = 0 with both corners closed (paper 000, Eq 13)."""
         b, h = self.b, self.h
-        W_N = np.array([[0.0, 0.0], [1.0, 1.0], [-b, b]])     # paper 000, Eq 13
-        W_T = np.array([[1.0], [0.0], [h]])                    # paper 000, Eq 13
+        W_N = np.array([[0.0, 0.0], [1.0, 1.0], [-b, b]])  # paper 000, Eq 13
+        W_T = np.array([[1.0], [0.0], [h]])  # paper 000, Eq 13
         return self.mass_matrix(), W_N, W_T
 
     def rocking_state(self, phi: float, dphi: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -210,7 +218,7 @@ class BlockResponse:
 
     @property
     def friction(self):
-        """Largest friction demand |λ_T|/λ_N, smooth phases and impacts (`FrictionDemand`)."""
+        """Largest friction demand ``|λ_T|/λ_N``, smooth phases and impacts (`FrictionDemand`)."""
         return self.raw.friction
 
     @property
@@ -218,11 +226,22 @@ class BlockResponse:
         return self.raw.events
 
 
-def simulate_block(block: PoissonBlock, eps_p: float, t_end: float, *, phi0: float = 0.0,
-                   dphi0: float = 0.0, ag=None, dt_out: float | None = 0.01,
-                   rtol: float = 1e-10, atol: float = 1e-12,
-                   zeno_velocity: float | None = None, max_events: int = 20_000,
-                   locked_dt: float = 0.002, mu: float | None = None) -> BlockResponse:
+def simulate_block(
+    block: PoissonBlock,
+    eps_p: float,
+    t_end: float,
+    *,
+    phi0: float = 0.0,
+    dphi0: float = 0.0,
+    ag=None,
+    dt_out: float | None = 0.01,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    zeno_velocity: float | None = None,
+    max_events: int = 20_000,
+    locked_dt: float = 0.002,
+    mu: float | None = None,
+) -> BlockResponse:
     """Event-driven response of the block with Poisson impacts (paper 000, Sec 3.3).
 
     Parameters
@@ -233,7 +252,7 @@ def simulate_block(block: PoissonBlock, eps_p: float, t_end: float, *, phi0: flo
     t_end : float
         End time (s).
     phi0, dphi0 : float
-        Initial rotation (rad, counter-clockwise, |φ0| < π/2) and rate (rad/s);
+        Initial rotation (rad, counter-clockwise, ``|φ0| < π/2``) and rate (rad/s);
         the block starts on the corner that stays down
         (`PoissonBlock.rocking_state`; at φ0 = 0 the corner the spin pivots
         on). The energy ledger starts from this state. A block started upright
@@ -257,9 +276,9 @@ def simulate_block(block: PoissonBlock, eps_p: float, t_end: float, *, phi0: flo
     mu : float, optional
         Friction coefficient of the corners. Paper 000's corners stick, however
         large the tangential force; the run reports the largest friction demand
-        |T/N| (``BlockResponse.friction``) and, when `mu` is given and the
+        ``|T/N|`` (``BlockResponse.friction``) and, when `mu` is given and the
         demand exceeds it, status "inaccurate" with a warning: the block would
-        slide. A rigid block needs |T/N| = |a_g|/g in full contact, h/b at the
+        slide. A rigid block needs ``|T/N| = |a_g|/g`` in full contact, h/b at the
         impacts of a stocky block (h/b < 1/√2, paper 000 Eqs 14–15) and
         3 sin α cos α / (4 − 3 sin²α) at those of a slender one (Eqs 17–18);
         while it rocks, the centripetal acceleration of a squat block loads the
@@ -282,15 +301,34 @@ def simulate_block(block: PoissonBlock, eps_p: float, t_end: float, *, phi0: flo
     eps_p = number("eps_p", eps_p)
     q0, v0 = block.rocking_state(phi0, dphi0)
     zv = 1e-4 * math.sqrt(block.g * block.R) if zeno_velocity is None else zeno_velocity
-    raw = simulate_contacts(_BlockModel(block, ag, quiet), q0, v0, t_end, eps_p, dt_out=dt_out,
-                            rtol=rtol, atol=atol, gap_tol=1e-9 * block.R, zeno_velocity=zv,
-                            max_events=max_events, locked_dt=locked_dt,
-                            breakpoints=bps, mu=mu)
+    raw = simulate_contacts(
+        _BlockModel(block, ag, quiet),
+        q0,
+        v0,
+        t_end,
+        eps_p,
+        dt_out=dt_out,
+        rtol=rtol,
+        atol=atol,
+        gap_tol=1e-9 * block.R,
+        zeno_velocity=zv,
+        max_events=max_events,
+        locked_dt=locked_dt,
+        breakpoints=bps,
+        mu=mu,
+    )
     return BlockResponse(block, eps_p, raw)
 
 
-def housner_theta(block: PoissonBlock, ag, t_start: float, theta0: float, t_grid,
-                  eta: float | None = None, side: int | None = None) -> np.ndarray:
+def housner_theta(
+    block: PoissonBlock,
+    ag,
+    t_start: float,
+    theta0: float,
+    t_grid,
+    eta: float | None = None,
+    side: int | None = None,
+) -> np.ndarray:
     """θ(t) of the same block under Housner's classical model, the reference for Fig 5.
 
     θ̈ = −p²[sin(α sgnθ − θ) + (ag/g) cos(α sgnθ − θ)], θ̇⁺ = η θ̇⁻ at θ = 0
@@ -309,16 +347,26 @@ def housner_theta(block: PoissonBlock, ag, t_start: float, theta0: float, t_grid
     t, y, out = t_start, np.array([theta0, 0.0]), np.zeros_like(t_grid)
     t_end = t_grid[-1]
     while t < t_end:
-        def rhs(t, y, s=s):                                    # paper 004, Eq 1
+
+        def rhs(t, y, s=s):  # paper 004, Eq 1
             return [y[1], -p * p * (math.sin(a * s - y[0]) + ag(t) / g * math.cos(a * s - y[0]))]
 
         def cross(t, y):
             return y[0]
+
         cross.terminal, cross.direction = True, -s
-        sol = solve_ivp(rhs, (t, t_end), y, method="DOP853", rtol=1e-12, atol=1e-14,
-                        events=cross, dense_output=True)
+        sol = solve_ivp(
+            rhs,
+            (t, t_end),
+            y,
+            method="DOP853",
+            rtol=1e-12,
+            atol=1e-14,
+            events=cross,
+            dense_output=True,
+        )
         sel = (t_grid >= t) & (t_grid <= sol.t[-1])
         out[sel] = sol.sol(t_grid[sel])[0]
         t, y = sol.t[-1], sol.y[:, -1].copy()
-        y[0], y[1], s = 0.0, eta * y[1], -s                    # paper 004, Eq 2
+        y[0], y[1], s = 0.0, eta * y[1], -s  # paper 004, Eq 2
     return out

@@ -23,8 +23,16 @@ from dataclasses import dataclass
 from .errors import InputError
 from .validation import positive
 
-__all__ = ["RunCost", "Progress", "DEFAULT_BUDGET_S", "PROGRESS_AFTER_S", "memory_limit",
-           "budget_seconds", "format_duration", "format_bytes"]
+__all__ = [
+    "RunCost",
+    "Progress",
+    "DEFAULT_BUDGET_S",
+    "PROGRESS_AFTER_S",
+    "memory_limit",
+    "budget_seconds",
+    "format_duration",
+    "format_bytes",
+]
 
 #: Longest estimated wall time a single run may take unless the caller raises it (s).
 DEFAULT_BUDGET_S = 3600.0
@@ -64,8 +72,9 @@ def budget_seconds(max_hours) -> float:
     if max_hours is None:
         return DEFAULT_BUDGET_S
 
-    return 3600.0 * positive("max_hours", max_hours, "the longest run allowed, in hours",
-                             allow_inf=True)
+    return 3600.0 * positive(
+        "max_hours", max_hours, "the longest run allowed, in hours", allow_inf=True
+    )
 
 
 @dataclass(frozen=True)
@@ -90,8 +99,14 @@ class RunCost:
     memory: float
     basis: str
 
-    def check(self, what: str, fix: str, *, max_seconds: float = DEFAULT_BUDGET_S,
-              max_memory: float | None = None) -> "RunCost":
+    def check(
+        self,
+        what: str,
+        fix: str,
+        *,
+        max_seconds: float = DEFAULT_BUDGET_S,
+        max_memory: float | None = None,
+    ) -> RunCost:
         """Raise `InputError` if the run would exceed the time budget or the memory.
 
         Parameters
@@ -108,16 +123,25 @@ class RunCost:
         limit = memory_limit() if max_memory is None else max_memory
         problems = []
         if not self.seconds <= max_seconds:
-            problems.append(f"estimated {format_duration(self.seconds)} of computing "
-                            f"({self.steps:.3g} steps), over the budget of "
-                            f"{format_duration(max_seconds)}")
+            problems.append(
+                f"estimated {format_duration(self.seconds)} of computing "
+                f"({self.steps:.3g} steps), over the budget of "
+                f"{format_duration(max_seconds)}"
+            )
         if not self.memory <= limit:
-            problems.append(f"its output would need {format_bytes(self.memory)}, more than the "
-                            f"{format_bytes(limit)} a run may use")
+            problems.append(
+                f"its output would need {format_bytes(self.memory)}, more than the "
+                f"{format_bytes(limit)} a run may use"
+            )
         if problems:
-            raise InputError(f"{what}: {' and '.join(problems)} ({self.basis}); {fix}"
-                             + (" — or, if you mean it, raise the budget (max_hours, "
-                                "--max-hours)" if not self.seconds <= max_seconds else ""))
+            raise InputError(
+                f"{what}: {' and '.join(problems)} ({self.basis}); {fix}"
+                + (
+                    " — or, if you mean it, raise the budget (max_hours, --max-hours)"
+                    if not self.seconds <= max_seconds
+                    else ""
+                )
+            )
         return self
 
 
@@ -141,8 +165,15 @@ class Progress:
     convenient (cheap: the bar redraws at most ten times a second).
     """
 
-    def __init__(self, total: float, desc: str, *, show: bool | None = None,
-                 estimate: float | None = None, unit: str = "s"):
+    def __init__(
+        self,
+        total: float,
+        desc: str,
+        *,
+        show: bool | None = None,
+        estimate: float | None = None,
+        unit: str = "s",
+    ):
         if show is None:
             show = estimate is not None and estimate >= PROGRESS_AFTER_S
         self.total = float(total)
@@ -152,10 +183,15 @@ class Progress:
 
             if estimate is not None:
                 print(f"{desc}: estimated {format_duration(estimate)}", file=sys.stderr)
-            self._bar = tqdm(total=self.total, desc=desc, unit=unit, file=sys.stderr,
-                             leave=False, mininterval=0.5,
-                             bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} " + unit
-                                        + " [{elapsed}<{remaining}]")
+            self._bar = tqdm(
+                total=self.total,
+                desc=desc,
+                unit=unit,
+                file=sys.stderr,
+                leave=False,
+                mininterval=0.5,
+                bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} " + unit + " [{elapsed}<{remaining}]",
+            )
 
     @property
     def shown(self) -> bool:
@@ -172,7 +208,7 @@ class Progress:
             self._bar.close()
             self._bar = None
 
-    def __enter__(self) -> "Progress":
+    def __enter__(self) -> Progress:
         return self
 
     def __exit__(self, *exc) -> None:

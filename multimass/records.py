@@ -34,6 +34,7 @@ from .units import canonical_units
 
 __all__ = ["Record", "read_two_column", "read_at2", "read_record"]
 
+
 # ---------------------------------------------------------------------------- the record
 @dataclass(frozen=True, eq=False)
 class Record(Excitation):
@@ -78,10 +79,14 @@ class Record(Excitation):
         accel = float_array(self.source, "accel", self.accel).copy()
         dt = check_samples(time, accel, self.source)
         if self.dt is not None and not (
-                isinstance(self.dt, (int, float)) and not isinstance(self.dt, bool)
-                and abs(self.dt - dt) <= DT_RTOL * dt):
-            raise InputError(f"{self.source}: `dt` = {self.dt!r} s disagrees with the step of "
-                             f"`time` ({dt!r} s); omit `dt` or correct it")
+            isinstance(self.dt, (int, float))
+            and not isinstance(self.dt, bool)
+            and abs(self.dt - dt) <= DT_RTOL * dt
+        ):
+            raise InputError(
+                f"{self.source}: `dt` = {self.dt!r} s disagrees with the step of "
+                f"`time` ({dt!r} s); omit `dt` or correct it"
+            )
         check_scale(self.source, self.scale)
         time.flags.writeable = False
         accel.flags.writeable = False
@@ -92,13 +97,25 @@ class Record(Excitation):
 
     def _cache(self) -> None:
         # one tuple read per call: (t_start, t_end, 1/dt, last interval index, samples)
-        fast = (float(self.time[0]), float(self.time[-1]), 1.0 / self.dt,
-                self.time.size - 2, self.accel.tolist())
+        fast = (
+            float(self.time[0]),
+            float(self.time[-1]),
+            1.0 / self.dt,
+            self.time.size - 2,
+            self.accel.tolist(),
+        )
         object.__setattr__(self, "_fast", fast)
 
     @classmethod
-    def from_arrays(cls, time, accel, units: str, scale: float = 1.0, name: str = "record",
-                    source: str = "arrays") -> "Record":
+    def from_arrays(
+        cls,
+        time,
+        accel,
+        units: str,
+        scale: float = 1.0,
+        name: str = "record",
+        source: str = "arrays",
+    ) -> Record:
         """A record from arrays of times (s) and accelerations in `units`, times `scale`."""
         if not isinstance(source, str):
             raise InputError(f"Record.from_arrays: `source` = {source!r:.60}: give a string")
@@ -107,19 +124,39 @@ class Record(Excitation):
         time = float_array(source, "time", time)
         accel = float_array(source, "accel", accel)
         check_samples(time, accel, source)
-        return cls(time=time, accel=scaled_to_mps2(source, accel, units_c, scale),
-                   name=name, units=units, scale=scale, source=source)
+        return cls(
+            time=time,
+            accel=scaled_to_mps2(source, accel, units_c, scale),
+            name=name,
+            units=units,
+            scale=scale,
+            source=source,
+        )
 
-    def scaled(self, factor: float) -> "Record":
+    def scaled(self, factor: float) -> Record:
         """The same record scaled again by `factor` (scale factors multiply)."""
         factor = check_scale(self.source, factor)
-        return Record(time=self.time, accel=self.accel * factor, dt=self.dt, name=self.name,
-                      units=self.units, scale=self.scale * factor, source=self.source)
+        return Record(
+            time=self.time,
+            accel=self.accel * factor,
+            dt=self.dt,
+            name=self.name,
+            units=self.units,
+            scale=self.scale * factor,
+            source=self.source,
+        )
 
     # pickling: fields only; the interpolation cache is rebuilt
     def __getstate__(self):
-        return {"time": self.time, "accel": self.accel, "dt": self.dt, "name": self.name,
-                "units": self.units, "scale": self.scale, "source": self.source}
+        return {
+            "time": self.time,
+            "accel": self.accel,
+            "dt": self.dt,
+            "name": self.name,
+            "units": self.units,
+            "scale": self.scale,
+            "source": self.source,
+        }
 
     def __setstate__(self, state):
         for key, value in state.items():
@@ -132,9 +169,12 @@ class Record(Excitation):
     def __eq__(self, other):
         if not isinstance(other, Record):
             return NotImplemented
-        return (np.array_equal(self.time, other.time) and np.array_equal(self.accel, other.accel)
-                and (self.dt, self.name, self.units, self.scale, self.source)
-                == (other.dt, other.name, other.units, other.scale, other.source))
+        return (
+            np.array_equal(self.time, other.time)
+            and np.array_equal(self.accel, other.accel)
+            and (self.dt, self.name, self.units, self.scale, self.source)
+            == (other.dt, other.name, other.units, other.scale, other.source)
+        )
 
     def __hash__(self):
         return hash((self.name, self.dt, self.time.size, self.accel.tobytes()))
@@ -157,7 +197,7 @@ class Record(Excitation):
 
     @property
     def pga(self) -> float:
-        """Peak ground acceleration max |ü_g| (m/s²)."""
+        """Peak ground acceleration ``max |ü_g|`` (m/s²)."""
         return float(np.max(np.abs(self.accel)))
 
     def acceleration(self, t):
@@ -196,14 +236,23 @@ class Record(Excitation):
         x = (t - t_start) * inv_dt
         i = np.clip(np.floor(x), 0, last).astype(np.intp)
         a = self.accel
-        with np.errstate(over="ignore", invalid="ignore"):   # far outside: masked below
+        with np.errstate(over="ignore", invalid="ignore"):  # far outside: masked below
             out = a[i] + (x - i) * (a[i + 1] - a[i])
         return np.where((t >= t_start) & (t <= t_end), out, 0.0)
 
     def describe(self) -> dict:
-        return {"kind": self.kind, "name": self.name, "source": self.source,
-                "units": self.units, "scale": self.scale, "dt": self.dt, "npts": self.npts,
-                "t_start": self._fast[0], "duration": self.duration, "pga": self.pga}
+        return {
+            "kind": self.kind,
+            "name": self.name,
+            "source": self.source,
+            "units": self.units,
+            "scale": self.scale,
+            "dt": self.dt,
+            "npts": self.npts,
+            "t_start": self._fast[0],
+            "duration": self.duration,
+            "pga": self.pga,
+        }
 
 
 # ---------------------------------------------------------------------------- readers
@@ -219,8 +268,9 @@ def _read_lines(path, what: str) -> list[str]:
 
 def _name(source: str, name) -> None:
     if name is not None and not isinstance(name, str):
-        raise InputError(f"{source}: `name` = {name!r}: give a string, or omit it to use the "
-                         f"file's stem")
+        raise InputError(
+            f"{source}: `name` = {name!r}: give a string, or omit it to use the file's stem"
+        )
 
 
 def read_two_column(path, units: str, scale: float = 1.0, name: str | None = None) -> Record:
@@ -263,22 +313,32 @@ def read_two_column(path, units: str, scale: float = 1.0, name: str | None = Non
             continue
         parts = text.replace(",", " ").split()
         if len(parts) != 2:
-            raise InputError(f"{source}, line {lineno}: expected two columns `t a` (time in s, "
-                             f"acceleration in {units}), found {len(parts)}: {text!r}; "
-                             f"comment header lines out with #")
+            raise InputError(
+                f"{source}, line {lineno}: expected two columns `t a` (time in s, "
+                f"acceleration in {units}), found {len(parts)}: {text!r}; "
+                f"comment header lines out with #"
+            )
         try:
             t, a = float(parts[0]), float(parts[1])
         except ValueError:
-            raise InputError(f"{source}, line {lineno}: cannot read {text!r} as two numbers "
-                             f"`t a`; fix the value or comment the line out with #") from None
+            raise InputError(
+                f"{source}, line {lineno}: cannot read {text!r} as two numbers "
+                f"`t a`; fix the value or comment the line out with #"
+            ) from None
         times.append(t)
         values.append(a)
         linenos.append(lineno)
     time = np.array(times)
     accel = np.array(values)
     check_samples(time, accel, source, linenos)
-    return Record(time=time, accel=scaled_to_mps2(source, accel, units_c, scale),
-                  name=name or path.stem, units=units, scale=scale, source=source)
+    return Record(
+        time=time,
+        accel=scaled_to_mps2(source, accel, units_c, scale),
+        name=name or path.stem,
+        units=units,
+        scale=scale,
+        source=source,
+    )
 
 
 _NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?"
@@ -291,23 +351,31 @@ _UNITS_OF = re.compile(r"UNITS\s+OF\s+(\S+)", re.IGNORECASE)
 def _at2_header(source: str, lines: list[str]) -> tuple[str, int, float]:
     """(canonical units, NPTS, DT) from the 4 header lines of a PEER .AT2 file."""
     if len(lines) < 5:
-        raise InputError(f"{source}: {len(lines)} line(s); a PEER .AT2 file has 4 header "
-                         f"lines followed by the values")
+        raise InputError(
+            f"{source}: {len(lines)} line(s); a PEER .AT2 file has 4 header "
+            f"lines followed by the values"
+        )
     kind_line = lines[2]
     for other in ("VELOCITY", "DISPLACEMENT"):
         if other in kind_line.upper():
-            raise InputError(f"{source}, line 3: {kind_line.strip()!r} is a {other.lower()} "
-                             f"record; give the acceleration file (.AT2)")
+            raise InputError(
+                f"{source}, line 3: {kind_line.strip()!r} is a {other.lower()} "
+                f"record; give the acceleration file (.AT2)"
+            )
     match = _UNITS_OF.search(kind_line)
     if match is None:
-        raise InputError(f"{source}, line 3: cannot find the units in {kind_line.strip()!r}; "
-                         f"expected e.g. 'ACCELERATION TIME SERIES IN UNITS OF G'")
+        raise InputError(
+            f"{source}, line 3: cannot find the units in {kind_line.strip()!r}; "
+            f"expected e.g. 'ACCELERATION TIME SERIES IN UNITS OF G'"
+        )
     raw = match.group(1).rstrip(".,;")
     try:
         units = canonical_units(raw)
     except InputError:
-        raise InputError(f"{source}, line 3: unknown units {raw!r} in the header; accepted: "
-                         f"G, CM/S/S (cm/s2), M/S/S (m/s2), MM/S/S (mm/s2)") from None
+        raise InputError(
+            f"{source}, line 3: unknown units {raw!r} in the header; accepted: "
+            f"G, CM/S/S (cm/s2), M/S/S (m/s2), MM/S/S (mm/s2)"
+        ) from None
     line4 = lines[3]
     old = _OLD_HEADER.match(line4)
     npts_m, dt_m = _NPTS.search(line4), _DT.search(line4)
@@ -316,8 +384,10 @@ def _at2_header(source: str, lines: list[str]) -> tuple[str, int, float]:
     elif npts_m is not None and dt_m is not None:
         npts_s, dt_s = npts_m.group(1), dt_m.group(1)
     else:
-        raise InputError(f"{source}, line 4: cannot read NPTS and DT from {line4.strip()!r}; "
-                         f"expected e.g. 'NPTS=  2000, DT=   0.020 SEC'")
+        raise InputError(
+            f"{source}, line 4: cannot read NPTS and DT from {line4.strip()!r}; "
+            f"expected e.g. 'NPTS=  2000, DT=   0.020 SEC'"
+        )
     npts = int(npts_s)
     dt = float(dt_s.replace("D", "E").replace("d", "e"))
     if not math.isfinite(dt) or dt <= 0.0:
@@ -367,23 +437,30 @@ def read_at2(path, scale: float = 1.0, name: str | None = None) -> Record:
             try:
                 x = float(token.replace("D", "E").replace("d", "e"))
             except ValueError:
-                raise InputError(f"{source}, line {lineno}: cannot read {token!r} as a number; "
-                                 f"fix the value (values are separated by blanks)") from None
+                raise InputError(
+                    f"{source}, line {lineno}: cannot read {token!r} as a number; "
+                    f"fix the value (values are separated by blanks)"
+                ) from None
             if not math.isfinite(x):
-                raise InputError(f"{source}, line {lineno}: value {token!r} is not finite; "
-                                 f"fix or remove it")
+                raise InputError(
+                    f"{source}, line {lineno}: value {token!r} is not finite; fix or remove it"
+                )
             values.append(x)
     if len(values) != npts:
-        raise InputError(f"{source}: `NPTS` = {npts} in the header (line 4) but {len(values)} "
-                         f"values follow; the file may be truncated or NPTS wrong: correct it")
+        raise InputError(
+            f"{source}: `NPTS` = {npts} in the header (line 4) but {len(values)} "
+            f"values follow; the file may be truncated or NPTS wrong: correct it"
+        )
     time = dt * np.arange(npts)
     accel = scaled_to_mps2(source, np.array(values), units, scale)
-    return Record(time=time, accel=accel, name=name or path.stem, units=units, scale=scale,
-                  source=source)
+    return Record(
+        time=time, accel=accel, name=name or path.stem, units=units, scale=scale, source=source
+    )
 
 
-def read_record(path, units: str | None = None, scale: float = 1.0,
-                name: str | None = None) -> Record:
+def read_record(
+    path, units: str | None = None, scale: float = 1.0, name: str | None = None
+) -> Record:
     """Read a record file: PEER ``.AT2`` by its suffix, otherwise two columns ``t a``.
 
     Parameters
@@ -405,7 +482,9 @@ def read_record(path, units: str | None = None, scale: float = 1.0,
     if path.suffix.lower() == ".at2":
         record = read_at2(path, scale=scale, name=name)
         if units is not None and units_of(str(path), units) != record.units:
-            raise InputError(f"{path}: `units` = {units!r} but the .AT2 header says "
-                             f"{record.units!r}; omit `units` for .AT2 files")
+            raise InputError(
+                f"{path}: `units` = {units!r} but the .AT2 header says "
+                f"{record.units!r}; omit `units` for .AT2 files"
+            )
         return record
     return read_two_column(path, units, scale=scale, name=name)

@@ -12,7 +12,6 @@ import pandas as pd
 __all__ = ["Event", "Response"]
 
 
-
 @dataclass(frozen=True)
 class Event:
     """One entry of the event log.
@@ -67,14 +66,14 @@ class Response:
         ``ground_work`` and ``balance_error`` (J). Empty if not recorded.
     events : list of Event
     peaks : ndarray
-        Absolute peak |θ| of each half-cycle (rad), in order; for a free
+        Absolute peak ``|θ|`` of each half-cycle (rad), in order; for a free
         release the first is the release angle.
     peak_times : ndarray
     energy_reference : float
         The energy the balance error is measured against (J): the initial
         energy, or the largest ground work for forced runs.
     energy_balance_error : float
-        max |balance error| / `energy_reference`.
+        max ``|balance error|`` / `energy_reference`.
     wall_time_s : float
         Time spent in the simulation proper.
     options : dict
@@ -119,7 +118,7 @@ class Response:
 
     @property
     def theta_max(self) -> float:
-        """Largest |θ| reached (rad)."""
+        """Largest ``|θ|`` reached (rad)."""
         return float(self.peaks.max()) if self.peaks.size else 0.0
 
     @property
@@ -141,8 +140,11 @@ class Response:
         excited: the "several consecutive phase transitions within a single
         impact" of the classical model. Only transitions up to `t_max` count.
         """
-        times = [e.time for e in self.events
-                 if e.kind in ("impact", "full_contact", "uplift") and e.time <= t_max]
+        times = [
+            e.time
+            for e in self.events
+            if e.kind in ("impact", "full_contact", "uplift") and e.time <= t_max
+        ]
         return int(sum(b - a < window for a, b in zip(times, times[1:])))
 
     def summary(self) -> dict:

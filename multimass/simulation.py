@@ -55,32 +55,68 @@ from .structure import Structure, from_specimen
 __all__ = ["simulate", "simulate_outcome", "estimate", "Outcome", "DEFAULTS"]
 
 #: Default options (see the module docstring for why).
-DEFAULTS = dict(method="DOP853", rtol=1e-8, atol=1e-10, max_step=5e-3, theta_dot_min=0.01,
-                output_dt=1e-3, chatter_window=5e-3, chatter_count=20, energy_tol=1e-3)
+DEFAULTS = dict(
+    method="DOP853",
+    rtol=1e-8,
+    atol=1e-10,
+    max_step=5e-3,
+    theta_dot_min=0.01,
+    output_dt=1e-3,
+    chatter_window=5e-3,
+    chatter_count=20,
+    energy_tol=1e-3,
+)
 
 #: Every option of `simulate` and its default (the validated set; see `_options`).
-_OPTIONS = dict(restitution=None, k=None, C_p=None, eps_p=None, seed=None,
-                overturn_angle=math.pi / 2, stop_at_rest=True, stop_when_safe=False,
-                integrator="solve_ivp", dt=1e-3, backend="scipy", max_hours=None,
-                progress=None, **DEFAULTS)
+_OPTIONS = dict(
+    restitution=None,
+    k=None,
+    C_p=None,
+    eps_p=None,
+    seed=None,
+    overturn_angle=math.pi / 2,
+    stop_at_rest=True,
+    stop_when_safe=False,
+    integrator="solve_ivp",
+    dt=1e-3,
+    backend="scipy",
+    max_hours=None,
+    progress=None,
+    **DEFAULTS,
+)
 
 _METHODS = ("RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")
 
 
-def simulate(structure, excitation, impact="DD2", t_end: float = 10.0, *, restitution=None,
-             k: float | None = None, C_p: float | None = None, eps_p: float | None = None,
-             seed: int | None = None,
-             method=DEFAULTS["method"], rtol: float = DEFAULTS["rtol"],
-             atol: float = DEFAULTS["atol"], max_step: float = DEFAULTS["max_step"],
-             theta_dot_min: float = DEFAULTS["theta_dot_min"],
-             output_dt: float | None = DEFAULTS["output_dt"],
-             overturn_angle: float = math.pi / 2,
-             chatter_window: float = DEFAULTS["chatter_window"],
-             chatter_count: int = DEFAULTS["chatter_count"],
-             stop_at_rest: bool = True, stop_when_safe: bool = False,
-             integrator: str = "solve_ivp", dt: float = 1e-3,
-             backend: str = "scipy", energy_tol: float = DEFAULTS["energy_tol"],
-             max_hours: float | None = None, progress: bool | None = None) -> Response:
+def simulate(
+    structure,
+    excitation,
+    impact="DD2",
+    t_end: float = 10.0,
+    *,
+    restitution=None,
+    k: float | None = None,
+    C_p: float | None = None,
+    eps_p: float | None = None,
+    seed: int | None = None,
+    method=DEFAULTS["method"],
+    rtol: float = DEFAULTS["rtol"],
+    atol: float = DEFAULTS["atol"],
+    max_step: float = DEFAULTS["max_step"],
+    theta_dot_min: float = DEFAULTS["theta_dot_min"],
+    output_dt: float | None = DEFAULTS["output_dt"],
+    overturn_angle: float = math.pi / 2,
+    chatter_window: float = DEFAULTS["chatter_window"],
+    chatter_count: int = DEFAULTS["chatter_count"],
+    stop_at_rest: bool = True,
+    stop_when_safe: bool = False,
+    integrator: str = "solve_ivp",
+    dt: float = 1e-3,
+    backend: str = "scipy",
+    energy_tol: float = DEFAULTS["energy_tol"],
+    max_hours: float | None = None,
+    progress: bool | None = None,
+) -> Response:
     """Simulate the nonlinear response of a rocking structure (paper 001, Section 2).
 
     Parameters
@@ -114,7 +150,7 @@ def simulate(structure, excitation, impact="DD2", t_end: float = 10.0, *, restit
         Sampling step of the recorded series (s); None records nothing but
         peaks, events and the ledger at transitions (fast sweeps).
     overturn_angle : float
-        |θ| at which the structure has overturned (rad, in (0, π/2]; default π/2).
+        ``|θ|`` at which the structure has overturned (rad, in (0, π/2]; default π/2).
     chatter_window, chatter_count :
         The chattering guard: `chatter_count` transitions within
         `chatter_window` seconds force full contact for one window.
@@ -123,7 +159,7 @@ def simulate(structure, excitation, impact="DD2", t_end: float = 10.0, *, restit
         rests in full contact (nothing can move it again).
     stop_when_safe : bool
         For a rigid block, also stop (event "rest") once the excitation is over
-        and the block, with |θ| < α_cg and less energy than it needs to reach
+        and the block, with ``|θ|`` < α_cg and less energy than it needs to reach
         θ = α_cg, can never overturn in free rocking — the early stop that
         makes overturning maps cheap. Checked at the end of the excitation and
         at every impact after it.
@@ -163,8 +199,13 @@ def simulate(structure, excitation, impact="DD2", t_end: float = 10.0, *, restit
         For invalid arguments (named in the message), an excitation that starts
         after `t_end`, and a run over the budget or the memory.
     """
-    plan = _prepare(structure, excitation, impact, t_end, _options(
-        {name: value for name, value in locals().items() if name in _OPTIONS}))
+    plan = _prepare(
+        structure,
+        excitation,
+        impact,
+        t_end,
+        _options({name: value for name, value in locals().items() if name in _OPTIONS}),
+    )
     return judge(plan.run(lean=False), plan.options["energy_tol"])
 
 
@@ -178,7 +219,7 @@ class Outcome:
         As in `Response` ("completed", "overturned", "inaccurate", "failed").
     events : list of Event
     peaks : ndarray
-        Absolute peak |θ| of each half-cycle (rad).
+        Absolute peak ``|θ|`` of each half-cycle (rad).
     n_rhs : int
     wall_time_s : float
     energy_balance_error : float
@@ -208,7 +249,9 @@ class Outcome:
         return sum(e.kind == "impact" for e in self.events)
 
 
-def simulate_outcome(structure, excitation, impact="DD2", t_end: float = 10.0, **options) -> Outcome:
+def simulate_outcome(
+    structure, excitation, impact="DD2", t_end: float = 10.0, **options
+) -> Outcome:
     """`simulate` without the time series, for sweeps of many runs.
 
     Takes the same arguments as `simulate` (``output_dt`` is ignored: nothing
@@ -245,16 +288,19 @@ def _options(given: dict) -> dict:
     """Every option of `simulate`, validated (strict numbers: no bools or strings)."""
     unknown = sorted(set(given) - set(_OPTIONS))
     if unknown:
-        raise InputError(f"`{unknown[0]}` is not an option of simulate; the options are "
-                         f"{', '.join(sorted(_OPTIONS))}")
+        raise InputError(
+            f"`{unknown[0]}` is not an option of simulate; the options are "
+            f"{', '.join(sorted(_OPTIONS))}"
+        )
     o = _OPTIONS | given
     for name in ("rtol", "atol", "theta_dot_min", "chatter_window", "dt", "energy_tol"):
         o[name] = v.positive(name, o[name])
     o["max_step"] = v.positive("max_step", o["max_step"], "s", allow_inf=True)
     if o["output_dt"] is not None:
         o["output_dt"] = v.positive("output_dt", o["output_dt"], "the sampling step in s")
-    o["overturn_angle"] = v.number("overturn_angle", o["overturn_angle"], low=0.0, low_open=True,
-                                   high=math.pi / 2, what="rad")
+    o["overturn_angle"] = v.number(
+        "overturn_angle", o["overturn_angle"], low=0.0, low_open=True, high=math.pi / 2, what="rad"
+    )
     o["chatter_count"] = v.integer("chatter_count", o["chatter_count"], low=2)
     if o["seed"] is not None:
         o["seed"] = v.integer("seed", o["seed"], low=0, what="the seed of random restitution")
@@ -266,10 +312,13 @@ def _options(given: dict) -> dict:
     o["integrator"] = v.choice("integrator", o["integrator"], ("solve_ivp", "newmark"))
     o["backend"] = v.choice("backend", o["backend"], ("scipy", "compiled"))
     method = o["method"]
-    if not ((isinstance(method, str) and method in _METHODS)
-            or (isinstance(method, type) and issubclass(method, scipy.integrate.OdeSolver))):
-        raise InputError(f"`method` = {method!r}: use one of {', '.join(_METHODS)} "
-                         "or an OdeSolver subclass")
+    if not (
+        (isinstance(method, str) and method in _METHODS)
+        or (isinstance(method, type) and issubclass(method, scipy.integrate.OdeSolver))
+    ):
+        raise InputError(
+            f"`method` = {method!r}: use one of {', '.join(_METHODS)} or an OdeSolver subclass"
+        )
     o["budget_s"] = budget_seconds(o.pop("max_hours"))
     return o
 
@@ -281,8 +330,10 @@ def _structure(structure) -> Structure:
 def _excitation(excitation, t_end: float):
     """(ü_g, duration, breakpoints) of a valid excitation that acts before `t_end`."""
     if excitation is None or not callable(excitation):
-        raise InputError(f"`excitation` = {excitation!r}: give an excitation, e.g. "
-                         "FreeRelease(theta0=0.1) or SineWave(amplitude=0.4 * G, omega=15.0)")
+        raise InputError(
+            f"`excitation` = {excitation!r}: give an excitation, e.g. "
+            "FreeRelease(theta0=0.1) or SineWave(amplitude=0.4 * G, omega=15.0)"
+        )
     duration = float(getattr(excitation, "duration", math.inf))
     if math.isnan(duration) or duration < 0.0:
         raise InputError(f"`excitation.duration` = {duration!r}: must be ≥ 0 (s) or inf")
@@ -293,7 +344,8 @@ def _excitation(excitation, t_end: float):
         raise InputError(
             f"`excitation` {name!r} starts at t = {start:.6g} s, at or after t_end = {t_end:g} s: "
             "the structure would see no ground motion. Shift the record's time column so that it "
-            "starts near 0, or raise t_end beyond the start of the motion")
+            "starts near 0, or raise t_end beyond the start of the motion"
+        )
     return getattr(excitation, "acceleration", excitation), duration, bps
 
 
@@ -304,9 +356,11 @@ def _initial_state(st: Structure, excitation) -> tuple[int, np.ndarray]:
     if not math.isfinite(theta0):
         raise InputError(f"`theta0` = {theta0!r}: must be finite")
     if abs(theta0) >= st.alpha_cg:
-        raise InputError(f"`theta0` = {theta0!r} rad is beyond the slenderness α_cg = "
-                         f"{st.alpha_cg:.4f} rad of {st.name!r}: the structure would overturn; "
-                         "release it from a smaller angle")
+        raise InputError(
+            f"`theta0` = {theta0!r} rad is beyond the slenderness α_cg = "
+            f"{st.alpha_cg:.4f} rad of {st.name!r}: the structure would overturn; "
+            "release it from a smaller angle"
+        )
     if hasattr(excitation, "initial_displacement"):
         y[:n] = excitation.initial_displacement(st)
     y[n] = theta0
@@ -324,26 +378,32 @@ class _Plan:
     t_end: float
     options: dict
     cost: object
-    ground: tuple          # (ü_g, duration, breakpoints)
-    start: tuple           # (phase, y0)
-    fast: object = None    # a multimass.fast.FastPath with backend="compiled"
+    ground: tuple  # (ü_g, duration, breakpoints)
+    start: tuple  # (phase, y0)
+    fast: object = None  # a multimass.fast.FastPath with backend="compiled"
 
     def describe(self) -> dict:
         o, model, exc = self.options, self.model, self.excitation
         method = o["method"]
-        return dict(impact=getattr(model, "name", type(model).__name__),
-                    restitution=model.restitution.describe(),
-                    method=method if isinstance(method, str) else method.__name__,
-                    rtol=o["rtol"], atol=o["atol"], max_step=o["max_step"],
-                    theta_dot_min=o["theta_dot_min"], seed=o["seed"],
-                    excitation=exc.describe() if hasattr(exc, "describe") else repr(exc),
-                    backend=o["backend"])
+        return dict(
+            impact=getattr(model, "name", type(model).__name__),
+            restitution=model.restitution.describe(),
+            method=method if isinstance(method, str) else method.__name__,
+            rtol=o["rtol"],
+            atol=o["atol"],
+            max_step=o["max_step"],
+            theta_dot_min=o["theta_dot_min"],
+            seed=o["seed"],
+            excitation=exc.describe() if hasattr(exc, "describe") else repr(exc),
+            backend=o["backend"],
+        )
 
     def run(self, lean: bool):
         """Integrate; a `Response` (or an `Outcome` if `lean`) with the raw status."""
         o = self.options
-        with Progress(self.t_end, f"simulate {self.st.name}", show=o["progress"],
-                      estimate=self.cost.seconds) as bar:
+        with Progress(
+            self.t_end, f"simulate {self.st.name}", show=o["progress"], estimate=self.cost.seconds
+        ) as bar:
             if o["integrator"] == "newmark":
                 return self._newmark(lean)
             run = self._solve_ivp_run()
@@ -351,26 +411,56 @@ class _Plan:
             run.loop(bar.update)
             wall = time.perf_counter() - wall
         if lean:
-            return Outcome(run.status, run.message, run.events, np.array(run.recorder.peaks),
-                           run.n_rhs, wall, energy_balance_error=run.end_balance_error())
-        return run.recorder.response(run.st.name, run.status, run.message, run.events, wall,
-                                     self.describe(), run.n_rhs, run.t_end, run.energy_floor)
+            return Outcome(
+                run.status,
+                run.message,
+                run.events,
+                np.array(run.recorder.peaks),
+                run.n_rhs,
+                wall,
+                energy_balance_error=run.end_balance_error(),
+            )
+        return run.recorder.response(
+            run.st.name,
+            run.status,
+            run.message,
+            run.events,
+            wall,
+            self.describe(),
+            run.n_rhs,
+            run.t_end,
+            run.energy_floor,
+        )
 
     def _solve_ivp_run(self) -> _Run:
         o, st = self.options, self.st
         ag_fn, duration, bps = self.ground
         phase, y = self.start
-        run = _Run(st, self.model, ag_fn, duration, bps, self.t_end, phase, y.copy(), o["seed"],
-                   dict(method=o["method"], rtol=o["rtol"], atol=o["atol"],
-                        max_step=o["max_step"]),
-                   o["theta_dot_min"], o["output_dt"], o["overturn_angle"], o["chatter_window"],
-                   o["chatter_count"], o["stop_at_rest"], o["stop_when_safe"],
-                   energy_floor(st, o["atol"]))
+        run = _Run(
+            st,
+            self.model,
+            ag_fn,
+            duration,
+            bps,
+            self.t_end,
+            phase,
+            y.copy(),
+            o["seed"],
+            dict(method=o["method"], rtol=o["rtol"], atol=o["atol"], max_step=o["max_step"]),
+            o["theta_dot_min"],
+            o["output_dt"],
+            o["overturn_angle"],
+            o["chatter_window"],
+            o["chatter_count"],
+            o["stop_at_rest"],
+            o["stop_when_safe"],
+            energy_floor(st, o["atol"]),
+        )
         if self.fast is not None:
             from .fast import warm_up
 
             run.fast = self.fast
-            warm_up()                   # compile or load once per process, before the clock
+            warm_up()  # compile or load once per process, before the clock
         return run
 
     def _newmark(self, lean: bool):
@@ -378,14 +468,29 @@ class _Plan:
         options = self.describe() | {"backend": None}
         for key in ("method", "rtol", "atol", "max_step"):
             options.pop(key)
-        r = simulate_newmark(self.st, model, self.excitation, self.t_end, dt=o["dt"],
-                             seed=o["seed"], theta_dot_min=o["theta_dot_min"],
-                             overturn_angle=o["overturn_angle"],
-                             stop_when_safe=o["stop_when_safe"], options=options,
-                             floor=energy_floor(self.st, DEFAULTS["atol"]))
+        r = simulate_newmark(
+            self.st,
+            model,
+            self.excitation,
+            self.t_end,
+            dt=o["dt"],
+            seed=o["seed"],
+            theta_dot_min=o["theta_dot_min"],
+            overturn_angle=o["overturn_angle"],
+            stop_when_safe=o["stop_when_safe"],
+            options=options,
+            floor=energy_floor(self.st, DEFAULTS["atol"]),
+        )
         if lean:
-            return Outcome(r.status, r.message, r.events, r.peaks, r.n_rhs, r.wall_time_s,
-                           energy_balance_error=r.energy_balance_error)
+            return Outcome(
+                r.status,
+                r.message,
+                r.events,
+                r.peaks,
+                r.n_rhs,
+                r.wall_time_s,
+                energy_balance_error=r.energy_balance_error,
+            )
         return r
 
 
@@ -403,14 +508,26 @@ def _prepare(structure, excitation, impact, t_end, o: dict) -> _Plan:
         from .fast import FastPath
 
         fast = FastPath.of(st, model, excitation, o["method"], QUIET_DELAY)
-    cost = simulation_cost(st, t_end, method=o["method"], max_step=o["max_step"],
-                           output_dt=o["output_dt"], backend=o["backend"],
-                           integrator=o["integrator"], dt=o["dt"])
+    cost = simulation_cost(
+        st,
+        t_end,
+        method=o["method"],
+        max_step=o["max_step"],
+        output_dt=o["output_dt"],
+        backend=o["backend"],
+        integrator=o["integrator"],
+        dt=o["dt"],
+    )
     duration = ground[1]
-    long_pulse = (f"; the excitation lasts {duration:.3g} s" if math.isfinite(duration)
-                  and duration > 0.5 * t_end else "")
-    cost.check(f"simulate({st.name}, t_end = {t_end:g} s)",
-               "shorten t_end, raise output_dt (or pass output_dt=None), or check the "
-               f"structure's stiffness and the excitation{long_pulse}",
-               max_seconds=o["budget_s"])
+    long_pulse = (
+        f"; the excitation lasts {duration:.3g} s"
+        if math.isfinite(duration) and duration > 0.5 * t_end
+        else ""
+    )
+    cost.check(
+        f"simulate({st.name}, t_end = {t_end:g} s)",
+        "shorten t_end, raise output_dt (or pass output_dt=None), or check the "
+        f"structure's stiffness and the excitation{long_pulse}",
+        max_seconds=o["budget_s"],
+    )
     return _Plan(st, model, excitation, t_end, o, cost, ground, start, fast)

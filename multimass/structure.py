@@ -161,13 +161,18 @@ class Structure:
 
     def derived(self) -> dict[str, float]:
         """The derived parameters of Table 1 (paper 001) as a dict, SI units."""
-        return {"m_t": self.m_t, "J_p": self.J_p, "H_cg": self.H_cg,
-                "alpha_cg": self.alpha_cg, "p_l": self.p_l}
+        return {
+            "m_t": self.m_t,
+            "J_p": self.J_p,
+            "H_cg": self.H_cg,
+            "alpha_cg": self.alpha_cg,
+            "p_l": self.p_l,
+        }
 
 
 def _cut(value, limit: int = 80) -> str:
     text = repr(value)
-    return text if len(text) <= limit else text[:limit - 1] + "…"
+    return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
 def _kind_hint(cls) -> str:
@@ -186,13 +191,17 @@ def _specimen(specimen, cls, builder: str):
     elif hasattr(specimen, "kind") and hasattr(specimen, "name"):
         spec, where = specimen, f"specimen {getattr(specimen, 'name', '?')!r}"
     else:
-        raise InputError(f"`specimen` = {_cut(specimen)}: give a bundled name, the path of a "
-                         f"specimen TOML file or a loaded specimen (specimens.load); `{builder}` "
-                         f"needs a {_kind_hint(cls)}")
+        raise InputError(
+            f"`specimen` = {_cut(specimen)}: give a bundled name, the path of a "
+            f"specimen TOML file or a loaded specimen (specimens.load); `{builder}` "
+            f"needs a {_kind_hint(cls)}"
+        )
     if not isinstance(spec, cls):
-        raise InputError(f"`specimen` = {_cut(getattr(spec, 'name', spec))} is a "
-                         f"{getattr(spec, 'kind', type(spec).__name__)!r} specimen; `{builder}` "
-                         f"needs a {_kind_hint(cls)}")
+        raise InputError(
+            f"`specimen` = {_cut(getattr(spec, 'name', spec))} is a "
+            f"{getattr(spec, 'kind', type(spec).__name__)!r} specimen; `{builder}` "
+            f"needs a {_kind_hint(cls)}"
+        )
     return spec, where
 
 
@@ -238,9 +247,23 @@ def column(specimen: ColumnSpecimen | str, *, E_s: float | None = None) -> Struc
     m = np.asarray(spec.masses, dtype=float)
     C, coeffs = rayleigh_damping(np.diag(m), K, spec.zeta_1, spec.zeta_2)
     check_damping(spec, omega, coeffs, C, where)
-    return check_derived(Structure(name=spec.name, H=np.asarray(spec.heights, dtype=float), m=m,
-                              m0=spec.m0, J0=spec.J0, B=spec.B, g=spec.g, K=K, C=C,
-                              rayleigh=coeffs, K_s=Ks, specimen=spec), where)
+    return check_derived(
+        Structure(
+            name=spec.name,
+            H=np.asarray(spec.heights, dtype=float),
+            m=m,
+            m0=spec.m0,
+            J0=spec.J0,
+            B=spec.B,
+            g=spec.g,
+            K=K,
+            C=C,
+            rayleigh=coeffs,
+            K_s=Ks,
+            specimen=spec,
+        ),
+        where,
+    )
 
 
 def rigid_block(specimen: BlockSpecimen | str) -> Structure:
@@ -264,9 +287,22 @@ def rigid_block(specimen: BlockSpecimen | str) -> Structure:
         if isinstance(x, bool) or not isinstance(x, numbers.Real) or not 0 < x < math.inf:
             raise SpecimenError(f"{where}: `{name}` = {_cut(x)}: must be a finite number > 0")
     empty = np.zeros((0, 0))
-    return check_derived(Structure(name=spec.name, H=np.zeros(0), m=np.zeros(0), m0=spec.mass,
-                              J0=spec.mass * (spec.b**2 + spec.h**2) / 12.0, B=0.5 * spec.b,
-                              g=spec.g, K=empty, C=empty, h0=0.5 * spec.h, specimen=spec), where)
+    return check_derived(
+        Structure(
+            name=spec.name,
+            H=np.zeros(0),
+            m=np.zeros(0),
+            m0=spec.mass,
+            J0=spec.mass * (spec.b**2 + spec.h**2) / 12.0,
+            B=0.5 * spec.b,
+            g=spec.g,
+            K=empty,
+            C=empty,
+            h0=0.5 * spec.h,
+            specimen=spec,
+        ),
+        where,
+    )
 
 
 def from_specimen(specimen) -> Structure:
@@ -292,8 +328,12 @@ def from_specimen(specimen) -> Structure:
     if isinstance(spec, BlockSpecimen):
         return rigid_block(spec)
     if getattr(spec, "kind", None) == "beam":
-        raise InputError(f"`specimen` = {spec.name!r} is a beam: a flexible base for a block "
-                         "(nscd.simulate(block, beam=...), `multimass nscd BLOCK --beam ...`), "
-                         "not a rocking structure; give a column or a block")
-    raise InputError(f"`specimen` = {_cut(specimen)}: give a column or block specimen, a "
-                     f"bundled name ({', '.join(available())}) or the path of a specimen TOML file")
+        raise InputError(
+            f"`specimen` = {spec.name!r} is a beam: a flexible base for a block "
+            "(nscd.simulate(block, beam=...), `multimass nscd BLOCK --beam ...`), "
+            "not a rocking structure; give a column or a block"
+        )
+    raise InputError(
+        f"`specimen` = {_cut(specimen)}: give a column or block specimen, a "
+        f"bundled name ({', '.join(available())}) or the path of a specimen TOML file"
+    )

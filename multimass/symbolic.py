@@ -23,7 +23,7 @@ H moves by ≈ +H θ in x (towards the right pivot for θ > 0).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 import sympy as sp
@@ -38,7 +38,7 @@ class SymbolicRocking:
     """Rocking-phase equations derived from the Lagrangian, A(q) q̈ = b(q, q̇, ü_g, F_i).
 
     ``q = [u_1, …, u_N, θ]``. With d = u − s B 1 (s = ±1 the pivot side) the
-    derivation gives
+    derivation gives::
 
         A = [[M,     M H                              ],
              [Hᵀ M,  J0 + m0 (B² + h0²) + Σ m_i (H_i² + d_i²)]]
@@ -102,7 +102,7 @@ def _to_state_symbols(eqs, qf, xg, ag, t, n):
     q = sp.symbols(f"u1:{n + 1}", real=True) + (sp.Symbol("theta", real=True),)
     qd = sp.symbols(f"ud1:{n + 1}", real=True) + (sp.Symbol("thetad", real=True),)
     qdd = sp.symbols(f"udd1:{n + 1}", real=True) + (sp.Symbol("thetadd", real=True),)
-    subs = [(sp.diff(xg, t, 2), ag)]                       # highest derivatives first
+    subs = [(sp.diff(xg, t, 2), ag)]  # highest derivatives first
     subs += [(sp.diff(f, t, 2), v) for f, v in zip(qf, qdd)]
     subs += [(sp.diff(f, t), v) for f, v in zip(qf, qd)]
     subs += list(zip(qf, q))
@@ -110,18 +110,18 @@ def _to_state_symbols(eqs, qf, xg, ag, t, n):
     out = []
     for e in eqs:
         e = sp.expand(sp.expand(e).subs(subs))
-        e = sp.expand(e.subs(sp.sin(th)**2, 1 - sp.cos(th)**2))   # sin² + cos² = 1
+        e = sp.expand(e.subs(sp.sin(th) ** 2, 1 - sp.cos(th) ** 2))  # sin² + cos² = 1
         if e.has(xg):
             raise RuntimeError(f"x_g or its rate survives in a Lagrange equation: {e}")
         out.append(e)
     return sp.Matrix(out), q, qd, qdd
 
 
-@lru_cache(maxsize=None)
+@cache
 def derive_rocking(n: int, side: int) -> SymbolicRocking:
     """Derive the rocking equations of an N-node structure with Lagrange's equations.
 
-    T = Σ ½ m_i |ṙ_i|² + ½ m0 |ṙ_0|² + ½ J0 θ̇² (absolute velocities, ẋ_g included),
+    T = Σ ½ m_i ``|ṙ_i|²`` + ½ m0 ``|ṙ_0|²`` + ½ J0 θ̇² (absolute velocities, ẋ_g included),
     V = Σ m_i g y_i + m0 g y_0 + ½ uᵀ K u, D = ½ u̇ᵀ C u̇, and the impact force
     F_i as a generalised force by virtual work (see `rocking_system_symbolic`).
     The ground enters only through ẍ_g = ü_g: terms in ẋ_g cancel (checked).
@@ -152,10 +152,9 @@ def derive_rocking(n: int, side: int) -> SymbolicRocking:
     P = sp.Matrix([side * B, 0])
     r = [_place(sp.Matrix([uf[i], H[i]]), P, c, s, xg) for i in range(n)]
     r0 = _place(sp.Matrix([0, h0]), P, c, s, xg)
-    rP2 = _place(sp.Matrix([-side * B, 0]), P, c, s, xg)        # impending pivot P'
+    rP2 = _place(sp.Matrix([-side * B, 0]), P, c, s, xg)  # impending pivot P'
     vel2 = lambda p: sum(sp.diff(p, t).applyfunc(lambda e: e**2))  # noqa: E731
-    T = (sum(m[i] * vel2(r[i]) for i in range(n)) + m0 * vel2(r0)
-         + J0 * sp.diff(thf, t)**2) / 2
+    T = (sum(m[i] * vel2(r[i]) for i in range(n)) + m0 * vel2(r0) + J0 * sp.diff(thf, t) ** 2) / 2
     uvec = sp.Matrix(uf)
     V = sum(m[i] * g * r[i][1] for i in range(n)) + m0 * g * r0[1]
     V += (uvec.T * K * uvec)[0] / 2 if n else 0
@@ -171,10 +170,22 @@ def derive_rocking(n: int, side: int) -> SymbolicRocking:
         raise RuntimeError("Lagrange's equations are not linear in the accelerations")
     pos = {"node0": r0, "P": P, "P'": rP2} | {f"node{i + 1}": r[i] for i in range(n)}
     pos = {k: sp.Matrix(v).subs(list(zip(qf, q))).subs(xg, 0) for k, v in pos.items()}
-    params = {"H": H, "m": m, "m0": m0, "h0": h0, "J0": J0, "B": B, "g": g,
-              "K": K, "C": C, "ag": ag, "F_i": F_i}
-    return SymbolicRocking(n=n, side=side, q=q, qdot=qd, params=params,
-                           mass_matrix=A, forcing=b, positions=pos)
+    params = {
+        "H": H,
+        "m": m,
+        "m0": m0,
+        "h0": h0,
+        "J0": J0,
+        "B": B,
+        "g": g,
+        "K": K,
+        "C": C,
+        "ag": ag,
+        "F_i": F_i,
+    }
+    return SymbolicRocking(
+        n=n, side=side, q=q, qdot=qd, params=params, mass_matrix=A, forcing=b, positions=pos
+    )
 
 
 def _upper(Mat: sp.Matrix) -> list:
@@ -182,18 +193,26 @@ def _upper(Mat: sp.Matrix) -> list:
     return [Mat[i, j] for i in range(n) for j in range(i, n)]
 
 
-@lru_cache(maxsize=None)
+@cache
 def _lambdified(n: int, side: int):
     d = derive_rocking(n, side)
     p = d.params
-    args = (list(d.q) + list(d.qdot) + list(p["H"]) + list(p["m"])
-            + [p["m0"], p["h0"], p["J0"], p["B"], p["g"]]
-            + _upper(p["K"]) + _upper(p["C"]) + [p["ag"], p["F_i"]])
+    args = (
+        list(d.q)
+        + list(d.qdot)
+        + list(p["H"])
+        + list(p["m"])
+        + [p["m0"], p["h0"], p["J0"], p["B"], p["g"]]
+        + _upper(p["K"])
+        + _upper(p["C"])
+        + [p["ag"], p["F_i"]]
+    )
     return sp.lambdify(args, [d.mass_matrix, d.forcing], modules="numpy")
 
 
-def rocking_system_symbolic(structure, side: int, u, theta: float, udot, thetadot: float,
-                            ag: float, F_i: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+def rocking_system_symbolic(
+    structure, side: int, u, theta: float, udot, thetadot: float, ag: float, F_i: float = 0.0
+) -> tuple[np.ndarray, np.ndarray]:
     """A and b of A [ü; θ̈] = b from the symbolic Lagrangian, evaluated numerically.
 
     Same signature as `multimass.eom.rocking_system`. The impact force F_i is
@@ -201,7 +220,7 @@ def rocking_system_symbolic(structure, side: int, u, theta: float, udot, thetado
     R(θ)(0, 1), s the side); its virtual work gives the generalised forces
     Q_u = 0 and Q_θ = −2 B F_i, the convention of paper 001's Eq 5 (+F_i (2B)
     on its left-hand side). A contact force pushing P' off the ground is
-    therefore F_i = −s |F|.
+    therefore F_i = −s ``|F|``.
 
     Parameters
     ----------
@@ -222,8 +241,22 @@ def rocking_system_symbolic(structure, side: int, u, theta: float, udot, thetado
     K = 0.5 * (np.asarray(st.K) + np.asarray(st.K).T) if n else np.zeros((0, 0))
     C = 0.5 * (np.asarray(st.C) + np.asarray(st.C).T) if n else np.zeros((0, 0))
     iu = np.triu_indices(n)
-    args = ([*np.asarray(u, float), float(theta), *np.asarray(udot, float), float(thetadot),
-             *st.H, *st.m, st.m0, st.h0, st.J0, st.B, st.g, *K[iu], *C[iu],
-             float(ag), float(F_i)])
+    args = [
+        *np.asarray(u, float),
+        float(theta),
+        *np.asarray(udot, float),
+        float(thetadot),
+        *st.H,
+        *st.m,
+        st.m0,
+        st.h0,
+        st.J0,
+        st.B,
+        st.g,
+        *K[iu],
+        *C[iu],
+        float(ag),
+        float(F_i),
+    ]
     A, b = f(*args)
     return np.array(A, dtype=float).reshape(n + 1, n + 1), np.array(b, dtype=float).reshape(n + 1)

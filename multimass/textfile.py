@@ -25,14 +25,15 @@ _LISTED = 5
 
 def _cut(value, limit: int = 80) -> str:
     text = repr(value)
-    return text if len(text) <= limit else text[:limit - 1] + "…"
+    return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
 def as_path(value, *, what: str, argument: str = "path") -> Path:
     """`value` as a Path, if it is a non-empty str or os.PathLike; else InputError."""
     if isinstance(value, bytes) or not isinstance(value, (str, os.PathLike)):
-        raise InputError(f"`{argument}` = {_cut(value)}: give the path of {what} (a str or "
-                         "pathlib.Path)")
+        raise InputError(
+            f"`{argument}` = {_cut(value)}: give the path of {what} (a str or pathlib.Path)"
+        )
     text = os.fspath(value)
     if not isinstance(text, str) or not text.strip() or "\0" in text:
         raise InputError(f"`{argument}` = {_cut(text)}: not a usable path; give the path of {what}")
@@ -41,8 +42,11 @@ def as_path(value, *, what: str, argument: str = "path") -> Path:
 
 def _files_in(folder: Path, suffixes: tuple[str, ...]) -> str:
     try:
-        names = sorted(p.name for p in folder.iterdir()
-                       if p.is_file() and (not suffixes or p.suffix.lower() in suffixes))
+        names = sorted(
+            p.name
+            for p in folder.iterdir()
+            if p.is_file() and (not suffixes or p.suffix.lower() in suffixes)
+        )
     except OSError:
         return ""
     if not names:
@@ -51,8 +55,7 @@ def _files_in(folder: Path, suffixes: tuple[str, ...]) -> str:
     return f" (files there: {', '.join(names[:_LISTED])}{more})"
 
 
-def read_text(path, *, what: str, argument: str = "path",
-              suffixes: tuple[str, ...] = ()) -> str:
+def read_text(path, *, what: str, argument: str = "path", suffixes: tuple[str, ...] = ()) -> str:
     """The text of a UTF-8 file (a leading byte-order mark is dropped).
 
     Parameters
@@ -85,16 +88,21 @@ def read_text(path, *, what: str, argument: str = "path",
     except FileNotFoundError:
         raise InputError(f"{where}: no such file; give {what}") from None
     except OSError as exc:
-        raise InputError(f"{where}: cannot be read ({exc.strerror or exc}); give a readable "
-                         f"file: {what}") from None
+        raise InputError(
+            f"{where}: cannot be read ({exc.strerror or exc}); give a readable file: {what}"
+        ) from None
     if not data.strip():
         raise InputError(f"{where}: the file is empty; give {what}")
     nul = data.find(b"\0")
     if nul >= 0:
-        raise InputError(f"{where}: a binary file (NUL byte at offset {nul}), not text; give {what}")
+        raise InputError(
+            f"{where}: a binary file (NUL byte at offset {nul}), not text; give {what}"
+        )
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        line = data[:exc.start].count(b"\n") + 1
-        raise InputError(f"{where}: not UTF-8 text (byte 0x{data[exc.start]:02x} on line {line}); "
-                         f"save it as UTF-8 (or plain ASCII) and give {what}") from None
+        line = data[: exc.start].count(b"\n") + 1
+        raise InputError(
+            f"{where}: not UTF-8 text (byte 0x{data[exc.start]:02x} on line {line}); "
+            f"save it as UTF-8 (or plain ASCII) and give {what}"
+        ) from None

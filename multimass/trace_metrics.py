@@ -49,7 +49,7 @@ class ChannelMetrics:
     nrmse : float or None
         rms_error / rms_measured (None if the measured signal is identically 0).
     peak_measured, peak_simulated : float
-        max |meas| and max |sim| on the trace's samples in the overlap.
+        ``max |meas|`` and ``max |sim|`` on the trace's samples in the overlap.
     peak_error : float
         peak_simulated − peak_measured (signed: > 0 when the simulation over-predicts).
     peak_error_rel : float or None
@@ -89,27 +89,37 @@ def _structure(structure):
 
 def _check_trace(trace) -> None:
     if not isinstance(trace, Trace):
-        raise InputError(f"`trace` = {trace!r:.60}: give a Trace, e.g. "
-                         "multimass.traces.read_trace('test.csv')")
+        raise InputError(
+            f"`trace` = {trace!r:.60}: give a Trace, e.g. multimass.traces.read_trace('test.csv')"
+        )
 
 
 def _check_response(response) -> pd.DataFrame:
     """The recorded series of a simulation result; InputError for anything else."""
     df = getattr(response, "series", None)
     if not isinstance(df, pd.DataFrame) or "t" not in df.columns:
-        raise InputError(f"`response` = {response!r:.60}: give the result of multimass.simulate "
-                         "(a Response with a recorded series)")
+        raise InputError(
+            f"`response` = {response!r:.60}: give the result of multimass.simulate "
+            "(a Response with a recorded series)"
+        )
     if df.empty or len(df) < 2:
-        raise InputError("`response` has no recorded series: simulate with `output_dt` set "
-                         "(e.g. the default 1e-3 s)")
+        raise InputError(
+            "`response` has no recorded series: simulate with `output_dt` set "
+            "(e.g. the default 1e-3 s)"
+        )
     return df
 
 
 def _check_offset(t_offset) -> float:
-    if isinstance(t_offset, bool) or not isinstance(t_offset, numbers.Real) \
-            or not math.isfinite(t_offset):
-        raise InputError(f"`t_offset` = {t_offset!r:.60}: give the trace time of the "
-                         "simulation's t = 0 in s (a finite number, e.g. trace.time[0])")
+    if (
+        isinstance(t_offset, bool)
+        or not isinstance(t_offset, numbers.Real)
+        or not math.isfinite(t_offset)
+    ):
+        raise InputError(
+            f"`t_offset` = {t_offset!r:.60}: give the trace time of the "
+            "simulation's t = 0 in s (a finite number, e.g. trace.time[0])"
+        )
     return float(t_offset)
 
 
@@ -135,18 +145,22 @@ def channel_columns(trace: Trace, structure) -> dict[str, str]:
             continue
         where = f"{trace.source}, column `{name}`"
         if st.n == 0:
-            raise InputError(f"{where}: {st.name!r} is a rigid block without elastic nodes, so "
-                             f"only `theta` can be compared; remove the acceleration column")
+            raise InputError(
+                f"{where}: {st.name!r} is a rigid block without elastic nodes, so "
+                f"only `theta` can be compared; remove the acceleration column"
+            )
         node = kind[1]
         if kind[0] == "sensor":
             try:
                 node = st.specimen.sensor_node(kind[1])
             except ValueError as err:
-                raise InputError(f"{where}: {err}; or name the node instead: a<k> or "
-                                 f"a_node<k> (k = 1..{st.n})") from None
+                raise InputError(
+                    f"{where}: {err}; or name the node instead: a<k> or a_node<k> (k = 1..{st.n})"
+                ) from None
         if not 1 <= node <= st.n:
-            raise InputError(f"{where}: node {node} does not exist; {st.name!r} has nodes "
-                             f"1..{st.n}")
+            raise InputError(
+                f"{where}: node {node} does not exist; {st.name!r} has nodes 1..{st.n}"
+            )
         out[name] = f"a{node}"
     return out
 
@@ -191,20 +205,26 @@ def align(trace: Trace, response, structure, name: str, *, t_offset: float = 0.0
     df = _check_response(response)
     t_offset = _check_offset(t_offset)
     if not isinstance(name, str) or name not in trace.channels:
-        raise InputError(f"`name` = {name!r:.60}: not a channel of {trace.source}; channels: "
-                         f"{', '.join(trace.channels)}")
+        raise InputError(
+            f"`name` = {name!r:.60}: not a channel of {trace.source}; channels: "
+            f"{', '.join(trace.channels)}"
+        )
     column = channel_columns(trace, structure)[name]
     if column not in df.columns:
-        raise InputError(f"`response` has no column {column!r} for channel `{name}`: was it "
-                         f"simulated with `structure` ({_structure(structure).name!r})?")
+        raise InputError(
+            f"`response` has no column {column!r} for channel `{name}`: was it "
+            f"simulated with `structure` ({_structure(structure).name!r})?"
+        )
     tau = df["t"].to_numpy(dtype=float) + t_offset
     tol = 1e-9 * max(1.0, abs(tau[-1]))
     mask = (trace.time >= tau[0] - tol) & (trace.time <= tau[-1] + tol)
     if np.count_nonzero(mask) < 2:
-        raise InputError(f"{trace.source}: fewer than 2 samples of the trace ([{trace.time[0]:g}, "
-                         f"{trace.time[-1]:g}] s) fall in the simulation's span ([{tau[0]:g}, "
-                         f"{tau[-1]:g}] s on the trace's clock, `t_offset` = {t_offset:g} s); "
-                         f"check `t_offset` and the simulation's `t_end`")
+        raise InputError(
+            f"{trace.source}: fewer than 2 samples of the trace ([{trace.time[0]:g}, "
+            f"{trace.time[-1]:g}] s) fall in the simulation's span ([{tau[0]:g}, "
+            f"{tau[-1]:g}] s on the trace's clock, `t_offset` = {t_offset:g} s); "
+            f"check `t_offset` and the simulation's `t_end`"
+        )
     t = trace.time[mask]
     sim = _interp(tau, df[column].to_numpy(dtype=float), np.clip(t, tau[0], tau[-1]))
     return t, np.asarray(trace.channels[name][mask]), sim
@@ -216,8 +236,9 @@ def _rms(t: np.ndarray, e: np.ndarray) -> float:
     return math.sqrt(float(np.sum(0.5 * (e2[1:] + e2[:-1]) * np.diff(t))) / float(t[-1] - t[0]))
 
 
-def compare_trace(trace: Trace, response, structure, *,
-                  t_offset: float = 0.0) -> dict[str, ChannelMetrics]:
+def compare_trace(
+    trace: Trace, response, structure, *, t_offset: float = 0.0
+) -> dict[str, ChannelMetrics]:
     """Error metrics of a simulation against every channel of a recorded trace.
 
     Parameters
@@ -258,12 +279,21 @@ def compare_trace(trace: Trace, response, structure, *,
         i_m, i_s = int(np.argmax(np.abs(meas))), int(np.argmax(np.abs(sim)))
         p_m, p_s = float(abs(meas[i_m])), float(abs(sim[i_s]))
         out[name] = ChannelMetrics(
-            channel=name, column=columns[name], units=trace.si_units(name),
-            t_start=float(t[0]), t_end=float(t[-1]), n_samples=int(t.size),
-            rms_error=rms_err, rms_measured=rms_meas,
+            channel=name,
+            column=columns[name],
+            units=trace.si_units(name),
+            t_start=float(t[0]),
+            t_end=float(t[-1]),
+            n_samples=int(t.size),
+            rms_error=rms_err,
+            rms_measured=rms_meas,
             nrmse=rms_err / rms_meas if rms_meas > 0.0 else None,
-            peak_measured=p_m, peak_simulated=p_s, peak_error=p_s - p_m,
+            peak_measured=p_m,
+            peak_simulated=p_s,
+            peak_error=p_s - p_m,
             peak_error_rel=(p_s - p_m) / p_m if p_m > 0.0 else None,
-            t_peak_measured=float(t[i_m]), t_peak_simulated=float(t[i_s]),
-            peak_time_shift_s=float(t[i_s] - t[i_m]))
+            t_peak_measured=float(t[i_m]),
+            t_peak_simulated=float(t[i_s]),
+            peak_time_shift_s=float(t[i_s] - t[i_m]),
+        )
     return out

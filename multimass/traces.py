@@ -41,14 +41,22 @@ from .units import G, canonical_units, to_mps2
 __all__ = ["Trace", "read_trace", "ACCEPTED_COLUMNS"]
 
 #: What a header may contain (shown in error messages).
-ACCEPTED_COLUMNS = ("`t [s]` or `time [s]` (s or ms); `theta [rad]` (rad or deg); "
-                    "`a_<sensor> [g]` (e.g. a_A2), `a<k>` or `a_node<k>` (1-based node k) "
-                    "in g, m/s2, cm/s2 (gal) or mm/s2")
+ACCEPTED_COLUMNS = (
+    "`t [s]` or `time [s]` (s or ms); `theta [rad]` (rad or deg); "
+    "`a_<sensor> [g]` (e.g. a_A2), `a<k>` or `a_node<k>` (1-based node k) "
+    "in g, m/s2, cm/s2 (gal) or mm/s2"
+)
 
 _WHAT = "a trace CSV file with units in its header, e.g. `t [s],theta [deg],a_A2 [g]`"
 _TIME_UNITS = {"s": 1.0, "sec": 1.0, "ms": 1e-3}
-_ANGLE_UNITS = {"rad": 1.0, "radian": 1.0, "radians": 1.0,
-                "deg": math.pi / 180.0, "degree": math.pi / 180.0, "degrees": math.pi / 180.0}
+_ANGLE_UNITS = {
+    "rad": 1.0,
+    "radian": 1.0,
+    "radians": 1.0,
+    "deg": math.pi / 180.0,
+    "degree": math.pi / 180.0,
+    "degrees": math.pi / 180.0,
+}
 _HEADER_CELL = re.compile(r"^\s*([^\[\]()]*?)\s*(?:[\[(]\s*([^\[\]()]*?)\s*[\])])?\s*$")
 _NODE = re.compile(r"^a(?:_node)?(\d+)$", re.IGNORECASE)
 _SENSOR = re.compile(r"^a_(\w+)$", re.IGNORECASE)
@@ -74,14 +82,18 @@ def _si_factor(name: str, kind, unit, where: str, g: float) -> float:
         table, si = (_TIME_UNITS, "s") if kind[0] == "time" else (_ANGLE_UNITS, "rad")
         accepted = "s, ms" if kind[0] == "time" else "rad, deg"
         if not unit:
-            raise InputError(f"{where}: column `{name}` has no unit (units are never guessed): "
-                             f"write it as `{name} [{si}]`; accepted units: {accepted}")
+            raise InputError(
+                f"{where}: column `{name}` has no unit (units are never guessed): "
+                f"write it as `{name} [{si}]`; accepted units: {accepted}"
+            )
         if unit.lower() not in table:
             raise InputError(f"{where}: column `{name}` has unit {unit!r}; accepted: {accepted}")
         return table[unit.lower()]
     if not unit:
-        raise InputError(f"{where}: column `{name}` has no unit (units are never guessed): "
-                         f"write it as `{name} [g]`; accepted units: g, m/s2, cm/s2 (gal), mm/s2")
+        raise InputError(
+            f"{where}: column `{name}` has no unit (units are never guessed): "
+            f"write it as `{name} [g]`; accepted units: g, m/s2, cm/s2 (gal), mm/s2"
+        )
     try:
         return to_mps2(1.0, canonical_units(unit, argument=name), g=g)
     except InputError as err:
@@ -99,19 +111,25 @@ def _check(time, channels, source, lines=None) -> None:
         raise InputError(f"{source}: {time.size} sample(s); a trace needs at least 2 rows")
     for name, values in (("time", time), *channels.items()):
         if values.shape != time.shape:
-            raise InputError(f"{source}: column `{name}` has shape {values.shape}, the time "
-                             f"column {time.shape}: give one value per time")
+            raise InputError(
+                f"{source}: column `{name}` has shape {values.shape}, the time "
+                f"column {time.shape}: give one value per time"
+            )
         bad = np.flatnonzero(~np.isfinite(values))
         if bad.size:
             k = int(bad[0])
-            raise InputError(f"{_where(source, lines, k)}, column `{name}`: value "
-                             f"{float(values[k])!r} is not a finite number; fix or remove the row")
+            raise InputError(
+                f"{_where(source, lines, k)}, column `{name}`: value "
+                f"{float(values[k])!r} is not a finite number; fix or remove the row"
+            )
     bad = np.flatnonzero(np.diff(time) <= 0.0)
     if bad.size:
         k = int(bad[0]) + 1
-        raise InputError(f"{_where(source, lines, k)}, column `time`: t = {float(time[k])!r} s "
-                         f"does not increase (previous row t = {float(time[k - 1])!r} s); times "
-                         f"must be strictly increasing: sort the rows or remove duplicates")
+        raise InputError(
+            f"{_where(source, lines, k)}, column `time`: t = {float(time[k])!r} s "
+            f"does not increase (previous row t = {float(time[k - 1])!r} s); times "
+            f"must be strictly increasing: sort the rows or remove duplicates"
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -148,23 +166,33 @@ class Trace:
             raise InputError(f"Trace: `source` = {self.source!r:.60}: give a string")
         for label in ("channels", "units"):
             if not isinstance(getattr(self, label), Mapping):
-                raise InputError(f"{self.source}: `{label}` = {getattr(self, label)!r:.60}: give a "
-                                 f"mapping of channel name to {'values' if label == 'channels' else 'unit'}")
+                raise InputError(
+                    f"{self.source}: `{label}` = {getattr(self, label)!r:.60}: give a "
+                    f"mapping of channel name to {'values' if label == 'channels' else 'unit'}"
+                )
         if not isinstance(self.time_units, str):
-            raise InputError(f"{self.source}: `time_units` = {self.time_units!r:.60}; accepted: s, ms")
+            raise InputError(
+                f"{self.source}: `time_units` = {self.time_units!r:.60}; accepted: s, ms"
+            )
         g = finite_float(self.g)
         if g is None or g <= 0.0:
-            raise InputError(f"{self.source}: `g` = {self.g!r:.60}: give the acceleration of gravity "
-                             "in m/s^2 (a finite number > 0, e.g. 9.81)")
+            raise InputError(
+                f"{self.source}: `g` = {self.g!r:.60}: give the acceleration of gravity "
+                "in m/s^2 (a finite number > 0, e.g. 9.81)"
+            )
         object.__setattr__(self, "g", g)
         time = float_array(self.source, "time", self.time).copy()
-        chans = {str(k): float_array(self.source, f"channels[{k!r}]", v).copy()
-                 for k, v in self.channels.items()}
+        chans = {
+            str(k): float_array(self.source, f"channels[{k!r}]", v).copy()
+            for k, v in self.channels.items()
+        }
         units = {str(k): v for k, v in self.units.items()}
         bad = next((k for k, v in units.items() if not isinstance(v, str)), None)
         if bad is not None:
-            raise InputError(f"{self.source}: `units[{bad!r}]` = {units[bad]!r:.60}: give the unit "
-                             "as a string, e.g. 'deg' or 'g'")
+            raise InputError(
+                f"{self.source}: `units[{bad!r}]` = {units[bad]!r:.60}: give the unit "
+                "as a string, e.g. 'deg' or 'g'"
+            )
         if not chans:
             raise InputError(f"{self.source}: no channel; accepted columns: {ACCEPTED_COLUMNS}")
         if str(self.time_units).lower() not in _TIME_UNITS:
@@ -173,8 +201,9 @@ class Trace:
         for name in chans:
             kind = _kind(name)
             if kind is None or kind[0] == "time":
-                raise InputError(f"{self.source}: unknown channel `{name}`; accepted columns: "
-                                 f"{ACCEPTED_COLUMNS}")
+                raise InputError(
+                    f"{self.source}: unknown channel `{name}`; accepted columns: {ACCEPTED_COLUMNS}"
+                )
             factors[name] = _si_factor(name, kind, units.get(name), self.source, self.g)
         _check(time, chans, self.source)
         for arr in (time, *chans.values()):
@@ -206,8 +235,10 @@ class Trace:
         """The free release matching the trace: θ0 = θ at the first sample, at rest."""
         theta = next((v for k, v in self.channels.items() if _kind(k)[0] == "theta"), None)
         if theta is None:
-            raise InputError(f"{self.source}: no `theta` column, so the release angle is unknown; "
-                             f"give the excitation (e.g. FreeRelease(theta0=...)) explicitly")
+            raise InputError(
+                f"{self.source}: no `theta` column, so the release angle is unknown; "
+                f"give the excitation (e.g. FreeRelease(theta0=...)) explicitly"
+            )
         return FreeRelease(theta0=float(theta[0]))
 
 
@@ -238,27 +269,36 @@ def read_trace(path, *, g: float = G) -> Trace:
     """
     g_value = finite_float(g)
     if g_value is None or g_value <= 0.0:
-        raise InputError(f"`g` = {g!r:.60}: give the acceleration of gravity in m/s^2 (a finite "
-                         "number > 0, e.g. 9.81)")
+        raise InputError(
+            f"`g` = {g!r:.60}: give the acceleration of gravity in m/s^2 (a finite "
+            "number > 0, e.g. 9.81)"
+        )
     g = g_value
     source = str(as_path(path, what=_WHAT))
     text = read_text(path, what=_WHAT, suffixes=(".csv", ".txt"))
     rows = [(n, line.strip()) for n, line in enumerate(text.splitlines(), start=1)]
     rows = [(n, line) for n, line in rows if line and not line.startswith("#")]
     if not rows:
-        raise InputError(f"{source}: empty file; expected a header such as "
-                         f"`t [s],theta [rad],a_A2 [g]` and rows of numbers")
+        raise InputError(
+            f"{source}: empty file; expected a header such as "
+            f"`t [s],theta [rad],a_A2 [g]` and rows of numbers"
+        )
     header_line, header = rows[0]
     names, factors, written = _parse_header(header, f"{source}, line {header_line}", g)
     values, linenos = _parse_rows(rows[1:], names, source)
-    with np.errstate(over="ignore"):      # a value x its unit beyond the float range: _check
+    with np.errstate(over="ignore"):  # a value x its unit beyond the float range: _check
         data = np.array(values, dtype=float).reshape(len(values), len(names)) * np.array(factors)
     i_time = next(i for i, name in enumerate(names) if _kind(name)[0] == "time")
     chans = {name: data[:, i] for i, name in enumerate(names) if i != i_time}
     _check(data[:, i_time], chans, source, linenos)
-    return Trace(time=data[:, i_time], channels=chans,
-                 units={k: written[k] for k in chans}, source=source,
-                 time_units=written[names[i_time]], g=g)
+    return Trace(
+        time=data[:, i_time],
+        channels=chans,
+        units={k: written[k] for k in chans},
+        source=source,
+        time_units=written[names[i_time]],
+        g=g,
+    )
 
 
 def _parse_rows(rows, names: list[str], source: str) -> tuple[list[list[float]], list[int]]:
@@ -267,15 +307,19 @@ def _parse_rows(rows, names: list[str], source: str) -> tuple[list[list[float]],
     for n, line in rows:
         cells = [c.strip() for c in line.split(",")]
         if len(cells) != len(names):
-            raise InputError(f"{source}, line {n}: {len(cells)} cell(s) but the header has "
-                             f"{len(names)} columns ({', '.join(names)})")
+            raise InputError(
+                f"{source}, line {n}: {len(cells)} cell(s) but the header has "
+                f"{len(names)} columns ({', '.join(names)})"
+            )
         row = []
         for name, cell in zip(names, cells):
             try:
                 row.append(float(cell))
             except ValueError:
-                raise InputError(f"{source}, line {n}, column `{name}`: cannot read {cell!r} "
-                                 f"as a number; fix the value or comment the row out with #") from None
+                raise InputError(
+                    f"{source}, line {n}, column `{name}`: cannot read {cell!r} "
+                    f"as a number; fix the value or comment the row out with #"
+                ) from None
         values.append(row)
         linenos.append(n)
     return values, linenos
@@ -288,12 +332,15 @@ def _parse_header(header: str, where: str, g: float):
         m = _HEADER_CELL.match(cell)
         name, unit = (m.group(1), m.group(2)) if m else (cell.strip(), None)
         if not name:
-            raise InputError(f"{where}: column {col} has no name; accepted columns: "
-                             f"{ACCEPTED_COLUMNS}")
+            raise InputError(
+                f"{where}: column {col} has no name; accepted columns: {ACCEPTED_COLUMNS}"
+            )
         kind = _kind(name)
         if kind is None:
-            raise InputError(f"{where}: unknown column `{name}` (column {col}); accepted "
-                             f"columns: {ACCEPTED_COLUMNS}")
+            raise InputError(
+                f"{where}: unknown column `{name}` (column {col}); accepted "
+                f"columns: {ACCEPTED_COLUMNS}"
+            )
         if name.lower() in (n.lower() for n in names):
             raise InputError(f"{where}: column `{name}` appears twice; keep one")
         factors.append(_si_factor(name, kind, unit, where, g))
@@ -301,9 +348,12 @@ def _parse_header(header: str, where: str, g: float):
         written[name] = unit
     times = [n for n in names if _kind(n)[0] == "time"]
     if len(times) != 1:
-        raise InputError(f"{where}: {'no' if not times else 'more than one'} time column "
-                         f"(`t [s]` or `time [s]`); give exactly one")
+        raise InputError(
+            f"{where}: {'no' if not times else 'more than one'} time column "
+            f"(`t [s]` or `time [s]`); give exactly one"
+        )
     if len(names) < 2:
-        raise InputError(f"{where}: no channel column besides time; accepted columns: "
-                         f"{ACCEPTED_COLUMNS}")
+        raise InputError(
+            f"{where}: no channel column besides time; accepted columns: {ACCEPTED_COLUMNS}"
+        )
     return names, factors, written

@@ -30,17 +30,30 @@ _FACTORS = {"g": None, "m/s2": 1.0, "cm/s2": 0.01, "mm/s2": 0.001}
 # accepted spelling (lower case, no blanks) -> canonical name
 _ALIASES = {
     "g": "g",
-    "m/s2": "m/s2", "m/s^2": "m/s2", "m/s²": "m/s2", "mps2": "m/s2", "m/s/s": "m/s2",
-    "m/sec2": "m/s2", "m/sec/sec": "m/s2",
-    "cm/s2": "cm/s2", "cm/s^2": "cm/s2", "cm/s²": "cm/s2", "gal": "cm/s2", "cm/s/s": "cm/s2",
-    "cm/sec2": "cm/s2", "cm/sec/sec": "cm/s2",
-    "mm/s2": "mm/s2", "mm/s^2": "mm/s2", "mm/s²": "mm/s2", "mm/s/s": "mm/s2",
+    "m/s2": "m/s2",
+    "m/s^2": "m/s2",
+    "m/s²": "m/s2",
+    "mps2": "m/s2",
+    "m/s/s": "m/s2",
+    "m/sec2": "m/s2",
+    "m/sec/sec": "m/s2",
+    "cm/s2": "cm/s2",
+    "cm/s^2": "cm/s2",
+    "cm/s²": "cm/s2",
+    "gal": "cm/s2",
+    "cm/s/s": "cm/s2",
+    "cm/sec2": "cm/s2",
+    "cm/sec/sec": "cm/s2",
+    "mm/s2": "mm/s2",
+    "mm/s^2": "mm/s2",
+    "mm/s²": "mm/s2",
+    "mm/s/s": "mm/s2",
 }
 
 #: The canonical unit names accepted everywhere (aliases are listed in `canonical_units`).
 UNITS = tuple(_FACTORS)
 
-_ACCEPTED = ("g, m/s2 (or m/s^2, mps2), cm/s2 (or cm/s^2, gal), mm/s2 (or mm/s^2)")
+_ACCEPTED = "g, m/s2 (or m/s^2, mps2), cm/s2 (or cm/s^2, gal), mm/s2 (or mm/s^2)"
 
 # a signed decimal number, optionally with exponent, then the rest (the unit)
 _NUMBER_UNIT = re.compile(r"^\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*(.*?)\s*$")
@@ -57,14 +70,17 @@ def canonical_units(units: str, *, argument: str = "units") -> str:
         If `units` is missing or not one of the accepted spellings.
     """
     if units is None:
-        raise InputError(f"`{argument}` is missing: give the units explicitly "
-                         f"(they are never guessed); accepted: {_ACCEPTED}")
+        raise InputError(
+            f"`{argument}` is missing: give the units explicitly "
+            f"(they are never guessed); accepted: {_ACCEPTED}"
+        )
     if not isinstance(units, str):
         raise InputError(f"`{argument}` = {units!r}: expected a string; accepted: {_ACCEPTED}")
     key = "".join(units.split()).lower()
     if key not in _ALIASES:
-        raise InputError(f"`{argument}` = {units!r}: unknown acceleration unit; "
-                         f"accepted: {_ACCEPTED}")
+        raise InputError(
+            f"`{argument}` = {units!r}: unknown acceleration unit; accepted: {_ACCEPTED}"
+        )
     return _ALIASES[key]
 
 
@@ -93,8 +109,9 @@ def to_mps2(value, units: str, *, g: float = G):
     return np.asarray(value, dtype=float) * factor
 
 
-def parse_acceleration(text, default_units: str | None = None, *, g: float = G,
-                       argument: str = "acceleration") -> float:
+def parse_acceleration(
+    text, default_units: str | None = None, *, g: float = G, argument: str = "acceleration"
+) -> float:
     """Parse an acceleration such as ``"0.4g"``, ``"3.5m/s2"`` or ``"350gal"`` into m/s².
 
     Parameters
@@ -126,8 +143,10 @@ def parse_acceleration(text, default_units: str | None = None, *, g: float = G,
     elif isinstance(text, str):
         match = _NUMBER_UNIT.match(text)
         if match is None:
-            raise InputError(f"`{argument}` = {text!r}: expected a number followed by a unit, "
-                             f"e.g. 0.4g, 3.5m/s2 or 350gal; accepted units: {_ACCEPTED}")
+            raise InputError(
+                f"`{argument}` = {text!r}: expected a number followed by a unit, "
+                f"e.g. 0.4g, 3.5m/s2 or 350gal; accepted units: {_ACCEPTED}"
+            )
         number, unit = float(match.group(1)), match.group(2)
     else:
         raise InputError(f"`{argument}` = {text!r}: expected a string such as '0.4g'")
@@ -135,12 +154,15 @@ def parse_acceleration(text, default_units: str | None = None, *, g: float = G,
         raise InputError(f"`{argument}` = {text!r}: expected a finite number")
     if not unit:
         if default_units is None:
-            raise InputError(f"`{argument}` = {text!r}: a bare number has no units; "
-                             f"write e.g. {number:g}g or {number:g}m/s2")
+            raise InputError(
+                f"`{argument}` = {text!r}: a bare number has no units; "
+                f"write e.g. {number:g}g or {number:g}m/s2"
+            )
         unit = default_units
     try:
         name = canonical_units(unit, argument=argument)
     except InputError:
-        raise InputError(f"`{argument}` = {text!r}: unknown unit {unit!r}; "
-                         f"accepted: {_ACCEPTED}") from None
+        raise InputError(
+            f"`{argument}` = {text!r}: unknown unit {unit!r}; accepted: {_ACCEPTED}"
+        ) from None
     return to_mps2(number, name, g=g)

@@ -26,9 +26,17 @@ def _is_real(value: Any) -> bool:
     return isinstance(value, numbers.Real) and not isinstance(value, bool)
 
 
-def number(name: str, value: Any, *, low: float | None = None, high: float | None = None,
-           low_open: bool = False, high_open: bool = False, allow_inf: bool = False,
-           what: str = "") -> float:
+def number(
+    name: str,
+    value: Any,
+    *,
+    low: float | None = None,
+    high: float | None = None,
+    low_open: bool = False,
+    high_open: bool = False,
+    allow_inf: bool = False,
+    what: str = "",
+) -> float:
     """A real number (not a bool or a string) within optional bounds, as a float.
 
     Parameters
@@ -52,7 +60,7 @@ def number(name: str, value: Any, *, low: float | None = None, high: float | Non
         raise InputError(f"`{name}` = {value!r}: expected a number{about}")
     try:
         x = float(value)
-    except OverflowError:                    # an int beyond the float range, e.g. 10**400
+    except OverflowError:  # an int beyond the float range, e.g. 10**400
         x = math.inf
     if math.isnan(x) or (math.isinf(x) and not allow_inf):
         kind = "a number, not NaN" if allow_inf else "a finite number"
@@ -71,16 +79,16 @@ def positive(name: str, value: Any, what: str = "", *, allow_inf: bool = False) 
     return number(name, value, low=0.0, low_open=True, allow_inf=allow_inf, what=what)
 
 
-def integer(name: str, value: Any, *, low: int | None = None, high: int | None = None,
-            what: str = "") -> int:
+def integer(
+    name: str, value: Any, *, low: int | None = None, high: int | None = None, what: str = ""
+) -> int:
     """An integer (int or numpy integer; not a bool, a float or a string) within bounds."""
     about = f" ({what})" if what else ""
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
         raise InputError(f"`{name}` = {value!r}: expected a whole number{about}")
     n = int(value)
     if (low is not None and n < low) or (high is not None and n > high):
-        bounds = (f"≥ {low}" if high is None else f"≤ {high}" if low is None
-                  else f"in {low}..{high}")
+        bounds = f"≥ {low}" if high is None else f"≤ {high}" if low is None else f"in {low}..{high}"
         raise InputError(f"`{name}` = {value!r}: must be {bounds}{about}")
     return n
 

@@ -10,9 +10,11 @@ validated on loading — its type, its sign and its physical plausibility
 1.93
 """
 
-if __name__ != "multimass.specimens":          # one import name (pyproject: package-dir)
-    raise ImportError(f"this folder installs as `multimass.specimens`; import that, not "
-                      f"`{__name__}` (is the repository's root on sys.path before site-packages?)")
+if __name__ != "multimass.specimens":  # one import name (pyproject: package-dir)
+    raise ImportError(
+        f"this folder installs as `multimass.specimens`; import that, not "
+        f"`{__name__}` (is the repository's root on sys.path before site-packages?)"
+    )
 
 from .beam import BeamSpecimen
 from .block import BlockReference, BlockSpecimen

@@ -94,14 +94,17 @@ def _mode_numbers(source: str, value, n_elements: int) -> tuple[int, int]:
     """
     field = "damping.modes"
     n_modes = 3 * n_elements
-    ok = (isinstance(value, (list, tuple)) and len(value) == 2
-          and all(isinstance(v, int) and not isinstance(v, bool) and 1 <= v <= n_modes
-                  for v in value))
+    ok = (
+        isinstance(value, (list, tuple))
+        and len(value) == 2
+        and all(isinstance(v, int) and not isinstance(v, bool) and 1 <= v <= n_modes for v in value)
+    )
     if not ok or value[0] >= value[1]:
         raise SpecimenError(
             f"{source}: `{field}` = {show(value)}: give two increasing 1-based mode numbers "
             f"within the {n_modes} modes of the {n_elements}-element mesh, e.g. [1, 3] "
-            "(paper 002, Section 6)")
+            "(paper 002, Section 6)"
+        )
     return int(value[0]), int(value[1])
 
 
@@ -112,10 +115,11 @@ MAX_ELEMENTS = 1000
 
 
 def _n_elements(source: str, value) -> int:
-    if (isinstance(value, bool) or not isinstance(value, int) or not 3 <= value <= MAX_ELEMENTS):
+    if isinstance(value, bool) or not isinstance(value, int) or not 3 <= value <= MAX_ELEMENTS:
         raise SpecimenError(
             f"{source}: `mesh.n_elements` = {show(value)}: give an integer in 3..{MAX_ELEMENTS} "
-            "(paper 002 uses 3, 6 and 12)")
+            "(paper 002 uses 3, 6 and 12)"
+        )
     return int(value)
 
 
@@ -136,8 +140,7 @@ def beam_from_mapping(data: Mapping, source: str) -> BeamSpecimen:
     geo = table(source, data, "geometry")
     check_keys(source, "geometry", geo, {"span_m", "section_width_m", "section_height_m"})
     mat = table(source, data, "material")
-    check_keys(source, "material", mat,
-               {"youngs_modulus_Pa", "poisson_ratio", "density_kg_per_m3"})
+    check_keys(source, "material", mat, {"youngs_modulus_Pa", "poisson_ratio", "density_kg_per_m3"})
     con = table(source, data, "contact")
     check_keys(source, "contact", con, {"friction_coefficient"})
     damp = table(source, data, "damping")
@@ -148,21 +151,46 @@ def beam_from_mapping(data: Mapping, source: str) -> BeamSpecimen:
     n_elements = _n_elements(source, mesh["n_elements"])
     ratios = damp["ratios"]
     if not isinstance(ratios, (list, tuple)) or len(ratios) != 2:
-        raise SpecimenError(f"{source}: `damping.ratios` = {show(ratios)}: give two fractions of "
-                            "critical damping, e.g. [0.05, 0.2]")
-    zetas = tuple(number(source, f"damping.ratios[{i}]", z, low=0.0, high=1.0, high_open=True,
-                         what="fractions of critical damping, e.g. 0.05 for 5 %")
-                  for i, z in enumerate(ratios))
+        raise SpecimenError(
+            f"{source}: `damping.ratios` = {show(ratios)}: give two fractions of "
+            "critical damping, e.g. [0.05, 0.2]"
+        )
+    zetas = tuple(
+        number(
+            source,
+            f"damping.ratios[{i}]",
+            z,
+            low=0.0,
+            high=1.0,
+            high_open=True,
+            what="fractions of critical damping, e.g. 0.05 for 5 %",
+        )
+        for i, z in enumerate(ratios)
+    )
     return BeamSpecimen(
         name=text(source, "name", data["name"], required=True),
         description=text(source, "description", data.get("description", "")),
         source=text(source, "source", data.get("source", "")),
         **_geometry(source, geo),
-        E=check(source, "material.youngs_modulus_Pa", mat["youngs_modulus_Pa"], "youngs_modulus",
-                high=BEAM_RIGID_E, why="from soft rubber (~1e6 Pa) up to paper 002's rigid-base "
-                "convention 1e24 Pa (Section 6.1)"),
-        nu=number(source, "material.poisson_ratio", mat["poisson_ratio"], low=-1.0, high=0.5,
-                  low_open=True, high_open=True, what="Poisson's ratio"),
+        E=check(
+            source,
+            "material.youngs_modulus_Pa",
+            mat["youngs_modulus_Pa"],
+            "youngs_modulus",
+            high=BEAM_RIGID_E,
+            why="from soft rubber (~1e6 Pa) up to paper 002's rigid-base "
+            "convention 1e24 Pa (Section 6.1)",
+        ),
+        nu=number(
+            source,
+            "material.poisson_ratio",
+            mat["poisson_ratio"],
+            low=-1.0,
+            high=0.5,
+            low_open=True,
+            high_open=True,
+            what="Poisson's ratio",
+        ),
         rho=check(source, "material.density_kg_per_m3", mat["density_kg_per_m3"], "density"),
         mu=check(source, "contact.friction_coefficient", con["friction_coefficient"], "friction"),
         damping_ratios=zetas,
@@ -181,5 +209,6 @@ def _geometry(source: str, geo: Mapping) -> dict:
         raise SpecimenError(
             f"{source}: `geometry.section_height_m` = {height!r} m is not less than the span "
             f"`geometry.span_m` = {span!r} m: an Euler–Bernoulli beam is shallow against its "
-            "span; check the units (both in m)")
+            "span; check the units (both in m)"
+        )
     return {"span": span, "section_width": width, "section_height": height}

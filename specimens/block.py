@@ -98,15 +98,30 @@ class BlockSpecimen:
 _TOP_REQUIRED = {"kind", "name", "geometry", "mass", "restitution"}
 _TOP_OPTIONAL = {"description", "source", "gravity_m_per_s2", "reference"}
 #: The plausible range (`specimens.ranges`) of each reference value.
-_REF_QUANTITY = {"alpha_rad": "angle_rad", "R_m": "length", "p_rad_per_s": "frequency_parameter",
-                 "eta_H": "restitution", "eta_M": "restitution", "s_m": "length",
-                 "theta0_deg": "angle_deg", "first_peak_deg": "angle_deg",
-                 "experimental_first_peak_deg": "angle_deg", "rest_time_s": "time_s"}
-_REF_KEYS = {"alpha_rad": "alpha", "R_m": "R", "p_rad_per_s": "p", "eta_H": "eta_H",
-             "eta_M": "eta_M", "s_m": "s", "theta0_deg": "theta0_deg",
-             "first_peak_deg": "first_peak_deg",
-             "experimental_first_peak_deg": "experimental_first_peak_deg",
-             "rest_time_s": "rest_time_s"}
+_REF_QUANTITY = {
+    "alpha_rad": "angle_rad",
+    "R_m": "length",
+    "p_rad_per_s": "frequency_parameter",
+    "eta_H": "restitution",
+    "eta_M": "restitution",
+    "s_m": "length",
+    "theta0_deg": "angle_deg",
+    "first_peak_deg": "angle_deg",
+    "experimental_first_peak_deg": "angle_deg",
+    "rest_time_s": "time_s",
+}
+_REF_KEYS = {
+    "alpha_rad": "alpha",
+    "R_m": "R",
+    "p_rad_per_s": "p",
+    "eta_H": "eta_H",
+    "eta_M": "eta_M",
+    "s_m": "s",
+    "theta0_deg": "theta0_deg",
+    "first_peak_deg": "first_peak_deg",
+    "experimental_first_peak_deg": "experimental_first_peak_deg",
+    "rest_time_s": "rest_time_s",
+}
 
 
 def block_from_mapping(data: Mapping, source: str) -> BlockSpecimen:
@@ -130,7 +145,9 @@ def block_from_mapping(data: Mapping, source: str) -> BlockSpecimen:
     check_keys(source, "restitution", rest, {"k"}, {"k_size_average"})
     ref = data.get("reference", {})
     if not isinstance(ref, Mapping):
-        raise SpecimenError(f"{source}: `reference` = {show(ref)}: expected a table; write it as [reference]")
+        raise SpecimenError(
+            f"{source}: `reference` = {show(ref)}: expected a table; write it as [reference]"
+        )
     check_keys(source, "reference", ref, set(), set(_REF_KEYS) | {"source"})
 
     b = check(source, "geometry.width_m", geo["width_m"], "length")
@@ -143,31 +160,55 @@ def block_from_mapping(data: Mapping, source: str) -> BlockSpecimen:
         name=text(source, "name", data["name"], required=True),
         description=text(source, "description", data.get("description", "")),
         source=text(source, "source", data.get("source", "")),
-        b=b, h=h, depth=depth, mass=m,
-        k=number(source, "restitution.k", rest["k"], low=0.0, high=1.0,
-                 what="k = b̄/(b/2) locates the contact impulse (paper 004, Eq 10)"),
-        k_size_average=None if k_avg is None else number(
-            source, "restitution.k_size_average", k_avg, low=0.0, high=1.0),
+        b=b,
+        h=h,
+        depth=depth,
+        mass=m,
+        k=number(
+            source,
+            "restitution.k",
+            rest["k"],
+            low=0.0,
+            high=1.0,
+            what="k = b̄/(b/2) locates the contact impulse (paper 004, Eq 10)",
+        ),
+        k_size_average=None
+        if k_avg is None
+        else number(source, "restitution.k_size_average", k_avg, low=0.0, high=1.0),
         g=check(source, "gravity_m_per_s2", data.get("gravity_m_per_s2", G_DEFAULT), "gravity"),
         reference=BlockReference(
             source=text(source, "reference.source", ref.get("source", "")),
-            **{attr: check(source, f"reference.{key}", ref[key], _REF_QUANTITY[key],
-                           low_open=_REF_QUANTITY[key] != "angle_deg")
-               for key, attr in _REF_KEYS.items() if key in ref}),
+            **{
+                attr: check(
+                    source,
+                    f"reference.{key}",
+                    ref[key],
+                    _REF_QUANTITY[key],
+                    low_open=_REF_QUANTITY[key] != "angle_deg",
+                )
+                for key, attr in _REF_KEYS.items()
+                if key in ref
+            },
+        ),
     )
 
 
-def _check_density(source: str, mass: float, b: float, h: float, depth: float,
-                   depth_given: bool) -> None:
+def _check_density(
+    source: str, mass: float, b: float, h: float, depth: float, depth_given: bool
+) -> None:
     """The block's mean density mass / (b h depth) must be that of a real material."""
     rng = RANGES["density"]
     rho = mass / (b * h * depth)
     if rng.low <= rho <= rng.high:
         return
-    fix = ("check `mass.mass_kg` (kg, not g) and the dimensions (m, not mm)" if depth_given else
-           "give `geometry.depth_m`, the out-of-plane length (it defaults to the width b), or "
-           "check `mass.mass_kg` (kg, not g) and the dimensions (m, not mm)")
+    fix = (
+        "check `mass.mass_kg` (kg, not g) and the dimensions (m, not mm)"
+        if depth_given
+        else "give `geometry.depth_m`, the out-of-plane length (it defaults to the width b), or "
+        "check `mass.mass_kg` (kg, not g) and the dimensions (m, not mm)"
+    )
     raise SpecimenError(
         f"{source}: `mass.mass_kg` = {mass!r}: implausible mean density mass / (b h depth) = "
         f"{rho:.4g} kg/m^3 (b = {b:g} m, h = {h:g} m, depth = {depth:g} m); real blocks lie in "
-        f"[{fmt(rng.low)}, {fmt(rng.high)}] kg/m^3 ({rng.why}); {fix}")
+        f"[{fmt(rng.low)}, {fmt(rng.high)}] kg/m^3 ({rng.why}); {fix}"
+    )

@@ -57,14 +57,18 @@ def from_mapping(data: Mapping, source: str = "<mapping>"):
         If `data` is not a mapping, or its ``kind`` or any field is invalid.
     """
     if not isinstance(data, Mapping):
-        raise SpecimenError(f"{source}: expected a mapping of specimen fields (a parsed TOML "
-                            f"document), got {type(data).__name__} {show(data)}")
+        raise SpecimenError(
+            f"{source}: expected a mapping of specimen fields (a parsed TOML "
+            f"document), got {type(data).__name__} {show(data)}"
+        )
     if "kind" not in data:
-        raise SpecimenError(f"{source}: missing key `kind`; add e.g. kind = \"column\" at the top")
+        raise SpecimenError(f'{source}: missing key `kind`; add e.g. kind = "column" at the top')
     kind = data["kind"]
     if not isinstance(kind, str) or kind not in _KINDS:
-        raise SpecimenError(f"{source}: `kind` = {show(kind)}: unknown kind; use one of "
-                            + ", ".join(repr(k) for k in sorted(_KINDS)))
+        raise SpecimenError(
+            f"{source}: `kind` = {show(kind)}: unknown kind; use one of "
+            + ", ".join(repr(k) for k in sorted(_KINDS))
+        )
     return _KINDS[kind](data, source)
 
 
@@ -96,11 +100,13 @@ def load(name_or_path: str | Path):
     except tomllib.TOMLDecodeError as exc:
         raise SpecimenError(f"{path}: not a valid TOML file ({exc}); check its syntax") from exc
     except UnicodeDecodeError as exc:
-        raise SpecimenError(f"{path}: not a UTF-8 text file ({exc}); give a specimen TOML "
-                            "file saved as UTF-8") from exc
+        raise SpecimenError(
+            f"{path}: not a UTF-8 text file ({exc}); give a specimen TOML file saved as UTF-8"
+        ) from exc
     except OSError as exc:
-        raise SpecimenError(f"{path}: cannot be read ({exc.strerror or exc}); give a readable "
-                            "specimen TOML file") from exc
+        raise SpecimenError(
+            f"{path}: cannot be read ({exc.strerror or exc}); give a readable specimen TOML file"
+        ) from exc
     return from_mapping(data, str(path))
 
 
@@ -108,20 +114,28 @@ def _locate(name_or_path) -> Path:
     """The file of a bundled name or a path; SpecimenError if there is none."""
     names = ", ".join(available())
     if isinstance(name_or_path, bytes) or not isinstance(name_or_path, (str, os.PathLike)):
-        raise SpecimenError(f"`specimen` = {show(name_or_path)}: give a bundled name ({names}), "
-                            "the path of a specimen TOML file, or a loaded specimen")
+        raise SpecimenError(
+            f"`specimen` = {show(name_or_path)}: give a bundled name ({names}), "
+            "the path of a specimen TOML file, or a loaded specimen"
+        )
     text = os.fspath(name_or_path)
     if not isinstance(text, str) or not text.strip() or "\0" in text:
-        raise SpecimenError(f"`specimen` = {show(text)}: not a usable name; give a bundled "
-                            f"name ({names}) or a TOML file path")
+        raise SpecimenError(
+            f"`specimen` = {show(text)}: not a usable name; give a bundled "
+            f"name ({names}) or a TOML file path"
+        )
     path = Path(text)
     bundled = {k.lower(): v for k, v in _bundled().items()}
     if isinstance(name_or_path, str) and text.lower() in bundled and not path.exists():
         return bundled[text.lower()]
     if not path.exists():
-        raise SpecimenError(f"specimen {text!r}: no such bundled specimen or file; use one of "
-                            f"{names} or the path of a TOML file")
+        raise SpecimenError(
+            f"specimen {text!r}: no such bundled specimen or file; use one of "
+            f"{names} or the path of a TOML file"
+        )
     if path.is_dir():
-        raise SpecimenError(f"specimen {text!r} is a directory; give a specimen TOML file "
-                            "(e.g. specimens/data/S1.toml)")
+        raise SpecimenError(
+            f"specimen {text!r} is a directory; give a specimen TOML file "
+            "(e.g. specimens/data/S1.toml)"
+        )
     return path

@@ -67,7 +67,9 @@ class Range:
             y = x * factor
             if lo < y <= hi:
                 return f"did you type {typed}? write {written(x, factor)}"
-        return f"give it in {self.unit or 'plain numbers'}" + (f" ({self.typical})" if self.typical else "")
+        return f"give it in {self.unit or 'plain numbers'}" + (
+            f" ({self.typical})" if self.typical else ""
+        )
 
 
 def written(x: float, factor: float) -> str:
@@ -84,79 +86,159 @@ _LENGTH_SLIPS = ((1e-3, "mm"), (1e-2, "cm"))
 #: Plausible ranges by quantity; the text of `why` is the justification.
 RANGES: dict[str, Range] = {
     "length": Range(
-        "length", 1e-3, 1e3, "m",
+        "length",
+        1e-3,
+        1e3,
+        "m",
         "rocking structures run from laboratory blocks (paper 004: b = 45 mm) to the "
         "tallest towers (< 1 km); below 1 mm a dimension is a typing slip",
-        _LENGTH_SLIPS + ((1e3, "km"),), "S1 is 1.93 m tall"),
+        _LENGTH_SLIPS + ((1e3, "km"),),
+        "S1 is 1.93 m tall",
+    ),
     "mass": Range(
-        "mass", 1e-3, 1e9, "kg",
+        "mass",
+        1e-3,
+        1e9,
+        "kg",
         "from a gram to the heaviest buildings (~5e8 kg); paper 004's lightest block "
         "is 0.544 kg, S1's lightest node 6.2 kg",
-        ((1e-3, "g"), (1e3, "t")), "S1's top node is 46.2 kg"),
+        ((1e-3, "g"), (1e3, "t")),
+        "S1's top node is 46.2 kg",
+    ),
     "base_mass": Range(
-        "base mass", 0.0, 1e9, "kg", "0 (paper 001) up to the heaviest buildings (~5e8 kg)",
-        ((1e-3, "g"),)),
+        "base mass",
+        0.0,
+        1e9,
+        "kg",
+        "0 (paper 001) up to the heaviest buildings (~5e8 kg)",
+        ((1e-3, "g"),),
+    ),
     "base_inertia": Range(
-        "base rotary inertia", 0.0, 1e15, "kg m^2",
+        "base rotary inertia",
+        0.0,
+        1e15,
+        "kg m^2",
         "0 up to the largest mass (1e9 kg) at the largest size (1e3 m) squared",
-        ((1e-4, "kg cm^2"), (1e-6, "kg mm^2"))),
+        ((1e-4, "kg cm^2"), (1e-6, "kg mm^2")),
+    ),
     "youngs_modulus": Range(
-        "Young's modulus", 1e6, 1e15, "Pa",
+        "Young's modulus",
+        1e6,
+        1e15,
+        "Pa",
         "structural materials run from soft rubber (~1e6 Pa) to diamond (1.05e12 Pa); "
         "the bound is 1000 x diamond because stiffened copies of a real column are how "
         "the rigid limit is studied (S1 x 1000, README)",
-        ((1e9, "GPa"), (1e6, "MPa"), (1e3, "kPa")), "steel is 200e9, concrete 30e9",
-        common=(1e6, 1.2e12)),
+        ((1e9, "GPa"), (1e6, "MPa"), (1e3, "kPa")),
+        "steel is 200e9, concrete 30e9",
+        common=(1e6, 1.2e12),
+    ),
     "translational_spring": Range(
-        "spring stiffness", 1.0, 1e15, "N/m",
+        "spring stiffness",
+        1.0,
+        1e15,
+        "N/m",
         "below 1 N/m a spring cannot hold a 1 kg mass under 1 g within 10 m; above "
         "1e15 N/m (2e6 x S1's K_fp) it is rigid for any mass in range and its "
         "frequency makes the time step absurd",
-        ((1e3, "kN/m"), (1e6, "kN/mm or MN/m")), "S1's K_fp is 5.0e8"),
+        ((1e3, "kN/m"), (1e6, "kN/mm or MN/m")),
+        "S1's K_fp is 5.0e8",
+    ),
     "rotational_spring": Range(
-        "rotational spring stiffness", 1.0, 1e15, "N m/rad",
+        "rotational spring stiffness",
+        1.0,
+        1e15,
+        "N m/rad",
         "below 1 N m/rad a spring cannot hold a 1 kg mass at 1 m; above 1e15 N m/rad "
         "(5e8 x S1's K_rot) it is rigid for any mass in range",
-        ((1e3, "kN m/rad"), (1e6, "MN m/rad")), "S1's K_rot is 2.0e6"),
+        ((1e3, "kN m/rad"), (1e6, "MN m/rad")),
+        "S1's K_rot is 2.0e6",
+    ),
     "gravity": Range(
-        "gravitational acceleration", 1.6, 1e4, "m/s^2",
+        "gravitational acceleration",
+        1.6,
+        1e4,
+        "m/s^2",
         "from the Moon (1.62 m/s^2) to a geotechnical centrifuge (~1000 g); Earth is 9.81",
-        ((9.81, "g"),), "Earth: 9.81"),
+        ((9.81, "g"),),
+        "Earth: 9.81",
+    ),
     "density": Range(
-        "density", 10.0, 2.5e4, "kg/m^3",
+        "density",
+        10.0,
+        2.5e4,
+        "kg/m^3",
         "from rigid foams (~30 kg/m^3) to osmium (22 590 kg/m^3)",
-        ((1e3, "g/cm^3"),), "aluminium is 2700"),
+        ((1e3, "g/cm^3"),),
+        "aluminium is 2700",
+    ),
     "section": Range(
-        "section dimension", 1e-5, 1e2, "m",
+        "section dimension",
+        1e-5,
+        1e2,
+        "m",
         "from a 10 um foil to a 100 m deep girder; paper 002's beam is 1.71 mm thick",
-        _LENGTH_SLIPS),
+        _LENGTH_SLIPS,
+    ),
     "friction": Range(
-        "friction coefficient", 0.0, 10.0, "",
-        "dry friction coefficients of real surfaces stay below ~2; up to 10 means "
-        "'no sliding'"),
+        "friction coefficient",
+        0.0,
+        10.0,
+        "",
+        "dry friction coefficients of real surfaces stay below ~2; up to 10 means 'no sliding'",
+    ),
     "restitution": Range(
-        "coefficient of restitution", 0.0, 1.0, "", "a coefficient of restitution lies in (0, 1]",
-        ((1e-2, "%"),)),
+        "coefficient of restitution",
+        0.0,
+        1.0,
+        "",
+        "a coefficient of restitution lies in (0, 1]",
+        ((1e-2, "%"),),
+    ),
     "restitution_sigma": Range(
-        "standard deviation of the restitution", 0.0, 0.5, "",
+        "standard deviation of the restitution",
+        0.0,
+        0.5,
+        "",
         "a coefficient in (0, 1] cannot have a standard deviation above 0.5",
-        ((1e-2, "%"),)),
+        ((1e-2, "%"),),
+    ),
     "frequency_hz": Range(
-        "frequency", 1e-3, 1e6, "Hz",
-        "a period of 1000 s to 1 us: no rocking structure vibrates outside", ()),
+        "frequency",
+        1e-3,
+        1e6,
+        "Hz",
+        "a period of 1000 s to 1 us: no rocking structure vibrates outside",
+        (),
+    ),
     "angle_rad": Range(
-        "angle", 0.0, math.pi / 2, "rad", "a slenderness lies in (0, pi/2)",
-        ((math.pi / 180, "degrees"),)),
+        "angle",
+        0.0,
+        math.pi / 2,
+        "rad",
+        "a slenderness lies in (0, pi/2)",
+        ((math.pi / 180, "degrees"),),
+    ),
     "angle_deg": Range(
-        "angle", -90.0, 90.0, "deg", "a rocking angle lies in (-90, 90) degrees", ()),
+        "angle", -90.0, 90.0, "deg", "a rocking angle lies in (-90, 90) degrees", ()
+    ),
     "frequency_parameter": Range(
-        "frequency parameter", 1e-3, 1e4, "rad/s",
-        "sqrt(g/R) over the ranges of g and of lengths stays below 1e4 rad/s", ()),
+        "frequency parameter",
+        1e-3,
+        1e4,
+        "rad/s",
+        "sqrt(g/R) over the ranges of g and of lengths stays below 1e4 rad/s",
+        (),
+    ),
     "moment_of_inertia": Range(
-        "moment of inertia", 1e-9, 1e21, "kg m^2",
-        "the smallest mass at the smallest size squared up to the largest", ()),
-    "time_s": Range(
-        "time", 0.0, 1e6, "s", "a free-rocking test lasts seconds to minutes", ()),
+        "moment of inertia",
+        1e-9,
+        1e21,
+        "kg m^2",
+        "the smallest mass at the smallest size squared up to the largest",
+        (),
+    ),
+    "time_s": Range("time", 0.0, 1e6, "s", "a free-rocking test lasts seconds to minutes", ()),
 }
 
 #: Paper 002, Section 6.1: E = 1e24 Pa makes the beam a rigid base. A beam's Young's
@@ -173,9 +255,17 @@ def fmt(x: float) -> str:
     return f"{x:g}".replace("e+0", "e").replace("e+", "e").replace("e-0", "e-")
 
 
-def check(source: str, field: str, value: Any, quantity: str, *,
-          low: float | None = None, high: float | None = None,
-          low_open: bool = False, why: str | None = None) -> float:
+def check(
+    source: str,
+    field: str,
+    value: Any,
+    quantity: str,
+    *,
+    low: float | None = None,
+    high: float | None = None,
+    low_open: bool = False,
+    why: str | None = None,
+) -> float:
     """A finite number in the plausible range of `quantity` (a key of `RANGES`).
 
     Parameters
@@ -212,5 +302,6 @@ def check(source: str, field: str, value: Any, quantity: str, *,
         raise SpecimenError(
             f"{source}: `{field}` = {show(value)}: implausible {rng.what} {fmt(x)}{unit}; "
             f"it must lie in {'(' if low_open else '['}{fmt(lo)}, {fmt(hi)}]{unit} ({why or rng.why}); "
-            f"{rng.hint(x) if x > 0 else 'it must be positive'}")
+            f"{rng.hint(x) if x > 0 else 'it must be positive'}"
+        )
     return x

@@ -34,11 +34,14 @@ def column_toml(tmp_path, heights, masses, name="custom", **replace) -> Path:
     import re
 
     from multimass import specimens
+
     text = specimens.loader._bundled()["S1"].read_text()
     text = re.sub(r"\n\[sensors\][^\[]*", "\n", text)
-    text = (text.replace("[0.06, 0.49, 0.93, 1.43, 1.93]", repr(list(heights)))
-                .replace("[77.3, 6.2, 88.2, 8.2, 46.2]", repr(list(masses)))
-                .replace('name = "S1"', f'name = "{name}"'))
+    text = (
+        text.replace("[0.06, 0.49, 0.93, 1.43, 1.93]", repr(list(heights)))
+        .replace("[77.3, 6.2, 88.2, 8.2, 46.2]", repr(list(masses)))
+        .replace('name = "S1"', f'name = "{name}"')
+    )
     for old, new in replace.items():
         text = text.replace(old, new)
     path = tmp_path / f"{name}.toml"

@@ -21,7 +21,12 @@ def test_every_example_is_listed():
 @pytest.mark.parametrize("name", sorted(EXAMPLES))
 def test_example_runs(name, tmp_path):
     args = [a.format(tmp=tmp_path) for a in EXAMPLES[name]]
-    done = subprocess.run([sys.executable, str(REPO / "examples" / name), *args], cwd=tmp_path,
-                          capture_output=True, text=True, timeout=900)
+    done = subprocess.run(
+        [sys.executable, str(REPO / "examples" / name), *args],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
     assert done.returncode == 0, done.stderr[-2000:]
     assert done.stdout.strip()

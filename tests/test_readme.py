@@ -25,8 +25,14 @@ def test_readme_python_example_runs_as_a_script(how, tmp_path):
     script = tmp_path / "script.py"
     script.write_text(code)
     argv = [sys.executable, str(script)] if how == "file" else [sys.executable, "-"]
-    done = subprocess.run(argv, cwd=REPO, input=None if how == "file" else code,
-                          capture_output=True, text=True, timeout=600)
+    done = subprocess.run(
+        argv,
+        cwd=REPO,
+        input=None if how == "file" else code,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert done.returncode == 0, done.stderr[-3000:]
     assert "Traceback" not in done.stderr
 
@@ -36,10 +42,11 @@ def test_readme_has_exactly_two_setup_commands():
     commands = re.findall(r"```bash\n(.*?)```", section, flags=re.S)
     assert len(commands) == 2
     ci = (REPO / ".ci" / "run").read_text()
-    assert commands[1].strip() in ci            # CI runs the README's test command
+    assert commands[1].strip() in ci  # CI runs the README's test command
 
 
 # --- every command line -------------------------------------------------------------------
+
 
 def _command_lines() -> list[str]:
     """`multimass ...` in backticks, and the lines of code blocks that start with it."""
@@ -47,7 +54,9 @@ def _command_lines() -> list[str]:
     blocks = re.findall(r"```[a-z]*\n(.*?)```", README, flags=re.S)
     lines = [ln.split("  #")[0].strip() for b in blocks for ln in b.splitlines()]
     lines += [ln.split("&& ", 1)[1] for ln in lines if "&& multimass" in ln]
-    found = [c.replace("\\|", "|") for c in spans] + [ln for ln in lines if ln.startswith("multimass ")]
+    found = [c.replace("\\|", "|") for c in spans] + [
+        ln for ln in lines if ln.startswith("multimass ")
+    ]
     return list(dict.fromkeys(found))
 
 
@@ -56,8 +65,17 @@ def _distinct(commands: list[str]) -> list[str]:
     seen, keep = set(), []
     for c in commands:
         argv = shlex.split(c)[1:]
-        key = tuple(sorted(t for t in _shortened(argv, REPO / "out") if t not in ("--json",)
-                           and "/" not in t)) if argv and argv[0] in SUBCOMMANDS else tuple(argv)
+        key = (
+            tuple(
+                sorted(
+                    t
+                    for t in _shortened(argv, REPO / "out")
+                    if t not in ("--json",) and "/" not in t
+                )
+            )
+            if argv and argv[0] in SUBCOMMANDS
+            else tuple(argv)
+        )
         if key not in seen:
             seen.add(key)
             keep.append(c)
@@ -65,8 +83,11 @@ def _distinct(commands: list[str]) -> list[str]:
 
 
 COMMANDS = _command_lines()
-SUBCOMMANDS = set(next(a for a in build_parser()._actions if hasattr(a, "choices")
-                       and isinstance(a.choices, dict)).choices)
+SUBCOMMANDS = set(
+    next(
+        a for a in build_parser()._actions if hasattr(a, "choices") and isinstance(a.choices, dict)
+    ).choices
+)
 
 
 def _shortened(argv: list[str], tmp) -> list[str]:
@@ -82,7 +103,7 @@ def _shortened(argv: list[str], tmp) -> list[str]:
             next(it)
         elif tok == "--quick":
             out.append("--smoke")
-        elif re.fullmatch(r"[^:]+:[^:]+:\d+", tok):           # START:STOP:COUNT
+        elif re.fullmatch(r"[^:]+:[^:]+:\d+", tok):  # START:STOP:COUNT
             start, stop, count = tok.split(":")
             out.append(f"{start}:{stop}:{min(int(count), 3)}")
         else:
@@ -92,7 +113,7 @@ def _shortened(argv: list[str], tmp) -> list[str]:
     if argv[0] == "simulate" and "--t-end" not in argv:
         out += ["--t-end", "1.0"]
     if argv[0] in ("nscd-convergence", "modal", "compare") and "--out" not in argv:
-        out += ["--out", str(tmp / "default_out")]      # their default folder is in the cwd
+        out += ["--out", str(tmp / "default_out")]  # their default folder is in the cwd
     if argv[0] == "bench" and "--smoke" not in out:
         out.append("--smoke")
     if argv[0] == "nscd-convergence":
@@ -102,8 +123,17 @@ def _shortened(argv: list[str], tmp) -> list[str]:
 
 def test_the_readme_shows_commands_of_every_kind():
     kinds = {shlex.split(c)[1] for c in COMMANDS if len(shlex.split(c)) > 1}
-    assert {"modal", "simulate", "compare", "stability", "spectrum", "nscd", "choose",
-            "bench", "specimens"} <= kinds
+    assert {
+        "modal",
+        "simulate",
+        "compare",
+        "stability",
+        "spectrum",
+        "nscd",
+        "choose",
+        "bench",
+        "specimens",
+    } <= kinds
 
 
 @pytest.mark.parametrize("command", _distinct(COMMANDS))
@@ -114,12 +144,12 @@ def test_readme_command_runs(command, tmp_path, monkeypatch, capsys):
         return
     assert argv[0] in SUBCOMMANDS, f"{command}: no such command"
     if len(argv) == 1 and argv[0] != "specimens":
-        return                                   # a reference to the command, not a command line
+        return  # a reference to the command, not a command line
     monkeypatch.chdir(REPO)
     code = main(_shortened(argv, tmp_path))
     err = capsys.readouterr().err
     assert code == 0, f"{command}: exit {code}\n{err[-2000:]}"
-    if argv[0] == "bench":      # the default run's bench check (the JSON one is marked slow)
+    if argv[0] == "bench":  # the default run's bench check (the JSON one is marked slow)
         out = tmp_path / argv[argv.index("--out") + 1].strip("/")
         for name in ("bench.json", "rows.csv", "failures.md", "summary.md", "wp_S1_DD2.png"):
             assert (out / name).is_file(), name

@@ -33,15 +33,27 @@ from multimass.simulation import simulate
 from .config import Config
 from .results import RunResult, failed_run, from_block, from_nscd, from_response, timed
 
-__all__ = ["Method", "Case", "all_cases", "column_case", "rigid_block_case", "lcp_block_case",
-           "nscd_case", "NSCDRunner", "IVP_METHODS", "IMPLICIT", "scaled_column", "engine_runner"]
+__all__ = [
+    "Method",
+    "Case",
+    "all_cases",
+    "column_case",
+    "rigid_block_case",
+    "lcp_block_case",
+    "nscd_case",
+    "NSCDRunner",
+    "IVP_METHODS",
+    "IMPLICIT",
+    "scaled_column",
+    "engine_runner",
+]
 
 IVP_METHODS = ("RK45", "DOP853", "Radau", "BDF", "LSODA")
 IMPLICIT = ("Radau", "BDF")
 COMPILED = ("RK45", "DOP853")
-THETA0_B6M = math.radians(11.268)          # paper 002, Section 6.2
+THETA0_B6M = math.radians(11.268)  # paper 002, Section 6.2
 ENGINE_KINDS = ("uplift", "impact", "full_contact", "overturn")
-BLOCK_DT_OUT = 1e-4                        # s: sampling of the paper-000 driver (its peaks)
+BLOCK_DT_OUT = 1e-4  # s: sampling of the paper-000 driver (its peaks)
 
 
 @dataclass(frozen=True, eq=False)
@@ -49,13 +61,13 @@ class Method:
     """One line of a chart: a method and the levels (rtol or Δt) it is run at."""
 
     name: str
-    family: str                  # "explicit", "implicit", "compiled", "time stepping", ...
-    level_name: str              # "rtol" or "dt"
+    family: str  # "explicit", "implicit", "compiled", "time stepping", ...
+    level_name: str  # "rtol" or "dt"
     levels: tuple
     run: Callable[[float], RunResult]
-    warm: bool = False           # run once untimed first (compiled kernels' first call)
-    kinds: tuple | None = None   # event kinds compared (default: the case's)
-    reference: Callable[[], RunResult] | None = None   # default: the case's
+    warm: bool = False  # run once untimed first (compiled kernels' first call)
+    kinds: tuple | None = None  # event kinds compared (default: the case's)
+    reference: Callable[[], RunResult] | None = None  # default: the case's
     reference_label: str = ""
 
 
@@ -66,7 +78,7 @@ class Case:
     key: str
     title: str
     t_end: float
-    t_compare: float             # events and peaks are compared up to here (adjusted)
+    t_compare: float  # events and peaks are compared up to here (adjusted)
     reference: Callable[[], RunResult]
     reference_label: str
     methods: list = field(default_factory=list)
@@ -86,27 +98,50 @@ def engine_runner(structure, excitation, impact, t_end, cfg: Config, max_step=ma
     the default 5 ms for columns (it keeps the uplift check of full contact
     frequent: without it a long step can step over a brief uplift).
     """
-    def run(level, method="DOP853", backend="scipy", integrator="solve_ivp", atol=None,
-            step=None):
+
+    def run(level, method="DOP853", backend="scipy", integrator="solve_ivp", atol=None, step=None):
         if integrator == "newmark":
             kw = dict(integrator="newmark", dt=level)
         else:
-            kw = dict(method=method, rtol=level, atol=level * 1e-2 if atol is None else atol,
-                      backend=backend, max_step=max_step if step is None else step)
-        return _measure(lambda: simulate(structure, excitation, impact, t_end, output_dt=None,
-                                         **model, **kw), from_response, cfg)
+            kw = dict(
+                method=method,
+                rtol=level,
+                atol=level * 1e-2 if atol is None else atol,
+                backend=backend,
+                max_step=max_step if step is None else step,
+            )
+        return _measure(
+            lambda: simulate(structure, excitation, impact, t_end, output_dt=None, **model, **kw),
+            from_response,
+            cfg,
+        )
+
     return run
 
 
 def _engine_methods(run, cfg: Config, compiled=True) -> list[Method]:
-    out = [Method(m, "implicit" if m in IMPLICIT else ("LSODA (switching)" if m == "LSODA"
-                                                      else "explicit"), "rtol",
-                  cfg.rtols_implicit if m in IMPLICIT else cfg.rtols,
-                  lambda lv, m=m: run(lv, method=m)) for m in IVP_METHODS]
+    out = [
+        Method(
+            m,
+            "implicit" if m in IMPLICIT else ("LSODA (switching)" if m == "LSODA" else "explicit"),
+            "rtol",
+            cfg.rtols_implicit if m in IMPLICIT else cfg.rtols,
+            lambda lv, m=m: run(lv, method=m),
+        )
+        for m in IVP_METHODS
+    ]
     if compiled:
-        out += [Method(f"compiled {m}", "compiled", "rtol", cfg.rtols,
-                       lambda lv, m=m: run(lv, method=m, backend="compiled"), warm=True)
-                for m in COMPILED]
+        out += [
+            Method(
+                f"compiled {m}",
+                "compiled",
+                "rtol",
+                cfg.rtols,
+                lambda lv, m=m: run(lv, method=m, backend="compiled"),
+                warm=True,
+            )
+            for m in COMPILED
+        ]
     return out
 
 
@@ -118,6 +153,7 @@ def _once(fn):
         if not box:
             box.append(fn())
         return box[0]
+
     return call
 
 
@@ -130,14 +166,33 @@ def column_case(impact: str, cfg: Config) -> Case:
 
     One more line, DOP853 without the step cap, shows what the cap is for.
     """
-    run = engine_runner("S1", FreeRelease(0.11), impact, cfg.column_t_end, cfg,
-                        max_step=multimass.DEFAULTS["max_step"])
+    run = engine_runner(
+        "S1",
+        FreeRelease(0.11),
+        impact,
+        cfg.column_t_end,
+        cfg,
+        max_step=multimass.DEFAULTS["max_step"],
+    )
     methods = _engine_methods(run, cfg)
-    methods.append(Method("DOP853, max_step ∞", "explicit", "rtol", cfg.rtols,
-                          lambda lv: run(lv, method="DOP853", step=math.inf)))
-    return Case(f"S1_{impact}", f"S1 released from 0.11 rad, {impact}, {cfg.column_t_end:g} s, "
-                "max_step 5 ms", cfg.column_t_end, 0.9 * cfg.column_t_end, _reference(run, cfg),
-                f"solve_ivp DOP853, rtol {cfg.ref_rtol:g}", methods)
+    methods.append(
+        Method(
+            "DOP853, max_step ∞",
+            "explicit",
+            "rtol",
+            cfg.rtols,
+            lambda lv: run(lv, method="DOP853", step=math.inf),
+        )
+    )
+    return Case(
+        f"S1_{impact}",
+        f"S1 released from 0.11 rad, {impact}, {cfg.column_t_end:g} s, max_step 5 ms",
+        cfg.column_t_end,
+        0.9 * cfg.column_t_end,
+        _reference(run, cfg),
+        f"solve_ivp DOP853, rtol {cfg.ref_rtol:g}",
+        methods,
+    )
 
 
 class NSCDRunner:
@@ -149,21 +204,28 @@ class NSCDRunner:
 
     def __call__(self, dt: float, exponent=None, t_end=None) -> RunResult:
         t_end = self.cfg.nscd_t_end if t_end is None else t_end
-        E = None if exponent is None else self.E_bar * 10.0 ** exponent
+        E = None if exponent is None else self.E_bar * 10.0**exponent
         key = (E, dt, t_end)
         if key not in self.raw:
-            wall, out = timed(lambda: nscd.simulate("B6M", theta0=THETA0_B6M, dt=dt, t_end=t_end,
-                                                    E=E, n_elements=6),
-                              self.cfg.min_time_s, self.cfg.max_repeat)
-            res = (failed_run(out, wall) if isinstance(out, BaseException)
-                   else from_nscd(out, wall, self.block))
+            wall, out = timed(
+                lambda: nscd.simulate(
+                    "B6M", theta0=THETA0_B6M, dt=dt, t_end=t_end, E=E, n_elements=6
+                ),
+                self.cfg.min_time_s,
+                self.cfg.max_repeat,
+            )
+            res = (
+                failed_run(out, wall)
+                if isinstance(out, BaseException)
+                else from_nscd(out, wall, self.block)
+            )
             self.raw[key] = (out, res)
         return self.raw[key][1]
 
     def result(self, dt, exponent=None, t_end=None):
         """The `nscd.NSCDResult` of a cached run (or the exception it raised)."""
         t_end = self.cfg.nscd_t_end if t_end is None else t_end
-        E = None if exponent is None else self.E_bar * 10.0 ** exponent
+        E = None if exponent is None else self.E_bar * 10.0**exponent
         self(dt, exponent, t_end)
         return self.raw[(E, dt, t_end)][0]
 
@@ -173,20 +235,42 @@ def rigid_block_case(cfg: Config, mj: NSCDRunner) -> Case:
     t_end = cfg.block_t_end
     run = engine_runner("B6M", FreeRelease(THETA0_B6M), "CIM", t_end, cfg, restitution="housner")
     methods = _engine_methods(run, cfg)
-    methods.append(Method("Newmark + NR", "time stepping", "dt", cfg.newmark_dts,
-                          lambda dt: run(dt, integrator="newmark"), warm=True))
-    methods.append(Method("Moreau–Jean, rigid base", "event capturing", "dt", cfg.mj_dts,
-                          lambda dt: mj(dt, None, t_end), kinds=("impact",)))
-    return Case("rigid_block", f"B6M released at 11.268°, Housner's η, {t_end:g} s, "
-                "solve_ivp max_step ∞", t_end,
-                0.8 * t_end, _reference(run, cfg), f"solve_ivp DOP853, rtol {cfg.ref_rtol:g}",
-                methods)
+    methods.append(
+        Method(
+            "Newmark + NR",
+            "time stepping",
+            "dt",
+            cfg.newmark_dts,
+            lambda dt: run(dt, integrator="newmark"),
+            warm=True,
+        )
+    )
+    methods.append(
+        Method(
+            "Moreau–Jean, rigid base",
+            "event capturing",
+            "dt",
+            cfg.mj_dts,
+            lambda dt: mj(dt, None, t_end),
+            kinds=("impact",),
+        )
+    )
+    return Case(
+        "rigid_block",
+        f"B6M released at 11.268°, Housner's η, {t_end:g} s, solve_ivp max_step ∞",
+        t_end,
+        0.8 * t_end,
+        _reference(run, cfg),
+        f"solve_ivp DOP853, rtol {cfg.ref_rtol:g}",
+        methods,
+    )
 
 
 @contextmanager
 def _count_rhs():
     """Count the right-hand sides of `multimass.contact_dynamics` (it keeps no count)."""
     from multimass import contact_dynamics as cd
+
     original, box = cd._Phase.rhs, [0]
 
     def rhs(self, t, y):
@@ -211,42 +295,82 @@ def lcp_block_case(cfg: Config) -> Case:
     def driver(rtol, atol=None):
         def once():
             with _count_rhs() as box:
-                r = simulate_block(block, 0.0, t_end, ag=exc, dt_out=BLOCK_DT_OUT, rtol=rtol,
-                                   atol=rtol * 1e-2 if atol is None else atol)
+                r = simulate_block(
+                    block,
+                    0.0,
+                    t_end,
+                    ag=exc,
+                    dt_out=BLOCK_DT_OUT,
+                    rtol=rtol,
+                    atol=rtol * 1e-2 if atol is None else atol,
+                )
             return r, box[0]
+
         return _measure(once, lambda out, wall: from_block(out[0], wall, out[1]), cfg)
 
     run = engine_runner(st, exc, "LCP", t_end, cfg, eps_p=0.0)
     methods = [Method("paper-000 driver (DOP853)", "LCP driver", "rtol", cfg.rtols, driver)]
-    methods += [dataclasses.replace(m, name=f"engine LCP, {m.name}") for m in _engine_methods(run, cfg)]
-    return Case("lcp_block", f"Paper 000 block (B6M size), sine 0.3 g at 3p, ε_P = 0, {t_end:g} s, "
-                "max_step ∞",
-                t_end, 0.8 * t_end, _once(lambda: driver(cfg.ref_rtol, cfg.ref_atol)),
-                f"paper-000 driver, rtol {cfg.ref_rtol:g}", methods)
+    methods += [
+        dataclasses.replace(m, name=f"engine LCP, {m.name}") for m in _engine_methods(run, cfg)
+    ]
+    return Case(
+        "lcp_block",
+        f"Paper 000 block (B6M size), sine 0.3 g at 3p, ε_P = 0, {t_end:g} s, max_step ∞",
+        t_end,
+        0.8 * t_end,
+        _once(lambda: driver(cfg.ref_rtol, cfg.ref_atol)),
+        f"paper-000 driver, rtol {cfg.ref_rtol:g}",
+        methods,
+    )
 
 
 def nscd_case(cfg: Config, mj: NSCDRunner, rigid_reference) -> Case:
     """Moreau–Jean on the rigid base and on flexible beams E = Ē·10ⁿ."""
     t_end = cfg.nscd_t_end
-    methods = [Method("Moreau–Jean, rigid base", "event capturing", "dt", cfg.mj_dts,
-                      lambda dt: mj(dt, None, t_end), kinds=("impact",))]
+    methods = [
+        Method(
+            "Moreau–Jean, rigid base",
+            "event capturing",
+            "dt",
+            cfg.mj_dts,
+            lambda dt: mj(dt, None, t_end),
+            kinds=("impact",),
+        )
+    ]
     coarse = tuple(dt for dt in cfg.mj_dts if dt > cfg.nscd_ref_dt)
     for n in cfg.nscd_exponents:
-        methods.append(Method(f"Moreau–Jean, E = Ē·10^{n}", "event capturing", "dt", coarse,
-                              lambda dt, n=n: mj(dt, n, t_end), kinds=("impact",),
-                              reference=lambda n=n: mj(cfg.nscd_ref_dt, n, t_end),
-                              reference_label=f"Moreau–Jean Δt = {cfg.nscd_ref_dt:g} s"))
-    return Case("nscd", f"B6M on paper 002's beam, released at 11.268°, {t_end:g} s", t_end,
-                0.8 * t_end, rigid_reference, f"rigid block, solve_ivp DOP853, rtol {cfg.ref_rtol:g}",
-                methods, kinds=("impact",))
+        methods.append(
+            Method(
+                f"Moreau–Jean, E = Ē·10^{n}",
+                "event capturing",
+                "dt",
+                coarse,
+                lambda dt, n=n: mj(dt, n, t_end),
+                kinds=("impact",),
+                reference=lambda n=n: mj(cfg.nscd_ref_dt, n, t_end),
+                reference_label=f"Moreau–Jean Δt = {cfg.nscd_ref_dt:g} s",
+            )
+        )
+    return Case(
+        "nscd",
+        f"B6M on paper 002's beam, released at 11.268°, {t_end:g} s",
+        t_end,
+        0.8 * t_end,
+        rigid_reference,
+        f"rigid block, solve_ivp DOP853, rtol {cfg.ref_rtol:g}",
+        methods,
+        kinds=("impact",),
+    )
 
 
 def scaled_column(scale: float, name: str = "S1"):
     """The column `name` with E_s, K_rot and K_fp times `scale` (frequencies × √scale)."""
     import multimass.specimens as specimens
+
     spec = specimens.load(name)
-    spec = dataclasses.replace(spec, E_s=spec.E_s * scale, K_rot=spec.K_rot * scale,
-                               K_fp=spec.K_fp * scale)
+    spec = dataclasses.replace(
+        spec, E_s=spec.E_s * scale, K_rot=spec.K_rot * scale, K_fp=spec.K_fp * scale
+    )
     return multimass.column(spec)
 
 
@@ -257,8 +381,17 @@ def all_cases(cfg: Config) -> tuple[list[Case], NSCDRunner]:
     if cfg.nscd_t_end == cfg.block_t_end:
         rigid_ref = rigid.reference
     else:
-        run = engine_runner("B6M", FreeRelease(THETA0_B6M), "CIM", cfg.nscd_t_end, cfg,
-                            restitution="housner")
+        run = engine_runner(
+            "B6M", FreeRelease(THETA0_B6M), "CIM", cfg.nscd_t_end, cfg, restitution="housner"
+        )
         rigid_ref = _reference(run, cfg)
-    return ([rigid, column_case("CIM", cfg), column_case("DD2", cfg), lcp_block_case(cfg),
-             nscd_case(cfg, mj, rigid_ref)], mj)
+    return (
+        [
+            rigid,
+            column_case("CIM", cfg),
+            column_case("DD2", cfg),
+            lcp_block_case(cfg),
+            nscd_case(cfg, mj, rigid_ref),
+        ],
+        mj,
+    )

@@ -91,18 +91,54 @@ class Config:
 FULL = Config("full")
 
 QUICK = Config(
-    "quick", rtols=(1e-3, 1e-6, 1e-9), rtols_implicit=(1e-3, 1e-6), ref_rtol=1e-11,
-    ref_atol=1e-13, column_t_end=3.0, block_t_end=2.0, lcp_t_end=2.0, nscd_t_end=2.0,
-    newmark_dts=(1e-2, 1e-3, 1e-4), mj_dts=(1e-3, 1e-4, 1e-5), nscd_exponents=(2,),
-    nscd_ref_dt=1e-6, stiffness_scales=(1.0, 100.0, 1e3), stiffness_t_end=0.5, map_n=30,
-    baseline_cells=None, repeats=2, cold_compile=False, min_time_s=0.1, max_repeat=2)
+    "quick",
+    rtols=(1e-3, 1e-6, 1e-9),
+    rtols_implicit=(1e-3, 1e-6),
+    ref_rtol=1e-11,
+    ref_atol=1e-13,
+    column_t_end=3.0,
+    block_t_end=2.0,
+    lcp_t_end=2.0,
+    nscd_t_end=2.0,
+    newmark_dts=(1e-2, 1e-3, 1e-4),
+    mj_dts=(1e-3, 1e-4, 1e-5),
+    nscd_exponents=(2,),
+    nscd_ref_dt=1e-6,
+    stiffness_scales=(1.0, 100.0, 1e3),
+    stiffness_t_end=0.5,
+    map_n=30,
+    baseline_cells=None,
+    repeats=2,
+    cold_compile=False,
+    min_time_s=0.1,
+    max_repeat=2,
+)
 
 SMOKE = Config(
-    "smoke", rtols=(1e-4,), rtols_implicit=(1e-4,), ref_rtol=1e-9, ref_atol=1e-11,
-    target_t_end=0.6, column_t_end=0.6, block_t_end=0.8, lcp_t_end=0.8, nscd_t_end=0.8,
-    newmark_dts=(1e-3,), mj_dts=(1e-3,), nscd_exponents=(2,), nscd_ref_dt=1e-4,
-    stiffness_scales=(1.0, 10.0), stiffness_t_end=0.2, map_n=3, baseline_cells=None, repeats=1, spin_steps=1_000,
-    cold_compile=False, min_time_s=0.0, max_repeat=1)
+    "smoke",
+    rtols=(1e-4,),
+    rtols_implicit=(1e-4,),
+    ref_rtol=1e-9,
+    ref_atol=1e-11,
+    target_t_end=0.6,
+    column_t_end=0.6,
+    block_t_end=0.8,
+    lcp_t_end=0.8,
+    nscd_t_end=0.8,
+    newmark_dts=(1e-3,),
+    mj_dts=(1e-3,),
+    nscd_exponents=(2,),
+    nscd_ref_dt=1e-4,
+    stiffness_scales=(1.0, 10.0),
+    stiffness_t_end=0.2,
+    map_n=3,
+    baseline_cells=None,
+    repeats=1,
+    spin_steps=1_000,
+    cold_compile=False,
+    min_time_s=0.0,
+    max_repeat=1,
+)
 
 _PRESETS = {c.name: c for c in (FULL, QUICK, SMOKE)}
 
@@ -113,4 +149,5 @@ def preset(name: str) -> Config:
         return _PRESETS[name]
     except KeyError:
         from multimass.errors import InputError
+
         raise InputError(f"`config` = {name!r}: use one of {', '.join(_PRESETS)}") from None

@@ -23,8 +23,16 @@ import numpy as np
 
 from multimass.errors import InputError
 
-__all__ = ["RunResult", "failed_run", "from_response", "from_block", "from_nscd",
-           "timed", "CHATTER_WINDOW", "TRANSITIONS"]
+__all__ = [
+    "RunResult",
+    "failed_run",
+    "from_response",
+    "from_block",
+    "from_nscd",
+    "timed",
+    "CHATTER_WINDOW",
+    "TRANSITIONS",
+]
 
 #: transitions closer than this follow one impact (paper 001, Section 4.3; Response default)
 CHATTER_WINDOW = 0.02
@@ -45,7 +53,7 @@ class RunResult:
         (kind, time) of the phase transitions: "uplift", "impact",
         "full_contact", "overturn".
     peaks, peak_times : tuple of float
-        Peak |θ| of each half-cycle (rad) and its time (s; NaN if unknown).
+        Peak ``|θ|`` of each half-cycle (rad) and its time (s; NaN if unknown).
     final_energy : float
         Mechanical energy above rest at the end of the run (J).
     energy_scale : float
@@ -88,11 +96,11 @@ def timed(fn, min_time_s: float = 0.0, max_repeat: int = 1):
         t0 = time.perf_counter()
         try:
             with warnings.catch_warnings():
-                warnings.simplefilter("ignore", RuntimeWarning)   # numjac overflows on stiff columns
+                warnings.simplefilter("ignore", RuntimeWarning)  # numjac overflows on stiff columns
                 out = fn()
         except InputError:
             raise
-        except Exception as exc:                                  # noqa: BLE001 - recorded as a failure
+        except Exception as exc:  # noqa: BLE001 - recorded as a failure
             return time.perf_counter() - t0, exc
         times.append(time.perf_counter() - t0)
         if len(times) >= max_repeat or sum(times) >= min_time_s:
@@ -105,15 +113,28 @@ def _chatter(times) -> int:
 
 def from_response(resp, wall: float) -> RunResult:
     """From a `multimass.Response` (any integrator or backend)."""
-    events = tuple((e.kind, float(e.time)) for e in resp.events
-                   if e.kind in TRANSITIONS + ("overturn",))
+    events = tuple(
+        (e.kind, float(e.time)) for e in resp.events if e.kind in TRANSITIONS + ("overturn",)
+    )
     df = resp.series
-    final = (float(df.kinetic.iloc[-1] + df.gravitational.iloc[-1] + df.elastic.iloc[-1])
-             if len(df) else math.nan)
-    return RunResult(resp.outcome or resp.status, resp.message, events, tuple(map(float, resp.peaks)),
-                     tuple(map(float, resp.peak_times)), final, float(resp.energy_reference),
-                     float(resp.energy_balance_error),
-                     resp.consecutive_transitions(window=CHATTER_WINDOW), int(resp.n_rhs), wall)
+    final = (
+        float(df.kinetic.iloc[-1] + df.gravitational.iloc[-1] + df.elastic.iloc[-1])
+        if len(df)
+        else math.nan
+    )
+    return RunResult(
+        resp.outcome or resp.status,
+        resp.message,
+        events,
+        tuple(map(float, resp.peaks)),
+        tuple(map(float, resp.peak_times)),
+        final,
+        float(resp.energy_reference),
+        float(resp.energy_balance_error),
+        resp.consecutive_transitions(window=CHATTER_WINDOW),
+        int(resp.n_rhs),
+        wall,
+    )
 
 
 def _block_event(e) -> tuple[str, float] | None:
@@ -131,7 +152,7 @@ def _block_event(e) -> tuple[str, float] | None:
 
 
 def sampled_peaks(t: np.ndarray, theta: np.ndarray) -> tuple[list, list]:
-    """Peak |θ| of each half-cycle (a run of samples of one sign), refined by a parabola."""
+    """Peak ``|θ|`` of each half-cycle (a run of samples of one sign), refined by a parabola."""
     peaks, times = [], []
     sign = np.sign(np.where(np.abs(theta) > 1e-12, theta, 0.0))
     edges = np.flatnonzero(np.diff(sign) != 0) + 1
@@ -141,7 +162,7 @@ def sampled_peaks(t: np.ndarray, theta: np.ndarray) -> tuple[list, list]:
         i = a + int(np.argmax(np.abs(theta[a:b])))
         pk, tp = abs(float(theta[i])), float(t[i])
         if a < i < b - 1 and len({t[i - 1], t[i], t[i + 1]}) == 3:
-            c = np.polyfit(t[i - 1:i + 2] - t[i], np.abs(theta[i - 1:i + 2]), 2)
+            c = np.polyfit(t[i - 1 : i + 2] - t[i], np.abs(theta[i - 1 : i + 2]), 2)
             if c[0] < 0 and abs(c[1] / (2 * c[0])) < t[i + 1] - t[i - 1]:
                 tv = -c[1] / (2 * c[0])
                 pk, tp = float(np.polyval(c, tv)), float(t[i] + tv)
@@ -154,15 +175,25 @@ def from_block(resp, wall: float, n_rhs: int) -> RunResult:
     """From the paper-000 block (`multimass.poisson_block.BlockResponse`)."""
     raw = resp.raw
     events = tuple(x for x in map(_block_event, raw.events) if x is not None)
-    keep = np.r_[np.diff(raw.t) > 0, True]                # event times appear twice
+    keep = np.r_[np.diff(raw.t) > 0, True]  # event times appear twice
     peaks, times = sampled_peaks(raw.t[keep], resp.theta[keep])
     scale = max(abs(float(raw.energy[0])), float(np.max(np.abs(raw.ground_work))), 1e-300)
     trans = [t for k, t in events if k in TRANSITIONS]
     # the physical outcome: an "inaccurate" run is judged by its errors here, not as a failure
     status = {"overturned": "overturned", "completed": "completed"}.get(raw.outcome, "failed")
-    return RunResult(status, raw.message, events, tuple(peaks), tuple(times),
-                     float(raw.energy[-1]), scale,
-                     float(np.max(np.abs(raw.ledger_error)) / scale), _chatter(trans), n_rhs, wall)
+    return RunResult(
+        status,
+        raw.message,
+        events,
+        tuple(peaks),
+        tuple(times),
+        float(raw.energy[-1]),
+        scale,
+        float(np.max(np.abs(raw.ledger_error)) / scale),
+        _chatter(trans),
+        n_rhs,
+        wall,
+    )
 
 
 def _crossings(t: np.ndarray, theta: np.ndarray) -> list[float]:
@@ -177,19 +208,29 @@ def from_nscd(res, wall: float, block) -> RunResult:
     Impacts are the sign changes of θ (the kernel's own impact log also holds
     the small second touches of an event-capturing scheme: those are counted
     as chattering). The energy is the block's rocking energy
-    ½ J_p θ̇² + g (m h0 (cos θ − 1) + B m_t |sin θ|), the beam's left out.
+    ``½ J_p θ̇² + g (m h0 (cos θ − 1) + B m_t |sin θ|)``, the beam's left out.
     """
     th0 = float(res.params.get("theta0_deg", math.degrees(res.theta[0])))
     events = tuple(("impact", float(x)) for x in _crossings(res.t, res.theta))
     th, thd = float(res.theta[-1]), float(res.theta_dot[-1])
-    energy = lambda a, w: (0.5 * block.J_p * w * w                                 # noqa: E731
-                           + block.g * (block.static_moment * (math.cos(a) - 1.0)
-                                        + block.B * block.m_t * abs(math.sin(a))))
+    energy = lambda a, w: (
+        0.5 * block.J_p * w * w  # noqa: E731
+        + block.g
+        * (block.static_moment * (math.cos(a) - 1.0) + block.B * block.m_t * abs(math.sin(a)))
+    )
     e0 = energy(math.radians(th0), 0.0)
     outcome = getattr(res, "outcome", None) or res.status
     status = outcome if outcome in ("completed", "overturned") else "failed"
-    return RunResult(status, res.message, events,
-                     (math.radians(abs(th0)),) + tuple(math.radians(p) for p in res.peaks_deg),
-                     (0.0,) + tuple(res.peak_times_s), energy(th, thd), e0,
-                     max(res.max_energy_increase_J, 0.0) / res.energy_scale_J,
-                     _chatter(list(res.impact_times_s)), int(res.n_steps), wall)
+    return RunResult(
+        status,
+        res.message,
+        events,
+        (math.radians(abs(th0)),) + tuple(math.radians(p) for p in res.peaks_deg),
+        (0.0,) + tuple(res.peak_times_s),
+        energy(th, thd),
+        e0,
+        max(res.max_energy_increase_J, 0.0) / res.energy_scale_J,
+        _chatter(list(res.impact_times_s)),
+        int(res.n_steps),
+        wall,
+    )

@@ -2,11 +2,11 @@
 
 Three errors per run, each against the case's tight reference:
 
-* **peaks** — max |Δ peak|θ|| over the half-cycles the reference completes
+* **peaks** — max ``|Δ peak |θ||`` over the half-cycles the reference completes
   before the comparison time (rad);
-* **event times** — max |Δt| over the matched transitions (uplift, impact,
+* **event times** — max ``|Δt|`` over the matched transitions (uplift, impact,
   full contact, overturn) before the comparison time (s);
-* **final energy** — |E_run(t_end) − E_ref(t_end)| / the reference's energy
+* **final energy** — ``|E_run(t_end) − E_ref(t_end)|`` / the reference's energy
   scale (initial energy or largest ground work).
 
 Matching: the transitions of both runs up to the comparison time are paired
@@ -41,8 +41,15 @@ def window_end(ref: RunResult, kinds, nominal: float, t_end: float) -> float:
 
 def compare(run: RunResult, ref: RunResult, kinds, t_cmp: float) -> dict:
     """The three errors of `run` against `ref` and the event counts (see the module docstring)."""
-    out = dict(peak_error_rad=math.nan, event_time_error_s=math.nan, energy_error=math.nan,
-               n_events=None, n_events_ref=None, events_match=None, first_mismatch="")
+    out = dict(
+        peak_error_rad=math.nan,
+        event_time_error_s=math.nan,
+        energy_error=math.nan,
+        n_events=None,
+        n_events_ref=None,
+        events_match=None,
+        first_mismatch="",
+    )
     r_ev = [(k, t) for k, t in ref.events if k in kinds and t <= t_cmp]
     out["n_events_ref"] = len(r_ev)
     if run.status == "failed":
@@ -50,12 +57,14 @@ def compare(run: RunResult, ref: RunResult, kinds, t_cmp: float) -> dict:
     x_ev = [(k, t) for k, t in run.events if k in kinds and t <= t_cmp]
     match = [k for k, _ in r_ev] == [k for k, _ in x_ev]
     out.update(n_events=len(x_ev), events_match=match, first_mismatch=_first_mismatch(r_ev, x_ev))
-    out["event_time_error_s"] = (max((abs(a[1] - b[1]) for a, b in zip(r_ev, x_ev)), default=0.0)
-                                 if match else math.inf)
+    out["event_time_error_s"] = (
+        max((abs(a[1] - b[1]) for a, b in zip(r_ev, x_ev)), default=0.0) if match else math.inf
+    )
     n_pk = sum(1 for t in ref.peak_times if t <= t_cmp)
     if match and len(run.peaks) >= n_pk:
-        out["peak_error_rad"] = max((abs(a - b) for a, b in zip(ref.peaks[:n_pk], run.peaks[:n_pk])),
-                                    default=0.0)
+        out["peak_error_rad"] = max(
+            (abs(a - b) for a, b in zip(ref.peaks[:n_pk], run.peaks[:n_pk])), default=0.0
+        )
     else:
         out["peak_error_rad"] = math.inf
     if math.isfinite(run.final_energy) and ref.energy_scale > 0:
@@ -70,29 +79,50 @@ def _first_mismatch(r_ev, x_ev) -> str:
         b = x_ev[i] if i < len(x_ev) else None
         if a is None or b is None or a[0] != b[0]:
             t = (a or b)[1]
-            return (f"transition {i + 1} at t = {t:.4g} s: reference {a[0] if a else 'none'}, "
-                    f"run {b[0] if b else 'none'}")
+            return (
+                f"transition {i + 1} at t = {t:.4g} s: reference {a[0] if a else 'none'}, "
+                f"run {b[0] if b else 'none'}"
+            )
     return ""
 
 
-def row_of(model: str, method: Method, level: float, run: RunResult, ref: RunResult,
-           errors: dict, reference_label: str) -> dict:
+def row_of(
+    model: str,
+    method: Method,
+    level: float,
+    run: RunResult,
+    ref: RunResult,
+    errors: dict,
+    reference_label: str,
+) -> dict:
     """One row of the benchmark table (JSON-ready except for infinities)."""
-    return {"model": model, "method": method.name, "family": method.family,
-            "level_name": method.level_name, "tolerance": level,
-            "error": errors["peak_error_rad"], **errors,
-            "wall_time_s": run.wall_time_s, "n_rhs": run.n_rhs, "status": run.status,
-            "message": run.message if run.status == "failed" else "",
-            "chatter": run.chatter, "chatter_ref": ref.chatter,
-            "balance_error": run.balance_error, "reference": reference_label}
+    return {
+        "model": model,
+        "method": method.name,
+        "family": method.family,
+        "level_name": method.level_name,
+        "tolerance": level,
+        "error": errors["peak_error_rad"],
+        **errors,
+        "wall_time_s": run.wall_time_s,
+        "n_rhs": run.n_rhs,
+        "status": run.status,
+        "message": run.message if run.status == "failed" else "",
+        "chatter": run.chatter,
+        "chatter_ref": ref.chatter,
+        "balance_error": run.balance_error,
+        "reference": reference_label,
+    }
 
 
 def sweep_case(case: Case, cfg: Config, progress=None) -> tuple[RunResult, list[dict]]:
     """Run every method of `case` at every level; returns (case reference, rows)."""
     say = progress or (lambda msg: None)
     ref = case.reference()
-    say(f"{case.key}: reference {case.reference_label} in {ref.wall_time_s:.2f} s "
-        f"({len(ref.events)} transitions, {len(ref.peaks)} peaks)")
+    say(
+        f"{case.key}: reference {case.reference_label} in {ref.wall_time_s:.2f} s "
+        f"({len(ref.events)} transitions, {len(ref.peaks)} peaks)"
+    )
     rows = []
     for m in case.methods:
         mref = m.reference() if m.reference is not None else ref
@@ -106,6 +136,8 @@ def sweep_case(case: Case, cfg: Config, progress=None) -> tuple[RunResult, list[
             errors = compare(run, mref, kinds, t_cmp)
             errors["t_compare"] = t_cmp
             rows.append(row_of(case.key, m, level, run, mref, errors, label))
-            say(f"  {m.name:32s} {m.level_name}={level:<8.0e} {run.wall_time_s:8.3f} s  "
-                f"peak err {errors['peak_error_rad']:.2e}  {run.status}")
+            say(
+                f"  {m.name:32s} {m.level_name}={level:<8.0e} {run.wall_time_s:8.3f} s  "
+                f"peak err {errors['peak_error_rad']:.2e}  {run.status}"
+            )
     return ref, rows

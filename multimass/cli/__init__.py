@@ -34,7 +34,8 @@ def build_parser() -> argparse.ArgumentParser:
     """The full argument parser with every sub-command registered."""
     parser = _Parser(
         prog="multimass",
-        description="Rocking structures: modal analysis, time histories, overturning maps.")
+        description="Rocking structures: modal analysis, time histories, overturning maps.",
+    )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name in command_modules():
         importlib.import_module(f"{__name__}.{name}").register(sub)
@@ -55,8 +56,7 @@ def attach_negative_values(argv: list[str]) -> list[str]:
     """
     out: list[str] = []
     for token in argv:
-        if (out and _NEGATIVE_VALUE.match(token) and out[-1].startswith("--")
-                and "=" not in out[-1]):
+        if out and _NEGATIVE_VALUE.match(token) and out[-1].startswith("--") and "=" not in out[-1]:
             out[-1] = f"{out[-1]}={token}"
         else:
             out.append(token)
@@ -69,7 +69,7 @@ def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     try:
         args = parser.parse_args(attach_negative_values(argv))
-    except SystemExit as done:          # --help, or a mistake argparse reported in one line
+    except SystemExit as done:  # --help, or a mistake argparse reported in one line
         return int(done.code or 0) if not isinstance(done.code, str) else 2
     try:
         return int(args.func(args) or 0)
@@ -77,8 +77,11 @@ def main(argv: list[str] | None = None) -> int:
         print(f"multimass {args.command}: error: {exc}", file=sys.stderr)
         return 2
     except MemoryError:
-        print(f"multimass {args.command}: error: out of memory; reduce the size of the run "
-              "(end time, output step, grid, elements)", file=sys.stderr)
+        print(
+            f"multimass {args.command}: error: out of memory; reduce the size of the run "
+            "(end time, output step, grid, elements)",
+            file=sys.stderr,
+        )
         return 2
     except BrokenPipeError:  # output piped into e.g. `head`: not an error of ours
         sys.stderr.close()

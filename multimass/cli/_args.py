@@ -9,8 +9,15 @@ from ..simulation import DEFAULTS
 from ..units import parse_acceleration
 from . import _types as types
 
-__all__ = ["add_excitation_args", "excitation_from_args", "add_impact_args", "impact_kwargs",
-           "add_solver_args", "solver_kwargs", "PULSES"]
+__all__ = [
+    "add_excitation_args",
+    "excitation_from_args",
+    "add_impact_args",
+    "impact_kwargs",
+    "add_solver_args",
+    "solver_kwargs",
+    "PULSES",
+]
 
 PULSES = PULSE_NAMES
 
@@ -18,30 +25,65 @@ PULSES = PULSE_NAMES
 def add_excitation_args(p, *, release=True) -> None:
     g = p.add_argument_group("excitation (one of: release, pulse, record)")
     if release:
-        g.add_argument("--release", type=types.finite, default=None, metavar="THETA0",
-                       help="free release from θ0 (rad); θ0 > 0 leans on the right pivot")
-        g.add_argument("--release-u", type=types.finite, default=None, metavar="U0",
-                       help="free release with the top node displaced by U0 (m), static shape")
-    g.add_argument("--pulse", choices=PULSES, default=None,
-                   help="sine, cosine: single waves (paper 004 Fig 2; paper 001's cosine pulse is "
-                        "the same acceleration, see multimass.CosinePulse); ricker: Ricker wavelet")
-    g.add_argument("--omega", type=types.positive, default=None,
-                   help="pulse circular frequency (rad/s)")
-    g.add_argument("--amp", default=None, help="pulse amplitude, e.g. 0.4g, 3.5m/s2 (default unit g)")
-    g.add_argument("--record", default=None, metavar="FILE",
-                   help="recorded motion: PEER .AT2 or two-column text file (t, a)")
-    g.add_argument("--units", default=None, help="units of a two-column record: g, m/s2, cm/s2, mm/s2")
+        g.add_argument(
+            "--release",
+            type=types.finite,
+            default=None,
+            metavar="THETA0",
+            help="free release from θ0 (rad); θ0 > 0 leans on the right pivot",
+        )
+        g.add_argument(
+            "--release-u",
+            type=types.finite,
+            default=None,
+            metavar="U0",
+            help="free release with the top node displaced by U0 (m), static shape",
+        )
+    g.add_argument(
+        "--pulse",
+        choices=PULSES,
+        default=None,
+        help="sine, cosine: single waves (paper 004 Fig 2; paper 001's cosine pulse is "
+        "the same acceleration, see multimass.CosinePulse); ricker: Ricker wavelet",
+    )
+    g.add_argument(
+        "--omega", type=types.positive, default=None, help="pulse circular frequency (rad/s)"
+    )
+    g.add_argument(
+        "--amp", default=None, help="pulse amplitude, e.g. 0.4g, 3.5m/s2 (default unit g)"
+    )
+    g.add_argument(
+        "--record",
+        default=None,
+        metavar="FILE",
+        help="recorded motion: PEER .AT2 or two-column text file (t, a)",
+    )
+    g.add_argument(
+        "--units", default=None, help="units of a two-column record: g, m/s2, cm/s2, mm/s2"
+    )
     g.add_argument("--scale", type=types.positive, default=1.0, help="scale factor of the record")
 
 
 def excitation_from_args(args, structure):
     """The excitation the arguments describe; exactly one kind must be given."""
-    kinds = [k for k, v in (("--release", getattr(args, "release", None) is not None
-                             or getattr(args, "release_u", None) is not None),
-                            ("--pulse", args.pulse is not None), ("--record", args.record is not None)) if v]
+    kinds = [
+        k
+        for k, v in (
+            (
+                "--release",
+                getattr(args, "release", None) is not None
+                or getattr(args, "release_u", None) is not None,
+            ),
+            ("--pulse", args.pulse is not None),
+            ("--record", args.record is not None),
+        )
+        if v
+    ]
     if len(kinds) != 1:
-        raise InputError("give exactly one excitation: --release THETA0, --pulse KIND --omega W "
-                         f"--amp A, or --record FILE (got {', '.join(kinds) or 'none'})")
+        raise InputError(
+            "give exactly one excitation: --release THETA0, --pulse KIND --omega W "
+            f"--amp A, or --record FILE (got {', '.join(kinds) or 'none'})"
+        )
     if kinds[0] == "--release":
         return FreeRelease(theta0=args.release or 0.0, u0=args.release_u)
     if kinds[0] == "--pulse":
@@ -55,58 +97,125 @@ def excitation_from_args(args, structure):
 
 def add_impact_args(p, *, multiple: bool = False, default: str | None = "DD2") -> None:
     g = p.add_argument_group("impact model")
-    if multiple:   # several models overlaid (e.g. `multimass compare`): a list, default ["DD2"]
-        g.add_argument("--impact", action="append", default=None, metavar="MODEL[,MODEL...]",
-                       help="CIM, DD1..DD5 (paper 001 Table 2) or DD; repeat the flag or give a "
-                            "comma list to overlay several models (default DD2)")
+    if multiple:  # several models overlaid (e.g. `multimass compare`): a list, default ["DD2"]
+        g.add_argument(
+            "--impact",
+            action="append",
+            default=None,
+            metavar="MODEL[,MODEL...]",
+            help="CIM, DD1..DD5 (paper 001 Table 2) or DD; repeat the flag or give a "
+            "comma list to overlay several models (default DD2)",
+        )
     else:
-        g.add_argument("--impact", default=default,
-                       help="CIM, DD1..DD5 (paper 001 Table 2) or DD (default "
-                            f"{default or 'DD2 for pulses, DD5 for records'}; blocks: CIM is usual)")
-    g.add_argument("--restitution", default=None,
-                   help="housner | modified | mean | random | r_h | VALUE (overrides Table 2)")
-    g.add_argument("--k", type=types.unit_interval, default=None,
-                   help="k of the modified restitution (paper 004 Eq 10), in [0, 1]")
-    g.add_argument("--cp", type=types.positive, default=None,
-                   help="C_p of the Dirac-delta model (kg m/rad/s)")
-    g.add_argument("--eps-p", type=types.unit_interval, default=None,
-                   help="Poisson's coefficient of --impact LCP (paper 000; default 0)")
-    g.add_argument("--seed", type=types.whole, default=None,
-                   help="seed (a whole number ≥ 0) of random restitution (DD5)")
+        g.add_argument(
+            "--impact",
+            default=default,
+            help="CIM, DD1..DD5 (paper 001 Table 2) or DD (default "
+            f"{default or 'DD2 for pulses, DD5 for records'}; blocks: CIM is usual)",
+        )
+    g.add_argument(
+        "--restitution",
+        default=None,
+        help="housner | modified | mean | random | r_h | VALUE (overrides Table 2)",
+    )
+    g.add_argument(
+        "--k",
+        type=types.unit_interval,
+        default=None,
+        help="k of the modified restitution (paper 004 Eq 10), in [0, 1]",
+    )
+    g.add_argument(
+        "--cp", type=types.positive, default=None, help="C_p of the Dirac-delta model (kg m/rad/s)"
+    )
+    g.add_argument(
+        "--eps-p",
+        type=types.unit_interval,
+        default=None,
+        help="Poisson's coefficient of --impact LCP (paper 000; default 0)",
+    )
+    g.add_argument(
+        "--seed",
+        type=types.whole,
+        default=None,
+        help="seed (a whole number ≥ 0) of random restitution (DD5)",
+    )
 
 
 def impact_kwargs(args) -> dict:
-    return dict(impact=args.impact, restitution=args.restitution, k=args.k, C_p=args.cp,
-                eps_p=getattr(args, "eps_p", None), seed=args.seed)
+    return dict(
+        impact=args.impact,
+        restitution=args.restitution,
+        k=args.k,
+        C_p=args.cp,
+        eps_p=getattr(args, "eps_p", None),
+        seed=args.seed,
+    )
 
 
 def add_solver_args(p) -> None:
     g = p.add_argument_group("solver (scipy.integrate.solve_ivp, or its compiled twin)")
-    g.add_argument("--method", default=DEFAULTS["method"],
-                   help=f"RK23, RK45, DOP853, Radau, BDF or LSODA (default {DEFAULTS['method']})")
-    g.add_argument("--rtol", type=types.positive, default=DEFAULTS["rtol"],
-                   help=f"relative tolerance of the solver (default {DEFAULTS['rtol']:g})")
-    g.add_argument("--atol", type=types.positive, default=DEFAULTS["atol"],
-                   help=f"absolute tolerance of the solver, in rad and m (default {DEFAULTS['atol']:g})")
-    g.add_argument("--max-step", type=types.positive_or_inf, default=DEFAULTS["max_step"],
-                   help=f"longest solver step (s; default {DEFAULTS['max_step']:g}; inf for none)")
-    g.add_argument("--output-dt", type=types.positive, default=DEFAULTS["output_dt"],
-                   help=f"sampling of the series (s; default {DEFAULTS['output_dt']:g})")
-    g.add_argument("--backend", choices=("scipy", "compiled"), default=None,
-                   help="scipy: solve_ivp (the reference); compiled: the same explicit RK steps in "
-                        "numba kernels (multimass.fast). Default: the function's own (scipy for "
-                        "one simulation)")
-    g.add_argument("--energy-tol", type=types.positive, default=DEFAULTS["energy_tol"],
-                   help="accuracy check: a run whose energy ledger is off by more than this "
-                        "share of its energy scale is reported 'inaccurate' "
-                        f"(default {DEFAULTS['energy_tol']:g})")
-    g.add_argument("--max-hours", type=types.positive_or_inf, default=None,
-                   help="budget: refuse a run estimated to take longer (default 1; inf for none)")
+    g.add_argument(
+        "--method",
+        default=DEFAULTS["method"],
+        help=f"RK23, RK45, DOP853, Radau, BDF or LSODA (default {DEFAULTS['method']})",
+    )
+    g.add_argument(
+        "--rtol",
+        type=types.positive,
+        default=DEFAULTS["rtol"],
+        help=f"relative tolerance of the solver (default {DEFAULTS['rtol']:g})",
+    )
+    g.add_argument(
+        "--atol",
+        type=types.positive,
+        default=DEFAULTS["atol"],
+        help=f"absolute tolerance of the solver, in rad and m (default {DEFAULTS['atol']:g})",
+    )
+    g.add_argument(
+        "--max-step",
+        type=types.positive_or_inf,
+        default=DEFAULTS["max_step"],
+        help=f"longest solver step (s; default {DEFAULTS['max_step']:g}; inf for none)",
+    )
+    g.add_argument(
+        "--output-dt",
+        type=types.positive,
+        default=DEFAULTS["output_dt"],
+        help=f"sampling of the series (s; default {DEFAULTS['output_dt']:g})",
+    )
+    g.add_argument(
+        "--backend",
+        choices=("scipy", "compiled"),
+        default=None,
+        help="scipy: solve_ivp (the reference); compiled: the same explicit RK steps in "
+        "numba kernels (multimass.fast). Default: the function's own (scipy for "
+        "one simulation)",
+    )
+    g.add_argument(
+        "--energy-tol",
+        type=types.positive,
+        default=DEFAULTS["energy_tol"],
+        help="accuracy check: a run whose energy ledger is off by more than this "
+        "share of its energy scale is reported 'inaccurate' "
+        f"(default {DEFAULTS['energy_tol']:g})",
+    )
+    g.add_argument(
+        "--max-hours",
+        type=types.positive_or_inf,
+        default=None,
+        help="budget: refuse a run estimated to take longer (default 1; inf for none)",
+    )
 
 
 def solver_kwargs(args) -> dict:
-    kw = dict(method=args.method, rtol=args.rtol, atol=args.atol, max_step=args.max_step,
-              output_dt=args.output_dt, energy_tol=args.energy_tol)
+    kw = dict(
+        method=args.method,
+        rtol=args.rtol,
+        atol=args.atol,
+        max_step=args.max_step,
+        output_dt=args.output_dt,
+        energy_tol=args.energy_tol,
+    )
     if getattr(args, "backend", None) is not None:
         kw["backend"] = args.backend
     if getattr(args, "max_hours", None) is not None:

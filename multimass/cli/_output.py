@@ -34,17 +34,22 @@ def output_folder(path, flag: str = "--out") -> Path | None:
         return None
     path = Path(path)
     if path.exists() and not path.is_dir():
-        raise InputError(f"`{flag}` = {str(path)!r} is an existing file; give a folder "
-                         "(it is created if missing)")
+        raise InputError(
+            f"`{flag}` = {str(path)!r} is an existing file; give a folder "
+            "(it is created if missing)"
+        )
     try:
         path.mkdir(parents=True, exist_ok=True)
         with tempfile.NamedTemporaryFile(dir=path, prefix=".multimass-write-test-"):
             pass
     except OSError as exc:
         reason = exc.strerror or type(exc).__name__
-        raise InputError(f"`{flag}` = {str(path)!r}: cannot write there ({reason}); give a "
-                         "folder you can write to") from None
+        raise InputError(
+            f"`{flag}` = {str(path)!r}: cannot write there ({reason}); give a "
+            "folder you can write to"
+        ) from None
     if not os.access(path, os.W_OK):
-        raise InputError(f"`{flag}` = {str(path)!r}: the folder is not writable; give a "
-                         "folder you can write to")
+        raise InputError(
+            f"`{flag}` = {str(path)!r}: the folder is not writable; give a folder you can write to"
+        )
     return path

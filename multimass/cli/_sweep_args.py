@@ -9,12 +9,21 @@ __all__ = ["add_executor_args", "executor_kwargs"]
 
 def add_executor_args(p) -> None:
     g = p.add_argument_group("sweep execution")
-    g.add_argument("--executor", default="process", choices=("serial", "process", "dask"),
-                   help="serial, local process pool (default, all cores) or Dask")
-    g.add_argument("--workers", type=_count, default=None,
-                   help="number of workers, ≥ 1 (default: all cores)")
-    g.add_argument("--dask-address", default=None, metavar="ADDR",
-                   help="scheduler address of a Dask cluster (with --executor dask)")
+    g.add_argument(
+        "--executor",
+        default="process",
+        choices=("serial", "process", "dask"),
+        help="serial, local process pool (default, all cores) or Dask",
+    )
+    g.add_argument(
+        "--workers", type=_count, default=None, help="number of workers, ≥ 1 (default: all cores)"
+    )
+    g.add_argument(
+        "--dask-address",
+        default=None,
+        metavar="ADDR",
+        help="scheduler address of a Dask cluster (with --executor dask)",
+    )
     g.add_argument("--no-progress", action="store_true", help="hide the progress bar")
 
 
@@ -28,5 +37,8 @@ def executor_kwargs(args) -> dict:
         ex = get_executor("dask", args.workers, address=args.dask_address)
     else:
         ex = args.executor
-    return dict(executor=ex, workers=None if not isinstance(ex, str) else args.workers,
-                progress=False if args.no_progress else None)
+    return dict(
+        executor=ex,
+        workers=None if not isinstance(ex, str) else args.workers,
+        progress=False if args.no_progress else None,
+    )

@@ -10,7 +10,15 @@ from __future__ import annotations
 import argparse
 import math
 
-__all__ = ["finite", "positive", "positive_or_inf", "nonnegative", "whole", "count", "unit_interval"]
+__all__ = [
+    "finite",
+    "positive",
+    "positive_or_inf",
+    "nonnegative",
+    "whole",
+    "count",
+    "unit_interval",
+]
 
 
 def _float(text: str, rule: str) -> float:

@@ -10,27 +10,48 @@ __all__ = ["register", "run"]
 
 #: keys printed first (and always) in the JSON object
 HEADLINE = ("speedup_single", "speedup_map", "scaling_2_workers", "peak_error_rad")
-ROW_KEYS = ("model", "method", "level_name", "tolerance", "error", "event_time_error_s",
-            "energy_error", "wall_time_s", "n_rhs", "failure")
+ROW_KEYS = (
+    "model",
+    "method",
+    "level_name",
+    "tolerance",
+    "error",
+    "event_time_error_s",
+    "energy_error",
+    "wall_time_s",
+    "n_rhs",
+    "failure",
+)
 
 
 def register(sub) -> None:
     p = sub.add_parser(
-        "bench", help="work-precision charts, failure maps and speed targets of every method",
+        "bench",
+        help="work-precision charts, failure maps and speed targets of every method",
         description="Run every model (rigid block, S1 with CIM and DD2, the LCP block, NSCD) with "
-                    "every method (solve_ivp RK45/DOP853/Radau/BDF/LSODA, the compiled path, "
-                    "Newmark + Newton-Raphson, Moreau-Jean) at several tolerances or time steps "
-                    "against tight references; detect where methods fail; measure the speed "
-                    "targets. Writes bench.json, CSV/Markdown tables and PNG charts to --out. "
-                    "Full run ~10 min on 2 cores; --quick ~2.5 min (targets not judged).")
+        "every method (solve_ivp RK45/DOP853/Radau/BDF/LSODA, the compiled path, "
+        "Newmark + Newton-Raphson, Moreau-Jean) at several tolerances or time steps "
+        "against tight references; detect where methods fail; measure the speed "
+        "targets. Writes bench.json, CSV/Markdown tables and PNG charts to --out. "
+        "Full run ~10 min on 2 cores; --quick ~2.5 min (targets not judged).",
+    )
     size = p.add_mutually_exclusive_group()
-    size.add_argument("--quick", action="store_true",
-                      help="fewer tolerances, shorter runs, a 30x30 map (~2.5 min; targets shown, not judged)")
-    size.add_argument("--smoke", action="store_true",
-                      help="a tiny configuration that checks the pipeline (seconds; numbers meaningless)")
+    size.add_argument(
+        "--quick",
+        action="store_true",
+        help="fewer tolerances, shorter runs, a 30x30 map (~2.5 min; targets shown, not judged)",
+    )
+    size.add_argument(
+        "--smoke",
+        action="store_true",
+        help="a tiny configuration that checks the pipeline (seconds; numbers meaningless)",
+    )
     p.add_argument("--out", type=Path, required=True, help="folder for the JSON, tables and charts")
-    p.add_argument("--json", action="store_true",
-                   help="print the result as JSON (targets, then one row per model, method and level)")
+    p.add_argument(
+        "--json",
+        action="store_true",
+        help="print the result as JSON (targets, then one row per model, method and level)",
+    )
     p.set_defaults(func=run)
 
 
@@ -42,8 +63,11 @@ def run(args) -> int:
 
     cfg = preset("smoke" if args.smoke else "quick" if args.quick else "full")
     quiet = args.json
-    res = run_bench(cfg, output_folder(args.out),
-                    progress=None if quiet else (lambda m: print(m, file=sys.stderr, flush=True)))
+    res = run_bench(
+        cfg,
+        output_folder(args.out),
+        progress=None if quiet else (lambda m: print(m, file=sys.stderr, flush=True)),
+    )
     if args.json:
         rows = [{k: r.get(k) for k in ROW_KEYS} for r in res["rows"] + res["stiffness"]["rows"]]
         head = {k: res[k] for k in HEADLINE}
@@ -53,9 +77,15 @@ def run(args) -> int:
     t = res["targets"]["pass"]
     verdict = {True: "pass", False: "FAIL", None: "not judged: smaller case than the target's"}
     print(f"bench ({cfg.name}) in {res['wall_time_s']:.0f} s -> {args.out}")
-    for key, fmt, rule in (("speedup_single", "8.1f", ">= 30"), ("peak_error_rad", "8.1e", "<= 1e-6"),
-                           ("speedup_map", "8.1f", ">= 50"), ("scaling_2_workers", "8.2f", ">= 1.7")):
+    for key, fmt, rule in (
+        ("speedup_single", "8.1f", ">= 30"),
+        ("peak_error_rad", "8.1e", "<= 1e-6"),
+        ("speedup_map", "8.1f", ">= 50"),
+        ("scaling_2_workers", "8.2f", ">= 1.7"),
+    ):
         print(f"  {key:<17} {res[key]:{fmt}}   ({rule}: {verdict[t[key]]})")
-    print(f"  {len(res['failures'])} failing runs: see {args.out / 'failures.md'}; charts: "
-          + ", ".join(res["charts"]))
+    print(
+        f"  {len(res['failures'])} failing runs: see {args.out / 'failures.md'}; charts: "
+        + ", ".join(res["charts"])
+    )
     return 0

@@ -25,47 +25,76 @@ from ._output import output_folder
 __all__ = ["register", "model_specs"]
 
 # option key in MODEL:key=value → keyword of multimass.simulate
-_KEYS = {"cp": "C_p", "c_p": "C_p", "restitution": "restitution", "r": "restitution", "k": "k",
-         "seed": "seed"}
-_OPTIONS_HELP = ("write options as MODEL:key=value[:key=value] with key one of cp, restitution "
-                 "(or r), k, seed; e.g. DD2:cp=3000 or CIM:r=0.9")
+_KEYS = {
+    "cp": "C_p",
+    "c_p": "C_p",
+    "restitution": "restitution",
+    "r": "restitution",
+    "k": "k",
+    "seed": "seed",
+}
+_OPTIONS_HELP = (
+    "write options as MODEL:key=value[:key=value] with key one of cp, restitution "
+    "(or r), k, seed; e.g. DD2:cp=3000 or CIM:r=0.9"
+)
 
 
 def register(sub) -> None:
     p = sub.add_parser(
-        "compare", help="overlay simulations on a recorded trace (θ, accelerations); error metrics",
+        "compare",
+        help="overlay simulations on a recorded trace (θ, accelerations); error metrics",
         description="Read a recorded trace (CSV with units in the header: `t [s],theta [deg],"
-                    "a_A2 [g],...`), run the matching simulation with one or more impact models "
-                    "and write overlay plots and error metrics (RMS error, NRMSE, peak error, "
-                    "peak-time shift). Without an excitation flag the simulation is a free "
-                    "release from the trace's θ at its first sample, up to its last sample. "
-                    "Each --impact model may carry its own options, MODEL:key=value (keys cp, "
-                    "restitution or r, k, seed), e.g. --impact CIM,DD2,DD2:cp=3000 (paper 001 "
-                    "Fig 8).")
+        "a_A2 [g],...`), run the matching simulation with one or more impact models "
+        "and write overlay plots and error metrics (RMS error, NRMSE, peak error, "
+        "peak-time shift). Without an excitation flag the simulation is a free "
+        "release from the trace's θ at its first sample, up to its last sample. "
+        "Each --impact model may carry its own options, MODEL:key=value (keys cp, "
+        "restitution or r, k, seed), e.g. --impact CIM,DD2,DD2:cp=3000 (paper 001 "
+        "Fig 8).",
+    )
     p.add_argument("specimen", metavar="SPECIMEN", help="bundled name (S1, B6M, ...) or TOML file")
-    p.add_argument("trace", type=Path, metavar="TRACE.csv",
-                   help="recorded trace; columns t|time [s|ms], theta [rad|deg], a_<sensor>, "
-                        "a<k> or a_node<k> [g|m/s2|cm/s2|mm/s2]")
+    p.add_argument(
+        "trace",
+        type=Path,
+        metavar="TRACE.csv",
+        help="recorded trace; columns t|time [s|ms], theta [rad|deg], a_<sensor>, "
+        "a<k> or a_node<k> [g|m/s2|cm/s2|mm/s2]",
+    )
     add_impact_args(p, multiple=True)
     add_excitation_args(p)
     add_solver_args(p)
-    p.add_argument("--t-end", type=types.positive, default=None,
-                   help="end of the simulation (s, on its own clock); default: the trace's last "
-                        "sample")
-    p.add_argument("--t-offset", type=types.finite, default=None,
-                   help="trace time of the simulation's t = 0 (s); default: the trace's first "
-                        "time for a release, 0 for a pulse or a record")
-    p.add_argument("--out", type=Path, default=None,
-                   help="folder for figures, metrics (CSV, Markdown) and JSON "
-                        "(default: compare_report unless --json)")
+    p.add_argument(
+        "--t-end",
+        type=types.positive,
+        default=None,
+        help="end of the simulation (s, on its own clock); default: the trace's last sample",
+    )
+    p.add_argument(
+        "--t-offset",
+        type=types.finite,
+        default=None,
+        help="trace time of the simulation's t = 0 (s); default: the trace's first "
+        "time for a release, 0 for a pulse or a record",
+    )
+    p.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        help="folder for figures, metrics (CSV, Markdown) and JSON "
+        "(default: compare_report unless --json)",
+    )
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=run)
 
 
 # per-model option -> the type of its flag (--cp, --k, --seed), so the same mistake gets
 # the same message whether it is written --cp -1 or --impact DD2:cp=-1
-_TYPES = {"cp": types.positive, "c_p": types.positive, "k": types.unit_interval,
-          "seed": types.whole}
+_TYPES = {
+    "cp": types.positive,
+    "c_p": types.positive,
+    "k": types.unit_interval,
+    "seed": types.whole,
+}
 
 
 def _option(label: str, key: str, value: str):
@@ -96,7 +125,9 @@ def model_specs(args) -> dict[str, dict]:
         for opt in opts:
             key, sep, value = (s.strip() for s in opt.partition("="))
             if not sep or key.lower() not in _KEYS or not value:
-                raise InputError(f"`--impact` = {label!r}: cannot read option {opt!r}; {_OPTIONS_HELP}")
+                raise InputError(
+                    f"`--impact` = {label!r}: cannot read option {opt!r}; {_OPTIONS_HELP}"
+                )
             kw[_KEYS[key.lower()]] = _option(label, key.lower(), value)
         specs[label] = kw
     return specs
@@ -122,41 +153,62 @@ def run(args) -> int:
 
     st = multimass.from_specimen(args.specimen)
     trace = read_trace(args.trace, g=st.g)
-    columns = channel_columns(trace, st)               # fail before simulating
+    columns = channel_columns(trace, st)  # fail before simulating
     specs = model_specs(args)
-    for kw in specs.values():                          # unknown names / options: fail early too
+    for kw in specs.values():  # unknown names / options: fail early too
         impact_model(kw["impact"], st.specimen, kw["restitution"], kw["k"], kw["C_p"])
     exc, t_offset = _excitation(args, st, trace)
     out = output_folder(args.out if args.out is not None or args.json else Path("compare_report"))
     t_end = args.t_end if args.t_end is not None else float(trace.time[-1]) - t_offset
     if not t_end > 0.0:
-        raise InputError(f"`--t-end` = {t_end!r} s: the simulation would not run; the trace ends "
-                         f"at {trace.time[-1]:g} s and `--t-offset` = {t_offset:g} s")
+        raise InputError(
+            f"`--t-end` = {t_end!r} s: the simulation would not run; the trace ends "
+            f"at {trace.time[-1]:g} s and `--t-offset` = {t_offset:g} s"
+        )
     models, responses, metrics = {}, {}, {}
     for label, kw in specs.items():
         resp = multimass.simulate(st, exc, t_end=t_end, **kw, **solver_kwargs(args))
-        entry = {"impact": kw["impact"],
-                 "overrides": {k: kw[k] for k in ("restitution", "k", "C_p", "seed")},
-                 "summary": resp.summary(), "metrics": None}
+        entry = {
+            "impact": kw["impact"],
+            "overrides": {k: kw[k] for k in ("restitution", "k", "C_p", "seed")},
+            "summary": resp.summary(),
+            "metrics": None,
+        }
         try:
             metrics[label] = compare_trace(trace, resp, st, t_offset=t_offset)
             entry["metrics"] = {ch: m.to_dict() for ch, m in metrics[label].items()}
             responses[label] = resp
-        except InputError as err:                      # e.g. failed at once: nothing to compare
+        except InputError as err:  # e.g. failed at once: nothing to compare
             entry["metrics_error"] = str(err)
         models[label] = entry
-    info = {"specimen": st.name,
-            "trace": {"source": trace.source, "n_samples": int(trace.time.size),
-                      "t_start": float(trace.time[0]), "t_end": float(trace.time[-1]),
-                      "channels": {ch: {"units": trace.units[ch], "si_units": trace.si_units(ch),
-                                        "column": columns[ch]} for ch in trace.names}},
-            "excitation": exc.describe(), "t_offset": t_offset, "t_end": t_end,
-            "models": models, "files": []}
+    info = {
+        "specimen": st.name,
+        "trace": {
+            "source": trace.source,
+            "n_samples": int(trace.time.size),
+            "t_start": float(trace.time[0]),
+            "t_end": float(trace.time[-1]),
+            "channels": {
+                ch: {
+                    "units": trace.units[ch],
+                    "si_units": trace.si_units(ch),
+                    "column": columns[ch],
+                }
+                for ch in trace.names
+            },
+        },
+        "excitation": exc.describe(),
+        "t_offset": t_offset,
+        "t_end": t_end,
+        "models": models,
+        "files": [],
+    }
     if out is not None:
         info["files"] = _write(out, st, trace, responses, metrics, t_offset, info)
     _print(args, info)
-    return 1 if any(m["summary"]["status"] in ("failed", "inaccurate")
-                    for m in models.values()) else 0
+    return (
+        1 if any(m["summary"]["status"] in ("failed", "inaccurate") for m in models.values()) else 0
+    )
 
 
 def _write(out: Path, st, trace, responses, metrics, t_offset, info) -> list[str]:
@@ -167,13 +219,22 @@ def _write(out: Path, st, trace, responses, metrics, t_offset, info) -> list[str
     if responses:
         for ch in trace.names:
             per = {label: m[ch] for label, m in metrics.items()}
-            path = plot_overlay(trace, ch, responses, st, out / f"{stem}_{ch}.png",
-                                t_offset=t_offset, metrics=per,
-                                title=f"{st.name}: {ch} measured ({Path(trace.source).name}) "
-                                      f"and simulated")
+            path = plot_overlay(
+                trace,
+                ch,
+                responses,
+                st,
+                out / f"{stem}_{ch}.png",
+                t_offset=t_offset,
+                metrics=per,
+                title=f"{st.name}: {ch} measured ({Path(trace.source).name}) and simulated",
+            )
             files.append(str(path))
-    rows = [dict(model=label, status=info["models"][label]["summary"]["status"], **m.to_dict())
-            for label, chans in metrics.items() for m in chans.values()]
+    rows = [
+        dict(model=label, status=info["models"][label]["summary"]["status"], **m.to_dict())
+        for label, chans in metrics.items()
+        for m in chans.values()
+    ]
     if rows:
         import pandas as pd
 
@@ -192,7 +253,7 @@ def _jsonable(x):
     inside another one's description) are written as their description or their repr."""
     if hasattr(x, "describe"):
         return x.describe()
-    if hasattr(x, "tolist"):           # numpy scalars and arrays
+    if hasattr(x, "tolist"):  # numpy scalars and arrays
         return x.tolist()
     return repr(x)
 
@@ -202,28 +263,41 @@ def _fmt(x, spec=".4g") -> str:
 
 
 def _markdown(st, trace, info, metrics) -> str:
-    lines = [f"# {st.name} against {trace.source}", "",
-             f"Excitation: `{json.dumps(info['excitation'])}`; simulated 0–{info['t_end']:g} s, "
-             f"trace time = simulation time + {info['t_offset']:g} s.", "",
-             "Metrics on the trace's samples in the overlap, SI units (rad, m/s²); RMS values are "
-             "time-weighted (trapezoidal); NRMSE = RMS error / RMS measured; peak error = "
-             "max|sim| − max|meas|; peak-time shift = t(max|sim|) − t(max|meas|).", ""]
+    lines = [
+        f"# {st.name} against {trace.source}",
+        "",
+        f"Excitation: `{json.dumps(info['excitation'])}`; simulated 0–{info['t_end']:g} s, "
+        f"trace time = simulation time + {info['t_offset']:g} s.",
+        "",
+        "Metrics on the trace's samples in the overlap, SI units (rad, m/s²); RMS values are "
+        "time-weighted (trapezoidal); NRMSE = RMS error / RMS measured; peak error = "
+        "max|sim| − max|meas|; peak-time shift = t(max|sim|) − t(max|meas|).",
+        "",
+    ]
     for label, entry in info["models"].items():
         s = entry["summary"]
-        lines.append(f"- **{label}**: {s['status']}, {s['n_impacts']} impacts, "
-                     f"{s['n_full_contact']} full-contact transitions, {s['wall_time_s']:.2f} s"
-                     + (f" — {entry['metrics_error']}" if "metrics_error" in entry else ""))
+        lines.append(
+            f"- **{label}**: {s['status']}, {s['n_impacts']} impacts, "
+            f"{s['n_full_contact']} full-contact transitions, {s['wall_time_s']:.2f} s"
+            + (f" — {entry['metrics_error']}" if "metrics_error" in entry else "")
+        )
     for ch in trace.names:
-        lines += ["", f"## {ch} (written in {trace.units[ch]}; metrics in {trace.si_units(ch)})", "",
-                  "| model | RMS error | NRMSE | peak measured | peak simulated | peak error | "
-                  "peak error (rel.) | peak-time shift (s) |",
-                  "|---|---|---|---|---|---|---|---|"]
+        lines += [
+            "",
+            f"## {ch} (written in {trace.units[ch]}; metrics in {trace.si_units(ch)})",
+            "",
+            "| model | RMS error | NRMSE | peak measured | peak simulated | peak error | "
+            "peak error (rel.) | peak-time shift (s) |",
+            "|---|---|---|---|---|---|---|---|",
+        ]
         for label, chans in metrics.items():
             m = chans[ch]
-            lines.append(f"| {label} | {_fmt(m.rms_error)} | {_fmt(m.nrmse, '.2%')} | "
-                         f"{_fmt(m.peak_measured)} | {_fmt(m.peak_simulated)} | "
-                         f"{_fmt(m.peak_error, '+.4g')} | {_fmt(m.peak_error_rel, '+.2%')} | "
-                         f"{m.peak_time_shift_s:+.4f} |")
+            lines.append(
+                f"| {label} | {_fmt(m.rms_error)} | {_fmt(m.nrmse, '.2%')} | "
+                f"{_fmt(m.peak_measured)} | {_fmt(m.peak_simulated)} | "
+                f"{_fmt(m.peak_error, '+.4g')} | {_fmt(m.peak_error_rel, '+.2%')} | "
+                f"{m.peak_time_shift_s:+.4f} |"
+            )
     return "\n".join(lines) + "\n"
 
 
@@ -233,13 +307,17 @@ def _print(args, info) -> None:
         return
     for label, entry in info["models"].items():
         s = entry["summary"]
-        print(f"{label}: {s['status']}, {s['n_impacts']} impacts, {s['wall_time_s']:.2f} s"
-              + (f"\n  failed: {s['message']}" if s["status"] == "failed" else "")
-              + "".join(f"\n  warning: {w}" for w in s.get("warnings", ())))
+        print(
+            f"{label}: {s['status']}, {s['n_impacts']} impacts, {s['wall_time_s']:.2f} s"
+            + (f"\n  failed: {s['message']}" if s["status"] == "failed" else "")
+            + "".join(f"\n  warning: {w}" for w in s.get("warnings", ()))
+        )
         for ch, m in (entry["metrics"] or {}).items():
             nrmse = "—" if m["nrmse"] is None else f"{100 * m['nrmse']:.1f} %"
-            print(f"  {ch:<8} RMS error {m['rms_error']:.4g} {m['units']} (NRMSE {nrmse}), "
-                  f"peak error {m['peak_error']:+.4g} {m['units']}, "
-                  f"peak-time shift {m['peak_time_shift_s']:+.4f} s")
+            print(
+                f"  {ch:<8} RMS error {m['rms_error']:.4g} {m['units']} (NRMSE {nrmse}), "
+                f"peak error {m['peak_error']:+.4g} {m['units']}, "
+                f"peak-time shift {m['peak_time_shift_s']:+.4f} s"
+            )
     if info["files"]:
         print(f"files written to {Path(info['files'][0]).parent}/")

@@ -22,24 +22,42 @@ __all__ = ["register", "sensor_nodes", "default_t_end", "status_line", "exit_cod
 
 def register(sub) -> None:
     p = sub.add_parser(
-        "simulate", help="nonlinear time history: free release, pulse or record",
+        "simulate",
+        help="nonlinear time history: free release, pulse or record",
         description="Simulate the rocking response of a bundled specimen or TOML file "
-                    "(paper 001 Section 2; paper 004 for blocks). Writes the time series (CSV), "
-                    "the event log, the summary (JSON) and figures to --out.")
+        "(paper 001 Section 2; paper 004 for blocks). Writes the time series (CSV), "
+        "the event log, the summary (JSON) and figures to --out.",
+    )
     p.add_argument("specimen", metavar="SPECIMEN", help="bundled name (S1, B6M, ...) or TOML file")
     add_excitation_args(p)
     add_impact_args(p)
     add_solver_args(p)
     g = p.add_argument_group("integrator")
-    g.add_argument("--integrator", choices=("solve_ivp", "newmark"), default="solve_ivp",
-                   help="solve_ivp (default; any structure) or paper 004's Newmark + "
-                        "Newton-Raphson (rigid blocks with classical impacts, e.g. --impact CIM)")
-    g.add_argument("--dt", type=types.positive, default=1e-3,
-                   help="time step of --integrator newmark (s; default 0.001)")
-    p.add_argument("--t-end", type=types.positive, default=None,
-                   help="end time (s); default 10 s for a release, else the excitation + 5 s")
-    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
-                   help="show a progress bar (default: for runs estimated above a few seconds)")
+    g.add_argument(
+        "--integrator",
+        choices=("solve_ivp", "newmark"),
+        default="solve_ivp",
+        help="solve_ivp (default; any structure) or paper 004's Newmark + "
+        "Newton-Raphson (rigid blocks with classical impacts, e.g. --impact CIM)",
+    )
+    g.add_argument(
+        "--dt",
+        type=types.positive,
+        default=1e-3,
+        help="time step of --integrator newmark (s; default 0.001)",
+    )
+    p.add_argument(
+        "--t-end",
+        type=types.positive,
+        default=None,
+        help="end time (s); default 10 s for a release, else the excitation + 5 s",
+    )
+    p.add_argument(
+        "--progress",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="show a progress bar (default: for runs estimated above a few seconds)",
+    )
     p.add_argument("--out", type=Path, default=None, help="folder for CSV, JSON and figures")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(func=run)
@@ -64,9 +82,11 @@ def sensor_nodes(structure, names=("A2", "A4")) -> dict[str, int]:
 
 def status_line(name: str, resp) -> str:
     """One line for the terminal: status, counts, the ledger, and why a run is not normal."""
-    line = (f"{name}: {resp.status}; {resp.n_impacts} impacts, {resp.n_full_contact} full-contact "
-            f"transitions; theta_max = {resp.theta_max:.5f} rad; energy balance error "
-            f"{resp.energy_balance_error:.2e}; {resp.wall_time_s:.2f} s")
+    line = (
+        f"{name}: {resp.status}; {resp.n_impacts} impacts, {resp.n_full_contact} full-contact "
+        f"transitions; theta_max = {resp.theta_max:.5f} rad; energy balance error "
+        f"{resp.energy_balance_error:.2e}; {resp.wall_time_s:.2f} s"
+    )
     if resp.status == "failed":
         line += f"\n  failed: {resp.message}"
     if resp.status == "inaccurate":

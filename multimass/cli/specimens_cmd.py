@@ -26,16 +26,21 @@ GAP = "  "
 
 def register(sub) -> None:
     p = sub.add_parser("specimens", help="list the bundled specimens (and your own files)")
-    p.add_argument("files", nargs="*", metavar="FILE",
-                   help="your own specimen TOML files, listed after the bundled ones")
+    p.add_argument(
+        "files",
+        nargs="*",
+        metavar="FILE",
+        help="your own specimen TOML files, listed after the bundled ones",
+    )
     p.add_argument("--json", action="store_true", help="print a JSON array")
     p.set_defaults(func=run)
 
 
 def _wrap(text: str, width: int) -> list[str]:
     """Lines of at most `width` characters; a word longer than `width` is split."""
-    lines = textwrap.wrap(" ".join(str(text).split()), width, break_long_words=True,
-                          break_on_hyphens=False)
+    lines = textwrap.wrap(
+        " ".join(str(text).split()), width, break_long_words=True, break_on_hyphens=False
+    )
     return lines or [""]
 
 
@@ -46,9 +51,11 @@ def format_table(rows: list[dict], width: int = DEFAULT_WIDTH) -> list[str]:
     narrowest table (the fixed columns plus `MIN_DESCRIPTION`).
     """
     table = [HEADER, *rows]
-    widths = {"name": min(NAME_WIDTH, max(len(r["name"]) for r in table)),
-              "kind": max(len(r["kind"]) for r in table),
-              "source": min(SOURCE_WIDTH, max(len(r["source"]) for r in table))}
+    widths = {
+        "name": min(NAME_WIDTH, max(len(r["name"]) for r in table)),
+        "kind": max(len(r["kind"]) for r in table),
+        "source": min(SOURCE_WIDTH, max(len(r["source"]) for r in table)),
+    }
     fixed = sum(widths.values()) + len(GAP) * 3
     widths["description"] = max(MIN_DESCRIPTION, width - fixed)
     lines = []
@@ -61,8 +68,7 @@ def format_table(rows: list[dict], width: int = DEFAULT_WIDTH) -> list[str]:
 
 
 def _row(name: str, spec) -> dict:
-    return {"name": name, "kind": spec.kind, "source": spec.source,
-            "description": spec.description}
+    return {"name": name, "kind": spec.kind, "source": spec.source, "description": spec.description}
 
 
 def run(args) -> int:

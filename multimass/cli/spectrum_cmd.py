@@ -22,33 +22,60 @@ __all__ = ["register"]
 
 def register(sub) -> None:
     p = sub.add_parser(
-        "spectrum", help="θ_max against pulse frequency or amplitude, or record scale factor",
+        "spectrum",
+        help="θ_max against pulse frequency or amplitude, or record scale factor",
         description="Rocking response spectra (paper 001 Section 4.4): pulses swept in ω or "
-                    "amplitude, or a record swept in scale factor with repeats (random "
-                    "restitution). Ranges are inclusive: START:STOP:COUNT.")
-    p.add_argument("specimen", metavar="SPECIMEN",
-                   help="bundled name (S1, S2, S3, B6M, ...) or a specimen TOML file")
-    p.add_argument("--pulse", choices=PULSES, default=None,
-                   help="sweep a pulse: cosine (paper 001's cosine pulse), sine or ricker; "
-                        "with --omega and --amp, one of them a range")
+        "amplitude, or a record swept in scale factor with repeats (random "
+        "restitution). Ranges are inclusive: START:STOP:COUNT.",
+    )
+    p.add_argument(
+        "specimen",
+        metavar="SPECIMEN",
+        help="bundled name (S1, S2, S3, B6M, ...) or a specimen TOML file",
+    )
+    p.add_argument(
+        "--pulse",
+        choices=PULSES,
+        default=None,
+        help="sweep a pulse: cosine (paper 001's cosine pulse), sine or ricker; "
+        "with --omega and --amp, one of them a range",
+    )
     p.add_argument("--omega", default=None, help="rad/s: one value or START:STOP:COUNT")
     p.add_argument("--amp", default=None, help="e.g. 0.4g or 0.2g:0.8g:7 (default unit g)")
-    p.add_argument("--record", default=None, metavar="FILE",
-                   help="sweep a record's scale: PEER .AT2 or two-column file (with --units)")
-    p.add_argument("--units", default=None,
-                   help="units of a two-column record: g, m/s2, cm/s2, mm/s2")
+    p.add_argument(
+        "--record",
+        default=None,
+        metavar="FILE",
+        help="sweep a record's scale: PEER .AT2 or two-column file (with --units)",
+    )
+    p.add_argument(
+        "--units", default=None, help="units of a two-column record: g, m/s2, cm/s2, mm/s2"
+    )
     p.add_argument("--scale", default=None, help="scale factors START:STOP:COUNT or one value")
-    p.add_argument("--repeats", type=types.count, default=None,
-                   help="runs per point, ≥ 1 (default 1 for pulses, 3 for records)")
-    p.add_argument("--t-free", type=types.positive, default=5.0,
-                   help="free response after the excitation (s; default 5)")
+    p.add_argument(
+        "--repeats",
+        type=types.count,
+        default=None,
+        help="runs per point, ≥ 1 (default 1 for pulses, 3 for records)",
+    )
+    p.add_argument(
+        "--t-free",
+        type=types.positive,
+        default=5.0,
+        help="free response after the excitation (s; default 5)",
+    )
     add_impact_args(p, default=None)
     add_solver_args(p)
     add_executor_args(p)
-    p.add_argument("--out", type=Path, default=None,
-                   help="folder for the table (CSV), the summary (JSON) and the figure (PNG)")
-    p.add_argument("--json", action="store_true",
-                   help="print the summary and the statistics per point as JSON")
+    p.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        help="folder for the table (CSV), the summary (JSON) and the figure (PNG)",
+    )
+    p.add_argument(
+        "--json", action="store_true", help="print the summary and the statistics per point as JSON"
+    )
     p.set_defaults(func=run)
 
 
@@ -64,21 +91,32 @@ def run(args) -> int:
     sim = impact_kwargs(args)
     seed = sim.pop("seed")
     sim["impact"] = sim["impact"] or ("DD2" if args.pulse is not None else "DD5")
-    common = dict(t_free=args.t_free, seed=0 if seed is None else seed, **executor_kwargs(args),
-                  **sim, **{k: v for k, v in solver_kwargs(args).items() if k != "output_dt"})
+    common = dict(
+        t_free=args.t_free,
+        seed=0 if seed is None else seed,
+        **executor_kwargs(args),
+        **sim,
+        **{k: v for k, v in solver_kwargs(args).items() if k != "output_dt"},
+    )
     if (args.pulse is None) == (args.record is None):
         raise InputError("give either --pulse (with --omega and --amp) or --record (with --scale)")
     if args.pulse is not None:
         if args.omega is None or args.amp is None:
             raise InputError("`--pulse` needs --omega and --amp (one of them may be a range)")
         omega = check_values("--omega", parse_range(args.omega, "--omega"), positive=True)
-        amp = check_values("--amp", parse_range(args.amp, "--amp", lambda x: parse_acceleration(
-            x, "g", argument="--amp")), nonnegative=True)
+        amp = check_values(
+            "--amp",
+            parse_range(args.amp, "--amp", lambda x: parse_acceleration(x, "g", argument="--amp")),
+            nonnegative=True,
+        )
         sp = pulse_spectrum(st, args.pulse, omega, amp, repeats=args.repeats or 1, **common)
         x = "omega" if omega.size >= amp.size else "amp"
         xlabel = "ω (rad/s)" if x == "omega" else "amplitude (m/s²)"
-        title = (f"{st.name}: {args.pulse} pulse, " + (f"A = {amp[0] / multimass.G:.3g} g"
-                 if x == "omega" else f"ω = {omega[0]:.3g} rad/s") + f", {sim['impact']}")
+        title = (
+            f"{st.name}: {args.pulse} pulse, "
+            + (f"A = {amp[0] / multimass.G:.3g} g" if x == "omega" else f"ω = {omega[0]:.3g} rad/s")
+            + f", {sim['impact']}"
+        )
     else:
         if args.scale is None:
             raise InputError("`--record` needs --scale START:STOP:COUNT (or one value)")
@@ -87,14 +125,20 @@ def run(args) -> int:
         sp = record_spectrum(st, rec, scale, repeats=args.repeats or 3, **common)
         x, xlabel = "scale", "scale factor A_sc"
         title = f"{st.name}: {rec.name} scaled, {sim['impact']}, {args.repeats or 3} repeats"
-    info = sp.summary() | {"stats": sp.stats(x).replace({float('nan'): None}).to_dict(orient="records")}
+    info = sp.summary() | {
+        "stats": sp.stats(x).replace({float("nan"): None}).to_dict(orient="records")
+    }
     if out is not None:
         stem = out / f"{st.name}_spectrum_{x}"
         sp.table.to_csv(f"{stem}.csv", index=False)
         Path(f"{stem}.json").write_text(json.dumps(info, indent=2))
         table, px = sp.table, x
-        if x == "amp":                                  # plot amplitudes in g
-            table, px, xlabel = table.assign(amp_g=table.amp / multimass.G), "amp_g", "amplitude A (g)"
+        if x == "amp":  # plot amplitudes in g
+            table, px, xlabel = (
+                table.assign(amp_g=table.amp / multimass.G),
+                "amp_g",
+                "amplitude A (g)",
+            )
         plot_spectrum(table, px, f"{stem}.png", xlabel, title)
     if args.json:
         print(json.dumps(info, indent=2))
@@ -102,8 +146,10 @@ def run(args) -> int:
         print("θ_max over the completed runs (overturned and inaccurate runs counted apart):")
         for row in info["stats"]:
             print(_stats_line(x, row))
-        print(f"{info['n_simulations']} simulations in {info['wall_time_s']:.1f} s"
-              + (f"; files in {out}/" if out else ""))
+        print(
+            f"{info['n_simulations']} simulations in {info['wall_time_s']:.1f} s"
+            + (f"; files in {out}/" if out else "")
+        )
     return 0
 
 
@@ -111,8 +157,10 @@ def _stats_line(x: str, row: dict) -> str:
     """One point of the spectrum: θ_max over its completed runs, and the other counts."""
     head = f"{x} = {row[x]:.4g}: "
     if row["completed"]:
-        head += (f"θ_max mean {row['mean']:.5f} rad (min {row['min']:.5f}, max {row['max']:.5f}) "
-                 f"over {row['completed']} of {row['n']} runs")
+        head += (
+            f"θ_max mean {row['mean']:.5f} rad (min {row['min']:.5f}, max {row['max']:.5f}) "
+            f"over {row['completed']} of {row['n']} runs"
+        )
     else:
         head += f"no completed run of {row['n']}"
     extra = [f"{row[k]} {k}" for k in ("overturned", "inaccurate") if row[k]]

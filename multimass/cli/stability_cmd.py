@@ -15,32 +15,65 @@ __all__ = ["register"]
 
 def register(sub) -> None:
     p = sub.add_parser(
-        "stability", help="overturning map of a rigid block under a single sine or cosine pulse",
+        "stability",
+        help="overturning map of a rigid block under a single sine or cosine pulse",
         description="Outcome (no rocking, rocking then rest, overturned) over ω/p and a0/(α g) "
-                    "for a single sine or cosine pulse (paper 004). Ranges are inclusive: "
-                    "START:STOP:COUNT.")
+        "for a single sine or cosine pulse (paper 004). Ranges are inclusive: "
+        "START:STOP:COUNT.",
+    )
     p.add_argument("block", metavar="BLOCK", help="bundled block (B6M, B3L, ...) or TOML file")
-    p.add_argument("--pulse", choices=("sine", "cosine"), default="sine",
-                   help="single sine or cosine wave of paper 004, Fig 2 (default sine)")
-    p.add_argument("--restitution", default="modified",
-                   help="modified (η_M, paper 004 Eq 10) | housner (η_H, Eq 9) | VALUE")
-    p.add_argument("--k", type=types.unit_interval, default=None,
-                   help="k of η_M, in [0, 1] (default: the block's published k)")
+    p.add_argument(
+        "--pulse",
+        choices=("sine", "cosine"),
+        default="sine",
+        help="single sine or cosine wave of paper 004, Fig 2 (default sine)",
+    )
+    p.add_argument(
+        "--restitution",
+        default="modified",
+        help="modified (η_M, paper 004 Eq 10) | housner (η_H, Eq 9) | VALUE",
+    )
+    p.add_argument(
+        "--k",
+        type=types.unit_interval,
+        default=None,
+        help="k of η_M, in [0, 1] (default: the block's published k)",
+    )
     p.add_argument("--omega-p", default="0.5:10:40", help="ω/p range START:STOP:COUNT")
     p.add_argument("--amp", default="0.25:8:40", help="a0/(α g) range START:STOP:COUNT")
-    p.add_argument("--refine", type=types.whole, default=2,
-                   help="bisection rounds on the boundary (default 2)")
-    p.add_argument("--integrator", choices=("solve_ivp", "newmark"), default="solve_ivp",
-                   help="solve_ivp with exact impact location, or paper 004's Newmark + Newton-Raphson")
-    p.add_argument("--backend", choices=("scipy", "compiled"), default=None,
-                   help="solve_ivp path: compiled fast path (default) or scipy's solve_ivp")
-    p.add_argument("--dt", type=types.positive, default=1e-3, help="Newmark step (s; default 0.001)")
-    p.add_argument("--t-free", type=types.positive, default=10.0,
-                   help="free rocking after the pulse (s; default 10)")
+    p.add_argument(
+        "--refine", type=types.whole, default=2, help="bisection rounds on the boundary (default 2)"
+    )
+    p.add_argument(
+        "--integrator",
+        choices=("solve_ivp", "newmark"),
+        default="solve_ivp",
+        help="solve_ivp with exact impact location, or paper 004's Newmark + Newton-Raphson",
+    )
+    p.add_argument(
+        "--backend",
+        choices=("scipy", "compiled"),
+        default=None,
+        help="solve_ivp path: compiled fast path (default) or scipy's solve_ivp",
+    )
+    p.add_argument(
+        "--dt", type=types.positive, default=1e-3, help="Newmark step (s; default 0.001)"
+    )
+    p.add_argument(
+        "--t-free",
+        type=types.positive,
+        default=10.0,
+        help="free rocking after the pulse (s; default 10)",
+    )
     add_executor_args(p)
-    p.add_argument("--compare", action="store_true",
-                   help="also run the other restitution (housner vs modified) and draw both")
-    p.add_argument("--out", type=Path, default=None, help="folder for the table (CSV), JSON and figure")
+    p.add_argument(
+        "--compare",
+        action="store_true",
+        help="also run the other restitution (housner vs modified) and draw both",
+    )
+    p.add_argument(
+        "--out", type=Path, default=None, help="folder for the table (CSV), JSON and figure"
+    )
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(func=run)
 
@@ -53,16 +86,26 @@ def run(args) -> int:
 
     st = multimass.from_specimen(args.block)
     if st.n != 0:
-        raise InputError(f"`BLOCK` = {args.block!r} is a column; `stability` maps rigid blocks "
-                         "(use `multimass spectrum` for a column)")
+        raise InputError(
+            f"`BLOCK` = {args.block!r} is a column; `stability` maps rigid blocks "
+            "(use `multimass spectrum` for a column)"
+        )
     out = output_folder(args.out)
     omega_p = check_values("--omega-p", parse_range(args.omega_p, "--omega-p"), positive=True)
     amp = check_values("--amp", parse_range(args.amp, "--amp"), nonnegative=True)
     sim = dict(integrator=args.integrator, dt=args.dt) if args.integrator == "newmark" else {}
     if args.backend is not None and args.integrator != "newmark":
         sim["backend"] = args.backend
-    kw = dict(pulse=args.pulse, omega_p=omega_p, amp=amp, k=args.k, refine=args.refine,
-              t_free=args.t_free, **executor_kwargs(args), **sim)
+    kw = dict(
+        pulse=args.pulse,
+        omega_p=omega_p,
+        amp=amp,
+        k=args.k,
+        refine=args.refine,
+        t_free=args.t_free,
+        **executor_kwargs(args),
+        **sim,
+    )
     m = overturning_map(st, restitution=args.restitution, **kw)
     info = m.summary()
     other = None
@@ -81,10 +124,16 @@ def run(args) -> int:
         print(json.dumps(info, indent=2))
     else:
         o = info["outcomes"]
-        print(f"{st.name} {args.pulse}: {info['n_simulations']} simulations in {info['wall_time_s']:.1f} s; "
-              f"overturned {o['overturned']}, rest {o['rest']}, no rocking {o['no_rocking']}"
-              + (f", undecided {o['undecided']}" if o["undecided"] else "")
-              + (f"; {info['inaccurate']} cells failed their accuracy check (outcome kept; "
-                 "tighten --dt or the tolerances)" if info["inaccurate"] else "")
-              + (f"; files in {out}/" if out else ""))
+        print(
+            f"{st.name} {args.pulse}: {info['n_simulations']} simulations in {info['wall_time_s']:.1f} s; "
+            f"overturned {o['overturned']}, rest {o['rest']}, no rocking {o['no_rocking']}"
+            + (f", undecided {o['undecided']}" if o["undecided"] else "")
+            + (
+                f"; {info['inaccurate']} cells failed their accuracy check (outcome kept; "
+                "tighten --dt or the tolerances)"
+                if info["inaccurate"]
+                else ""
+            )
+            + (f"; files in {out}/" if out else "")
+        )
     return 0

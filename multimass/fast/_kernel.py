@@ -78,20 +78,21 @@ def _accepted_step(t, y, f, h_abs, t_stop, max_step, rtol, atol, method, tab, wo
             t_new = t_stop
         h = t_new - t
         h_abs = abs(h)
-        _rk_step(t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, m, H, K, C_, mp, fp,
-                 kind, par, smp)
+        _rk_step(
+            t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, m, H, K, C_, mp, fp, kind, par, smp
+        )
         nfev += ns
         for j in range(y.size):
             scale[j] = atol + max(abs(y[j]), abs(ynew[j])) * rtol
         err = _error_norm(method, Kst, h, scale, ns, ytmp)
         if err < 1.0:
-            factor = _MAX_FACTOR if err == 0.0 else _SAFETY * err ** exponent
+            factor = _MAX_FACTOR if err == 0.0 else _SAFETY * err**exponent
             if not (factor < _MAX_FACTOR):
                 factor = _MAX_FACTOR
             if rejected and factor > 1.0:
                 factor = 1.0
             return True, t_new, h, h_abs * factor, nfev
-        factor = _SAFETY * err ** exponent
+        factor = _SAFETY * err**exponent
         if not (factor > _MIN_FACTOR):
             factor = _MIN_FACTOR
         h_abs *= factor
@@ -103,8 +104,9 @@ def _event_values(t, y, out, events, ep, model):
     ev_code, _, _, ev_quiet, ev_ton = events
     side, m, H, K, C_, mp, _, kind, par, smp = model
     for k in range(ev_code.size):
-        out[k] = event_value(ev_code[k], t, y, ev_ton[k], ev_quiet[k], side, m, H, K, C_, mp, ep,
-                             kind, par, smp)
+        out[k] = event_value(
+            ev_code[k], t, y, ev_ton[k], ev_quiet[k], side, m, H, K, C_, mp, ep, kind, par, smp
+        )
 
 
 @njit(cache=True, error_model="numpy")
@@ -128,8 +130,29 @@ def _sorted_roots(n_act, active, roots, t_old, t, h, y_old, Q, ytmp, method, eve
     side, m, H, K, C_, mp, _, kind, par, smp = model
     for i in range(n_act):
         k = active[i]
-        roots[i] = _brent(ev_code[k], t_old, t, ev_ton[k], ev_quiet[k], method, t_old, h, y_old,
-                          Q, ytmp, side, m, H, K, C_, mp, ep, kind, par, smp)
+        roots[i] = _brent(
+            ev_code[k],
+            t_old,
+            t,
+            ev_ton[k],
+            ev_quiet[k],
+            method,
+            t_old,
+            h,
+            y_old,
+            Q,
+            ytmp,
+            side,
+            m,
+            H,
+            K,
+            C_,
+            mp,
+            ep,
+            kind,
+            par,
+            smp,
+        )
     for i in range(1, n_act):
         k, r = active[i], roots[i]
         j = i - 1
@@ -146,8 +169,11 @@ def _push(buf, n, k, tr, method, t_old, h, y_old, Q):
     """Append a non-terminal root (event k at tr) to buf = (index, t, y), growing it."""
     idx, ts, ys = buf
     if n == idx.size:
-        idx2, ts2, ys2 = (np.empty(2 * n, np.int64), np.empty(2 * n),
-                          np.empty((2 * n, ys.shape[1])))
+        idx2, ts2, ys2 = (
+            np.empty(2 * n, np.int64),
+            np.empty(2 * n),
+            np.empty((2 * n, ys.shape[1])),
+        )
         idx2[:n], ts2[:n], ys2[:n] = idx, ts, ys
         idx, ts, ys = idx2, ts2, ys2
     idx[n], ts[n] = k, tr
@@ -156,9 +182,32 @@ def _push(buf, n, k, tr, method, t_old, h, y_old, Q):
 
 
 @njit(cache=True, error_model="numpy")
-def integrate_phase(t0, t_stop, y0, t_eval, side, m, H, K, C_, mp, fp,
-                    ev_code, ev_dir, ev_term, ev_quiet, ev_ton, ep, kind, par, smp,
-                    method, rtol, atol, max_step):
+def integrate_phase(
+    t0,
+    t_stop,
+    y0,
+    t_eval,
+    side,
+    m,
+    H,
+    K,
+    C_,
+    mp,
+    fp,
+    ev_code,
+    ev_dir,
+    ev_term,
+    ev_quiet,
+    ev_ton,
+    ep,
+    kind,
+    par,
+    smp,
+    method,
+    rtol,
+    atol,
+    max_step,
+):
     """Integrate the phase `side` from (t0, y0) towards t_stop with events.
 
     Parameters
@@ -203,17 +252,47 @@ def integrate_phase(t0, t_stop, y0, t_eval, side, m, H, K, C_, mp, fp,
     buf = (np.empty(8, np.int64), np.empty(8), np.empty((8, ny)))
     t, i_eval, n_nt = t0, 0, 0
     rhs(t, y, f, side, m, H, K, C_, mp, fp, kind, par, smp)
-    h_abs = _first_step(t, y, f, t_stop, max_step, err_order, rtol, atol, ytmp, ynew,
-                        side, m, H, K, C_, mp, fp, kind, par, smp)
+    h_abs = _first_step(
+        t,
+        y,
+        f,
+        t_stop,
+        max_step,
+        err_order,
+        rtol,
+        atol,
+        ytmp,
+        ynew,
+        side,
+        m,
+        H,
+        K,
+        C_,
+        mp,
+        fp,
+        kind,
+        par,
+        smp,
+    )
     nfev = 2
     _event_values(t, y, g, events, ep, model)
     while True:
-        ok, t_new, h, h_abs, calls = _accepted_step(t, y, f, h_abs, t_stop, max_step, rtol,
-                                                    atol, method, tab, work, model)
+        ok, t_new, h, h_abs, calls = _accepted_step(
+            t, y, f, h_abs, t_stop, max_step, rtol, atol, method, tab, work, model
+        )
         nfev += calls
         if not ok:
-            return (FAILED, t, y, -1, nfev, samples[:i_eval], buf[0][:n_nt], buf[1][:n_nt],
-                    buf[2][:n_nt])
+            return (
+                FAILED,
+                t,
+                y,
+                -1,
+                nfev,
+                samples[:i_eval],
+                buf[0][:n_nt],
+                buf[1][:n_nt],
+                buf[2][:n_nt],
+            )
         t_old, t = t, t_new
         y_old[:] = y
         y[:] = ynew
@@ -224,11 +303,31 @@ def integrate_phase(t0, t_stop, y0, t_eval, side, m, H, K, C_, mp, fp,
         _event_values(t, y, g_new, events, ep, model)
         n_act = _active(g, g_new, ev_dir, active)
         if n_act:
-            nfev += _dense_prepare(method, t_old, h, y_old, ynew, Kst, ns, Q, ytmp,
-                                   side, m, H, K, C_, mp, fp, kind, par, smp)
+            nfev += _dense_prepare(
+                method,
+                t_old,
+                h,
+                y_old,
+                ynew,
+                Kst,
+                ns,
+                Q,
+                ytmp,
+                side,
+                m,
+                H,
+                K,
+                C_,
+                mp,
+                fp,
+                kind,
+                par,
+                smp,
+            )
             dense = True
-            _sorted_roots(n_act, active, roots, t_old, t, h, y_old, Q, ytmp, method, events, ep,
-                          model)
+            _sorted_roots(
+                n_act, active, roots, t_old, t, h, y_old, Q, ytmp, method, events, ep, model
+            )
             for i in range(n_act):
                 if ev_term[active[i]]:
                     terminal, t = active[i], roots[i]
@@ -240,11 +339,39 @@ def integrate_phase(t0, t_stop, y0, t_eval, side, m, H, K, C_, mp, fp,
         # output grid up to t (the end of the step or the terminal root)
         while i_eval < t_eval.size and t_eval[i_eval] <= t:
             if not dense:
-                nfev += _dense_prepare(method, t_old, h, y_old, ynew, Kst, ns, Q, ytmp,
-                                       side, m, H, K, C_, mp, fp, kind, par, smp)
+                nfev += _dense_prepare(
+                    method,
+                    t_old,
+                    h,
+                    y_old,
+                    ynew,
+                    Kst,
+                    ns,
+                    Q,
+                    ytmp,
+                    side,
+                    m,
+                    H,
+                    K,
+                    C_,
+                    mp,
+                    fp,
+                    kind,
+                    par,
+                    smp,
+                )
                 dense = True
             _dense_eval(method, t_eval[i_eval], t_old, h, y_old, Q, samples[i_eval])
             i_eval += 1
         if terminal >= 0 or finished:
-            return (EVENT if terminal >= 0 else OK, t, y, terminal, nfev, samples[:i_eval],
-                    buf[0][:n_nt], buf[1][:n_nt], buf[2][:n_nt])
+            return (
+                EVENT if terminal >= 0 else OK,
+                t,
+                y,
+                terminal,
+                nfev,
+                samples[:i_eval],
+                buf[0][:n_nt],
+                buf[1][:n_nt],
+                buf[2][:n_nt],
+            )

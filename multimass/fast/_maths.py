@@ -26,17 +26,36 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["ground_acc", "rocking_rhs", "full_contact_rhs", "rhs", "event_value",
-           "EXC_NONE", "EXC_SINE", "EXC_COSINE", "EXC_RICKER", "EXC_RECORD",
-           "EV_ZERO", "EV_OVERTURN", "EV_PEAK", "EV_ACTIVATE", "EV_DEACTIVATE",
-           "EV_UPLIFT_RIGHT", "EV_UPLIFT_LEFT", "MP_SIZE", "FP_SIZE", "EP_SIZE", "model_params"]
+__all__ = [
+    "ground_acc",
+    "rocking_rhs",
+    "full_contact_rhs",
+    "rhs",
+    "event_value",
+    "EXC_NONE",
+    "EXC_SINE",
+    "EXC_COSINE",
+    "EXC_RICKER",
+    "EXC_RECORD",
+    "EV_ZERO",
+    "EV_OVERTURN",
+    "EV_PEAK",
+    "EV_ACTIVATE",
+    "EV_DEACTIVATE",
+    "EV_UPLIFT_RIGHT",
+    "EV_UPLIFT_LEFT",
+    "MP_SIZE",
+    "FP_SIZE",
+    "EP_SIZE",
+    "model_params",
+]
 
 # excitation kinds: params layout in the comment
-EXC_NONE = 0       # free release: ü_g ≡ 0
-EXC_SINE = 1       # [a0, ω, duration]
-EXC_COSINE = 2     # [a0, ω, duration] (CosineWave; CosinePulse with a0 = amplitude)
-EXC_RICKER = 3     # [a_p, ω_p, t0, duration]
-EXC_RECORD = 4     # [t_start, t_end, 1/dt, last interval index]; samples = ü_g
+EXC_NONE = 0  # free release: ü_g ≡ 0
+EXC_SINE = 1  # [a0, ω, duration]
+EXC_COSINE = 2  # [a0, ω, duration] (CosineWave; CosinePulse with a0 = amplitude)
+EXC_RICKER = 3  # [a_p, ω_p, t0, duration]
+EXC_RECORD = 4  # [t_start, t_end, 1/dt, last interval index]; samples = ü_g
 
 # event codes (multimass._events.phase_events)
 EV_ZERO = 0
@@ -69,7 +88,7 @@ def ground_acc(t, kind, par, samples):
     if kind == EXC_RECORD:
         if t < par[0] or t > par[1]:
             return 0.0
-        x = (t - par[0]) * par[2]            # index arithmetic on the uniform grid
+        x = (t - par[0]) * par[2]  # index arithmetic on the uniform grid
         i = int(x)
         last = int(par[3])
         if i > last:
@@ -80,10 +99,10 @@ def ground_acc(t, kind, par, samples):
     if not (0.0 <= t <= dur):
         return 0.0
     if kind == EXC_SINE:
-        return par[0] * math.sin(par[1] * t)          # paper 004, Fig 2
+        return par[0] * math.sin(par[1] * t)  # paper 004, Fig 2
     if kind == EXC_COSINE:
-        return par[0] * math.cos(par[1] * t)          # paper 004, Fig 2; paper 001, Sec 4.4
-    x2 = (par[1] * (t - par[2])) ** 2                 # Ricker wavelet
+        return par[0] * math.cos(par[1] * t)  # paper 004, Fig 2; paper 001, Sec 4.4
+    x2 = (par[1] * (t - par[2])) ** 2  # Ricker wavelet
     return par[0] * (1.0 - 0.5 * x2) * math.exp(-0.25 * x2)
 
 
@@ -99,7 +118,7 @@ def rocking_rhs(t, y, out, side, m, H, K, C, mp, fp, kind, par, samples):
     F = 0.0
     if fp[FP_ON] != 0.0:
         r, w = fp[FP_R], fp[FP_N]
-        f_amp = -s * fp[FP_E] * (1.0 - r * r) / (B * w * _SQRT_PI)     # paper 001, Eq 14
+        f_amp = -s * fp[FP_E] * (1.0 - r * r) / (B * w * _SQRT_PI)  # paper 001, Eq 14
         F = f_amp * math.exp(-th * th * (1.0 / (w * w)))
     smu = 0.0
     umu = 0.0
@@ -109,7 +128,7 @@ def rocking_rhs(t, y, out, side, m, H, K, C, mp, fp, kind, par, samples):
         smu += mu
         umu += y[i] * mu
         ud_arm += y[n + 1 + i] * (s * B * m[i] - mu)
-    lever = s * B * mp[MP_MT] - smu       # ±1ᵀM(B1 ∓ u) ± m0 B
+    lever = s * B * mp[MP_MT] - smu  # ±1ᵀM(B1 ∓ u) ± m0 B
     # paper 001, Eq 4 (right-hand side), kept in out[n+1:2n+1] until θ̈ is known
     hbu = 0.0
     dissip = 0.0
@@ -127,8 +146,12 @@ def rocking_rhs(t, y, out, side, m, H, K, C, mp, fp, kind, par, samples):
         out[n + 1 + i] = bu
         hbu += H[i] * bu
     # paper 001, Eq 5 (right-hand side)
-    bt = (2.0 * thd * ud_arm - 2.0 * B * F
-          - ag * (height * c + lever * sn) - g * (-height * sn + lever * c))
+    bt = (
+        2.0 * thd * ud_arm
+        - 2.0 * B * F
+        - ag * (height * c + lever * sn)
+        - g * (-height * sn + lever * c)
+    )
     a_tt_minus_hmh = (mp[MP_JP] - mp[MP_HMH]) + umu - 2.0 * s * B * smu
     thdd = (bt - hbu) / a_tt_minus_hmh
     for i in range(n):
@@ -156,7 +179,7 @@ def full_contact_rhs(t, y, out, m, K, C, kind, par, samples):
             cud += C[i, j] * y[n + 1 + j]
             ku += K[i, j] * y[j]
         out[i] = y[n + 1 + i]
-        out[n + 1 + i] = -(cud + ku) / m[i] - ag              # paper 001, Eq 3
+        out[n + 1 + i] = -(cud + ku) / m[i] - ag  # paper 001, Eq 3
         dissip += y[n + 1 + i] * cud
         mud += m[i] * y[n + 1 + i]
     out[n] = 0.0
@@ -230,15 +253,15 @@ def _uplift(sgn, t, y, m, H, K, C, mp, ep, kind, par, samples):
         for j in range(n):
             cud += C[i, j] * y[n + 1 + j]
             ku += K[i, j] * y[j]
-        uddot = -(cud + ku) / m[i] - ag                        # paper 001, Eq 3
+        uddot = -(cud + ku) / m[i] - ag  # paper 001, Eq 3
         hm += H[i] * (m[i] * (uddot + ag))
         mu += m[i] * y[i]
-        L += H[i] * (m[i] * y[n + 1 + i])                      # L_p^fc
+        L += H[i] * (m[i] * y[n + 1 + i])  # L_p^fc
     M_o = hm + M_o
-    res = mp[MP_G] * (mp[MP_MT] * mp[MP_B] - sgn * mu)        # M_res(±)
+    res = mp[MP_G] * (mp[MP_MT] * mp[MP_B] - sgn * mu)  # M_res(±)
     moment = (-sgn * M_o - res) / ep[EP_MREF]
     lm = sgn * L / ep[EP_LREF]
-    return lm if lm < moment else moment                       # paper 001, Eq 8
+    return lm if lm < moment else moment  # paper 001, Eq 8
 
 
 @njit(cache=True, error_model="numpy")
@@ -249,15 +272,17 @@ def _activate(side, y, m, H, K, mp, ep):
     side_imp = -side
     E = _total_energy(side, y, m, H, K, mp)
     r = ep[EP_R_PENDING]
-    width = E * (1.0 - r * r) / (mp[MP_B] * _SQRT_PI
-                                 * (0.5 * mp[MP_MT] * mp[MP_G] + ep[EP_CP] * abs(thd)))  # Eq 15
+    width = (
+        E
+        * (1.0 - r * r)
+        / (mp[MP_B] * _SQRT_PI * (0.5 * mp[MP_MT] * mp[MP_G] + ep[EP_CP] * abs(thd)))
+    )  # Eq 15
     if width < ep[EP_NMIN]:
         width = ep[EP_NMIN]
-    theta_th = ep[EP_Z] * width / _SQRT_2                                            # Eq 16
+    theta_th = ep[EP_Z] * width / _SQRT_2  # Eq 16
     L = _momentum_new_pivot(y, m, H, mp)
     tdm = ep[EP_TDMIN]
-    return max(abs(th) / theta_th - 1.0, -side_imp * L / ep[EP_LREF],
-               (tdm - side_imp * thd) / tdm)
+    return max(abs(th) / theta_th - 1.0, -side_imp * L / ep[EP_LREF], (tdm - side_imp * thd) / tdm)
 
 
 @njit(cache=True, error_model="numpy")
@@ -268,13 +293,13 @@ def event_value(code, t, y, t_on, quiet, side, m, H, K, C, mp, ep, kind, par, sa
     n = m.size
     s = float(side)
     if code == EV_ZERO:
-        return s * y[n]                                           # θ = 0
+        return s * y[n]  # θ = 0
     if code == EV_OVERTURN:
         return s * y[n] - ep[EP_OVERTURN]
     if code == EV_PEAK:
-        return y[2 * n + 1]                                       # θ̇ = 0
+        return y[2 * n + 1]  # θ̇ = 0
     if code == EV_DEACTIVATE:
-        return s * y[n] - ep[EP_LIMIT]                            # paper 001, Eq 17
+        return s * y[n] - ep[EP_LIMIT]  # paper 001, Eq 17
     if code == EV_ACTIVATE:
         return _activate(s, y, m, H, K, mp, ep)
     sgn = 1.0 if code == EV_UPLIFT_RIGHT else -1.0

@@ -49,28 +49,36 @@ METHOD_CODES = {"RK23": 0, "RK45": 1, "DOP853": 2}
 _DOP = 2
 
 # return status of integrate_phase
-OK = 0             # reached t_stop
-EVENT = 1          # a terminal event ended the phase
-FAILED = -1        # the step size fell below the spacing of floats near t
+OK = 0  # reached t_stop
+EVENT = 1  # a terminal event ended the phase
+FAILED = -1  # the step size fell below the spacing of floats near t
 
 _SAFETY, _MIN_FACTOR, _MAX_FACTOR = 0.9, 0.2, 10.0
 _EPS = float(np.finfo(float).eps)
 _MAX_BRENT = 100
 
 # tableaus (SciPy's arrays; numba freezes module-level arrays as constants)
-_A3, _B3, _C3, _E3, _P3 = (np.ascontiguousarray(RK23.A, dtype=np.float64), RK23.B.astype(float),
-                           RK23.C.astype(float), RK23.E.astype(float),
-                           np.ascontiguousarray(RK23.P, dtype=np.float64))
-_A5, _B5, _C5, _E5, _P5 = (np.ascontiguousarray(RK45.A, dtype=np.float64), RK45.B.astype(float),
-                           RK45.C.astype(float), RK45.E.astype(float),
-                           np.ascontiguousarray(RK45.P, dtype=np.float64))
+_A3, _B3, _C3, _E3, _P3 = (
+    np.ascontiguousarray(RK23.A, dtype=np.float64),
+    RK23.B.astype(float),
+    RK23.C.astype(float),
+    RK23.E.astype(float),
+    np.ascontiguousarray(RK23.P, dtype=np.float64),
+)
+_A5, _B5, _C5, _E5, _P5 = (
+    np.ascontiguousarray(RK45.A, dtype=np.float64),
+    RK45.B.astype(float),
+    RK45.C.astype(float),
+    RK45.E.astype(float),
+    np.ascontiguousarray(RK45.P, dtype=np.float64),
+)
 _NS8 = _dop.N_STAGES
-_A8 = np.ascontiguousarray(_dop.A, dtype=np.float64)       # 16 × 16, extra stages below
+_A8 = np.ascontiguousarray(_dop.A, dtype=np.float64)  # 16 × 16, extra stages below
 _B8 = np.ascontiguousarray(_dop.B, dtype=np.float64)
 _C8 = np.ascontiguousarray(_dop.C, dtype=np.float64)
 _E8_3 = np.ascontiguousarray(_dop.E3, dtype=np.float64)
 _E8_5 = np.ascontiguousarray(_dop.E5, dtype=np.float64)
-_D8 = np.ascontiguousarray(_dop.D, dtype=np.float64)       # 4 × 16
+_D8 = np.ascontiguousarray(_dop.D, dtype=np.float64)  # 4 × 16
 _NEXT8 = _dop.N_STAGES_EXTENDED
 
 
@@ -133,8 +141,9 @@ def _error_norm(method, Kst, h, scale, ns, ytmp):
 
 
 @njit(cache=True, error_model="numpy")
-def _dense_prepare(method, t_old, h, y_old, ynew, Kst, ns, Q, ytmp,
-                   side, m, H, K, C_, mp, fp, kind, par, smp):
+def _dense_prepare(
+    method, t_old, h, y_old, ynew, Kst, ns, Q, ytmp, side, m, H, K, C_, mp, fp, kind, par, smp
+):
     """Coefficients Q of the interpolant over the last step; returns RHS calls made."""
     ny = y_old.size
     if method != _DOP:
@@ -146,7 +155,7 @@ def _dense_prepare(method, t_old, h, y_old, ynew, Kst, ns, Q, ytmp,
                     acc += Kst[k, j] * P[k, p]
                 Q[p, j] = acc
         return 0
-    for s in range(ns + 1, _NEXT8):                 # DOP853's extra stages
+    for s in range(ns + 1, _NEXT8):  # DOP853's extra stages
         for j in range(ny):
             acc = 0.0
             for k in range(s):
@@ -190,8 +199,29 @@ def _dense_eval(method, t, t_old, h, y_old, Q, out):
 
 
 @njit(cache=True, error_model="numpy")
-def _brent(code, a, b, t_on, quiet, method, t_old, h, y_old, Q, ytmp,
-           side, m, H, K, C_, mp, ep, kind, par, smp):
+def _brent(
+    code,
+    a,
+    b,
+    t_on,
+    quiet,
+    method,
+    t_old,
+    h,
+    y_old,
+    Q,
+    ytmp,
+    side,
+    m,
+    H,
+    K,
+    C_,
+    mp,
+    ep,
+    kind,
+    par,
+    smp,
+):
     """Root of event `code` on the dense output in [a, b]: Brent's zeroin, tolerance 4 ε.
 
     The end values bracket a root by construction (signs at the step ends);
@@ -209,11 +239,11 @@ def _brent(code, a, b, t_on, quiet, method, t_old, h, y_old, Q, ytmp,
     d = b - a
     e = d
     for _ in range(_MAX_BRENT):
-        if (fb > 0.0) == (fc > 0.0):          # keep the root between b and c
+        if (fb > 0.0) == (fc > 0.0):  # keep the root between b and c
             c, fc = a, fa
             d = b - a
             e = d
-        if abs(fc) < abs(fb):                 # b is the best estimate
+        if abs(fc) < abs(fb):  # b is the best estimate
             a, fa = b, fb
             b, fb = c, fc
             c, fc = a, fa
@@ -223,10 +253,10 @@ def _brent(code, a, b, t_on, quiet, method, t_old, h, y_old, Q, ytmp,
             return b
         if abs(e) >= tol1 and abs(fa) > abs(fb):
             s = fb / fa
-            if a == c:                        # secant
+            if a == c:  # secant
                 p = 2.0 * xm * s
                 q = 1.0 - s
-            else:                             # inverse quadratic interpolation
+            else:  # inverse quadratic interpolation
                 q = fa / fc
                 r = fb / fc
                 p = s * (2.0 * xm * q * (q - r) - (b - a) * (r - 1.0))
@@ -237,7 +267,7 @@ def _brent(code, a, b, t_on, quiet, method, t_old, h, y_old, Q, ytmp,
             if 2.0 * p < min(3.0 * xm * q - abs(tol1 * q), abs(e * q)):
                 e = d
                 d = p / q
-            else:                             # bisection
+            else:  # bisection
                 d = xm
                 e = d
         else:
@@ -251,8 +281,28 @@ def _brent(code, a, b, t_on, quiet, method, t_old, h, y_old, Q, ytmp,
 
 
 @njit(cache=True, error_model="numpy")
-def _first_step(t0, y0, f0, t_bound, max_step, order, rtol, atol, ytmp, f1,
-                side, m, H, K, C_, mp, fp, kind, par, smp):
+def _first_step(
+    t0,
+    y0,
+    f0,
+    t_bound,
+    max_step,
+    order,
+    rtol,
+    atol,
+    ytmp,
+    f1,
+    side,
+    m,
+    H,
+    K,
+    C_,
+    mp,
+    fp,
+    kind,
+    par,
+    smp,
+):
     """Initial step (Hairer, Nørsett & Wanner I, Sec. II.4)."""
     ny = y0.size
     span = abs(t_bound - t0)

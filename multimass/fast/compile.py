@@ -55,7 +55,7 @@ class CompileReport:
 
 
 _REPORT: CompileReport | None = None
-_MODULES = ("_maths", "_rk", "_kernel")        # the modules holding njit(cache=True) code
+_MODULES = ("_maths", "_rk", "_kernel")  # the modules holding njit(cache=True) code
 _STAMP = "multimass_fast.sources"
 
 
@@ -77,7 +77,7 @@ def _drop_stale_cache(cache_dir: Path, stamp: str) -> None:
         for f in cache_dir.glob(f"{mod}.*.nb[ic]"):
             try:
                 f.unlink()
-            except OSError:          # another process got there first, or read-only
+            except OSError:  # another process got there first, or read-only
                 pass
 
 
@@ -89,11 +89,32 @@ def _tiny_call() -> None:
     mp = np.array([2.0, 1.0, 1.0, 1.0, 0.2, 9.81, 0.0, 0.0])
     y0 = np.array([0.0, 0.01, 0.0, 0.0, 0.0, 0.0, 0.0])
     codes = np.array([mx.EV_ZERO, mx.EV_PEAK, mx.EV_ACTIVATE], dtype=np.int64)
-    integrate_phase(0.0, 1e-3, y0, np.array([1e-3]), 1, one, one, eye * 1e4, eye, mp,
-                    np.zeros(mx.FP_SIZE), codes, np.array([-1.0, 0.0, -1.0]),
-                    np.array([1, 0, 1], dtype=np.int64), np.array([1.0, 0.0, 1.0]),
-                    np.full(3, -np.inf), np.zeros(mx.EP_SIZE) + 1.0, mx.EXC_NONE, np.zeros(4),
-                    np.zeros(2), 2, 1e-8, 1e-10, 5e-3)
+    integrate_phase(
+        0.0,
+        1e-3,
+        y0,
+        np.array([1e-3]),
+        1,
+        one,
+        one,
+        eye * 1e4,
+        eye,
+        mp,
+        np.zeros(mx.FP_SIZE),
+        codes,
+        np.array([-1.0, 0.0, -1.0]),
+        np.array([1, 0, 1], dtype=np.int64),
+        np.array([1.0, 0.0, 1.0]),
+        np.full(3, -np.inf),
+        np.zeros(mx.EP_SIZE) + 1.0,
+        mx.EXC_NONE,
+        np.zeros(4),
+        np.zeros(2),
+        2,
+        1e-8,
+        1e-10,
+        5e-3,
+    )
 
 
 def warm_up() -> CompileReport:

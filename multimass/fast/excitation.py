@@ -28,7 +28,7 @@ _NO_SAMPLES = np.zeros(2)
 
 def _params(*values) -> np.ndarray:
     out = np.zeros(4)
-    out[:len(values)] = values
+    out[: len(values)] = values
     return out
 
 
@@ -56,22 +56,38 @@ def encode(excitation) -> tuple[int, np.ndarray, np.ndarray]:
     if tp is FreeRelease:
         return mx.EXC_NONE, _params(), _NO_SAMPLES
     if tp is SineWave:
-        return mx.EXC_SINE, _params(excitation.amplitude, excitation.omega, excitation.duration), _NO_SAMPLES
+        return (
+            mx.EXC_SINE,
+            _params(excitation.amplitude, excitation.omega, excitation.duration),
+            _NO_SAMPLES,
+        )
     if tp is CosineWave:
-        return mx.EXC_COSINE, _params(excitation.amplitude, excitation.omega, excitation.duration), _NO_SAMPLES
+        return (
+            mx.EXC_COSINE,
+            _params(excitation.amplitude, excitation.omega, excitation.duration),
+            _NO_SAMPLES,
+        )
     if tp is CosinePulse:
-        return (mx.EXC_COSINE, _params(excitation.amplitude, excitation.omega, excitation.duration),
-                _NO_SAMPLES)
+        return (
+            mx.EXC_COSINE,
+            _params(excitation.amplitude, excitation.omega, excitation.duration),
+            _NO_SAMPLES,
+        )
     if tp is Ricker:
-        return (mx.EXC_RICKER, _params(excitation.amplitude, excitation.omega, excitation.t0,
-                                       excitation.duration), _NO_SAMPLES)
+        return (
+            mx.EXC_RICKER,
+            _params(excitation.amplitude, excitation.omega, excitation.t0, excitation.duration),
+            _NO_SAMPLES,
+        )
     if tp is Record:
         time = excitation.time
         # the interpolation constants of Record.acceleration: t_start, t_end, 1/dt, last interval
         par = _params(float(time[0]), float(time[-1]), 1.0 / excitation.dt, time.size - 2)
         return mx.EXC_RECORD, par, np.array(excitation.accel, dtype=np.float64)
     name = getattr(excitation, "kind", None) or tp.__name__
-    raise InputError(f"`excitation` = {name!r} ({tp.__module__}.{tp.__qualname__}): "
-                     "backend='compiled' evaluates only "
-                     f"{', '.join(k.__name__ for k in KNOWN)} inside its kernels; "
-                     "use backend='scipy' for this excitation")
+    raise InputError(
+        f"`excitation` = {name!r} ({tp.__module__}.{tp.__qualname__}): "
+        "backend='compiled' evaluates only "
+        f"{', '.join(k.__name__ for k in KNOWN)} inside its kernels; "
+        "use backend='scipy' for this excitation"
+    )

@@ -34,21 +34,31 @@ _NONE = np.empty(0)
 def _table(*rows):
     """(names, codes, directions, terminal, quiet values, guarded) of a list of events."""
     names, codes, dirs, term, quiet, guarded = zip(*rows)
-    return (list(names), np.array(codes, dtype=np.int64), np.array(dirs, dtype=np.float64),
-            np.array(term, dtype=np.int64), np.array(quiet, dtype=np.float64), np.array(guarded))
+    return (
+        list(names),
+        np.array(codes, dtype=np.int64),
+        np.array(dirs, dtype=np.float64),
+        np.array(term, dtype=np.int64),
+        np.array(quiet, dtype=np.float64),
+        np.array(guarded),
+    )
 
 
 # The events of each phase, in the order of multimass._events.phase_events:
 # name, code, direction, terminal, quiet value, held quiet after a restart
-_ROCKING = [("zero", mx.EV_ZERO, -1.0, 1, 1.0, True),                          # θ = 0
-            ("overturn", mx.EV_OVERTURN, 1.0, 1, -1.0, True),
-            ("peak", mx.EV_PEAK, 0.0, 0, 0.0, False)]                          # θ̇ = 0
+_ROCKING = [
+    ("zero", mx.EV_ZERO, -1.0, 1, 1.0, True),  # θ = 0
+    ("overturn", mx.EV_OVERTURN, 1.0, 1, -1.0, True),
+    ("peak", mx.EV_PEAK, 0.0, 0, 0.0, False),
+]  # θ̇ = 0
 _PEAK = 2
 _EVENTS = {
-    "contact": _table(("uplift_right", mx.EV_UPLIFT_RIGHT, 1.0, 1, -1.0, True),  # paper 001, Eq 8
-                      ("uplift_left", mx.EV_UPLIFT_LEFT, 1.0, 1, -1.0, True)),
+    "contact": _table(
+        ("uplift_right", mx.EV_UPLIFT_RIGHT, 1.0, 1, -1.0, True),  # paper 001, Eq 8
+        ("uplift_left", mx.EV_UPLIFT_LEFT, 1.0, 1, -1.0, True),
+    ),
     "rocking": _table(*_ROCKING),
-    "activate": _table(*_ROCKING, ("activate", mx.EV_ACTIVATE, -1.0, 1, 1.0, True)),        # Eq 16
+    "activate": _table(*_ROCKING, ("activate", mx.EV_ACTIVATE, -1.0, 1, 1.0, True)),  # Eq 16
     "deactivate": _table(*_ROCKING, ("deactivate", mx.EV_DEACTIVATE, 1.0, 1, -1.0, True)),  # Eq 17
 }
 
@@ -63,11 +73,16 @@ def check_model(model) -> None:
     if not getattr(model, "has_force", False):
         return
     tp = type(model)
-    if not (isinstance(model, DiracDelta) and tp.width is DiracDelta.width
-            and tp.threshold is DiracDelta.threshold):
-        raise InputError(f"`impact` = {getattr(model, 'name', tp.__name__)!r}: backend='compiled' "
-                         "knows the Gaussian Dirac-delta force of paper 001 (Eqs 14–17) only; "
-                         "use backend='scipy' for this impact model")
+    if not (
+        isinstance(model, DiracDelta)
+        and tp.width is DiracDelta.width
+        and tp.threshold is DiracDelta.threshold
+    ):
+        raise InputError(
+            f"`impact` = {getattr(model, 'name', tp.__name__)!r}: backend='compiled' "
+            "knows the Gaussian Dirac-delta force of paper 001 (Eqs 14–17) only; "
+            "use backend='scipy' for this impact model"
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -98,10 +113,10 @@ class FastPath:
     par: np.ndarray
     samples: np.ndarray
     delay: float
-    dd: tuple = field(default=(0.0, 0.0, 0.0, 1.0))     # C_p, n_min, z, release
+    dd: tuple = field(default=(0.0, 0.0, 0.0, 1.0))  # C_p, n_min, z, release
 
     @classmethod
-    def of(cls, st, model, excitation, method, delay: float) -> "FastPath":
+    def of(cls, st, model, excitation, method, delay: float) -> FastPath:
         """Validate that the compiled path can run this case, and lay out its arrays.
 
         Raises
@@ -110,18 +125,33 @@ class FastPath:
             For an excitation, impact model or method the kernels do not know.
         """
         if not (isinstance(method, str) and method in METHOD_CODES):
-            raise InputError(f"`method` = {getattr(method, '__name__', method)!r}: backend='compiled' "
-                             f"integrates with the explicit pairs {', '.join(METHOD_CODES)}; "
-                             "use backend='scipy' for implicit methods")
+            raise InputError(
+                f"`method` = {getattr(method, '__name__', method)!r}: backend='compiled' "
+                f"integrates with the explicit pairs {', '.join(METHOD_CODES)}; "
+                "use backend='scipy' for implicit methods"
+            )
         check_model(model)
         kind, par, samples = encode(excitation)
-        dd = ((float(model.C_p), float(model.n_min), float(model.z), float(model.release))
-              if model.has_force else (0.0, 0.0, 0.0, 1.0))
-        arr = lambda a: np.array(a, dtype=np.float64, order="C")      # writable C copies
-        return cls(method=method, code=METHOD_CODES[method], m=arr(st.m), H=arr(st.H),
-                   K=arr(st.K).reshape(st.n, st.n), C=arr(st.C).reshape(st.n, st.n),
-                   mp=mx.model_params(st), kind=int(kind), par=arr(par), samples=arr(samples),
-                   delay=float(delay), dd=dd)
+        dd = (
+            (float(model.C_p), float(model.n_min), float(model.z), float(model.release))
+            if model.has_force
+            else (0.0, 0.0, 0.0, 1.0)
+        )
+        arr = lambda a: np.array(a, dtype=np.float64, order="C")  # writable C copies
+        return cls(
+            method=method,
+            code=METHOD_CODES[method],
+            m=arr(st.m),
+            H=arr(st.H),
+            K=arr(st.K).reshape(st.n, st.n),
+            C=arr(st.C).reshape(st.n, st.n),
+            mp=mx.model_params(st),
+            kind=int(kind),
+            par=arr(par),
+            samples=arr(samples),
+            delay=float(delay),
+            dd=dd,
+        )
 
     # -- the events of the current phase (multimass._events.phase_events) --------------------
     def events(self, run):
@@ -155,11 +185,31 @@ class FastPath:
         t_eval = np.ascontiguousarray(run.recorder.grid(run.t, t_stop), dtype=np.float64)
         ivp = run.ivp
         status, t, y, ev, nfev, samples, _, nt_t, nt_y = integrate_phase(
-            float(run.t), float(t_stop), np.ascontiguousarray(run.y, dtype=np.float64), t_eval,
-            int(run.phase), self.m, self.H, self.K, self.C, self.mp, fp, codes, dirs, term,
-            quiet, t_on, ep, self.kind, self.par, self.samples, self.code,
-            max(float(ivp["rtol"]), 100 * np.finfo(float).eps), float(ivp["atol"]),
-            float(ivp["max_step"]))
+            float(run.t),
+            float(t_stop),
+            np.ascontiguousarray(run.y, dtype=np.float64),
+            t_eval,
+            int(run.phase),
+            self.m,
+            self.H,
+            self.K,
+            self.C,
+            self.mp,
+            fp,
+            codes,
+            dirs,
+            term,
+            quiet,
+            t_on,
+            ep,
+            self.kind,
+            self.par,
+            self.samples,
+            self.code,
+            max(float(ivp["rtol"]), 100 * np.finfo(float).eps),
+            float(ivp["atol"]),
+            float(ivp["max_step"]),
+        )
         run.n_rhs += int(nfev)
         k = len(samples)
         if status == FAILED:
@@ -169,14 +219,18 @@ class FastPath:
             run.events.append(Event("failed", t_fail, run.phase, run.phase, detail=_FAIL_MESSAGE))
             return
         if not (np.all(np.isfinite(samples)) and np.all(np.isfinite(y))):
-            run.fail(run.t, f"compiled {self.method} produced a non-finite state in the segment "
-                            f"starting at t = {run.t:.6g} s")
+            run.fail(
+                run.t,
+                f"compiled {self.method} produced a non-finite state in the segment "
+                f"starting at t = {run.t:.6g} s",
+            )
             return
         t_events, y_events = [_NONE] * len(names), [_NONE] * len(names)
-        if run.phase:           # θ̇ = 0, the one non-terminal event (index 2 while rocking)
+        if run.phase:  # θ̇ = 0, the one non-terminal event (index 2 while rocking)
             t_events[_PEAK], y_events[_PEAK] = nt_t, nt_y
-        run.recorder.segment(_Segment(t_eval[:k], samples.T, t_events, y_events), None,
-                             run.phase, run.force, names)
+        run.recorder.segment(
+            _Segment(t_eval[:k], samples.T, t_events, y_events), None, run.phase, run.force, names
+        )
         if status == EVENT:
             run.t, run.y = float(t), y
             run.handle(names[ev])

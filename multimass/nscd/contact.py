@@ -17,16 +17,16 @@ def block_q(Q, cpsi, spsi, rx, ry):
     (rx, ry) = d − G is the vertex relative to the centre of gravity, so that
     s cos λ_d = −ry and s sin λ_d = rx (Eqs 45, 47).
     """
-    Q[0, 0], Q[0, 1], Q[0, 2] = cpsi, spsi, -ry * cpsi + rx * spsi      # s cos(λ − ψ)
-    Q[1, 0], Q[1, 1], Q[1, 2] = -spsi, cpsi, ry * spsi + rx * cpsi      # s sin(λ − ψ)
+    Q[0, 0], Q[0, 1], Q[0, 2] = cpsi, spsi, -ry * cpsi + rx * spsi  # s cos(λ − ψ)
+    Q[1, 0], Q[1, 1], Q[1, 2] = -spsi, cpsi, ry * spsi + rx * cpsi  # s sin(λ − ψ)
 
 
 @njit(cache=True)
 def beam_q(Q, cpsi, spsi, N):
     """Fill Q_e (2 × 6), element velocities → beam-point velocity in the local frame (Eq 55)."""
-    for a in (0, 3):                                       # axial: N_u1, N_u2
+    for a in (0, 3):  # axial: N_u1, N_u2
         Q[0, a], Q[1, a] = cpsi * N[a], -spsi * N[a]
-    for a in (1, 2, 4, 5):                                 # transverse: N_v1..N_v4
+    for a in (1, 2, 4, 5):  # transverse: N_v1..N_v4
         Q[0, a], Q[1, a] = spsi * N[a], cpsi * N[a]
 
 
@@ -54,7 +54,7 @@ def delassus_block(W, Qk_h, Qe_h, e_h, Qk_j, Qe_j, e_j, inv_mass, inv_inertia, A
 def solve_single(Wnn, Wnt, Wtn, Wtt, Un, Ut, mu):
     """Impulse (P_n, P_t) = Δt R of one contact with U = Ū + W P (paper 002, Eq 41).
 
-    Velocity Signorini 0 ≤ U_n ⊥ P_n ≥ 0 (Eq 36) and Coulomb |P_t| ≤ μ P_n,
+    Velocity Signorini 0 ≤ U_n ⊥ P_n ≥ 0 (Eq 36) and Coulomb ``|P_t| ≤ μ P_n``,
     P_t = −μ P_n sign(U_t) when sliding (Eqs 37–38). `Un` already holds the
     restitution shift e U_n⁻. Tried in order: open, sticking (U = 0),
     sliding (the direction consistent with the sign of U_t).
@@ -65,23 +65,23 @@ def solve_single(Wnn, Wnt, Wtn, Wtt, Un, Ut, mu):
     sliding : bool
     """
     if Un >= 0.0:
-        return 0.0, 0.0, False                              # open: U_n ≥ 0 with P = 0
+        return 0.0, 0.0, False  # open: U_n ≥ 0 with P = 0
     det = Wnn * Wtt - Wnt * Wtn
-    if det > 0.0:                                           # sticking: U = 0
+    if det > 0.0:  # sticking: U = 0
         Pn = (-Un * Wtt + Ut * Wnt) / det
         Pt = (-Ut * Wnn + Un * Wtn) / det
         if Pn >= 0.0 and abs(Pt) <= mu * Pn:
             return Pn, Pt, False
-        first = 1.0 if Pt < 0.0 else -1.0                   # slide against the stick force
+        first = 1.0 if Pt < 0.0 else -1.0  # slide against the stick force
     else:
         first = 1.0 if Ut > 0.0 else -1.0
     for k in range(2):
-        s = first if k == 0 else -first                     # s = sign of the sliding velocity
+        s = first if k == 0 else -first  # s = sign of the sliding velocity
         den = Wnn - s * mu * Wnt
         if den <= 0.0:
             continue
-        Pn = -Un / den                                      # U_n = 0
-        Pt = -s * mu * Pn                                   # paper 002, Eq 38
+        Pn = -Un / den  # U_n = 0
+        Pt = -s * mu * Pn  # paper 002, Eq 38
         Ut_new = Ut + Wtn * Pn + Wtt * Pt
         if s * Ut_new >= 0.0:
             return Pn, Pt, True
@@ -107,7 +107,7 @@ def gauss_seidel(W, Ubar, P, sliding, nc, mu, tol, max_iter, p_scale):
     nc : int
         Number of contacts (the leading entries of the arrays).
     tol, max_iter : float, int
-        Stop when no impulse changes by more than tol · max(|P|, p_scale).
+        Stop when no impulse changes by more than ``tol · max(|P|, p_scale)``.
     p_scale : float
         Impulse scale of the problem (weight × Δt) used as a floor.
 
@@ -117,7 +117,7 @@ def gauss_seidel(W, Ubar, P, sliding, nc, mu, tol, max_iter, p_scale):
     converged : bool
     residual : float
         The largest change of an impulse in the last sweep, relative to
-        max(|P|, p_scale): ≤ tol when converged.
+        ``max(|P|, p_scale)``: ≤ tol when converged.
     """
     residual = 0.0
     for it in range(1, max_iter + 1):
@@ -128,8 +128,9 @@ def gauss_seidel(W, Ubar, P, sliding, nc, mu, tol, max_iter, p_scale):
                 if j != h:
                     un += W[h, j, 0, 0] * P[j, 0] + W[h, j, 0, 1] * P[j, 1]
                     ut += W[h, j, 1, 0] * P[j, 0] + W[h, j, 1, 1] * P[j, 1]
-            pn, pt, sl = solve_single(W[h, h, 0, 0], W[h, h, 0, 1], W[h, h, 1, 0],
-                                      W[h, h, 1, 1], un, ut, mu)
+            pn, pt, sl = solve_single(
+                W[h, h, 0, 0], W[h, h, 0, 1], W[h, h, 1, 0], W[h, h, 1, 1], un, ut, mu
+            )
             change = max(change, abs(pn - P[h, 0]), abs(pt - P[h, 1]))
             size = max(size, abs(pn), abs(pt))
             P[h, 0], P[h, 1] = pn, pt

@@ -46,9 +46,21 @@ from .verdicts import (
     judge,
 )
 
-__all__ = ["Verdict", "Study", "FirstPeakStudy", "judge", "compare_runs", "housner_first_peak",
-           "dt_study", "mesh_study", "first_peak_study", "flexibility_study", "check_levels",
-           "TOLERANCES", "MIN_ORDER"]
+__all__ = [
+    "Verdict",
+    "Study",
+    "FirstPeakStudy",
+    "judge",
+    "compare_runs",
+    "housner_first_peak",
+    "dt_study",
+    "mesh_study",
+    "first_peak_study",
+    "flexibility_study",
+    "check_levels",
+    "TOLERANCES",
+    "MIN_ORDER",
+]
 
 
 def _theta0(block, theta0):
@@ -56,13 +68,16 @@ def _theta0(block, theta0):
     if theta0 is not None:
         return theta0
     if blk.reference.theta0_deg is None:
-        raise InputError(f"`theta0` is required: block {blk.name!r} has no reference "
-                         "theta0_deg; give the release angle in rad")
+        raise InputError(
+            f"`theta0` is required: block {blk.name!r} has no reference "
+            "theta0_deg; give the release angle in rad"
+        )
     return math.radians(blk.reference.theta0_deg)
 
 
-def check_levels(name: str, values, *, kind: str, min_levels: int = 2,
-                 geometric: bool = True) -> tuple:
+def check_levels(
+    name: str, values, *, kind: str, min_levels: int = 2, geometric: bool = True
+) -> tuple:
     """Refinement levels, validated and sorted coarse → fine.
 
     Parameters
@@ -85,25 +100,34 @@ def check_levels(name: str, values, *, kind: str, min_levels: int = 2,
         levels without a constant ratio.
     """
     if isinstance(values, (str, bytes)) or not hasattr(values, "__len__"):
-        raise InputError(f"`{name}` = {values!r}: give a list of levels, e.g. "
-                         + ("1e-3 1e-4 1e-5" if kind == "dt" else "3 6 12"))
+        raise InputError(
+            f"`{name}` = {values!r}: give a list of levels, e.g. "
+            + ("1e-3 1e-4 1e-5" if kind == "dt" else "3 6 12")
+        )
     if kind == "dt":
         levels = [positive(f"{name}[{i}]", v, "a time step in s") for i, v in enumerate(values)]
     else:
         levels = [check_elements(v, f"{name}[{i}]") for i, v in enumerate(values)]
     if len(levels) < min_levels:
-        raise InputError(f"`{name}` = {list(values)!r}: give at least {min_levels} levels "
-                         "(a study compares successive refinements)")
+        raise InputError(
+            f"`{name}` = {list(values)!r}: give at least {min_levels} levels "
+            "(a study compares successive refinements)"
+        )
     if len(set(levels)) != len(levels):
         raise InputError(f"`{name}` = {list(values)!r}: a level is repeated; give distinct levels")
     levels = sorted(levels, reverse=(kind == "dt"))
     ratios = [a / b if kind == "dt" else b / a for a, b in zip(levels[:-1], levels[1:])]
     if geometric and any(abs(r / ratios[0] - 1.0) > 0.01 for r in ratios):
-        raise InputError(f"`{name}` = {list(values)!r}: the refinement ratios "
-                         f"{', '.join(f'{r:.3g}' for r in ratios)} differ; the verdicts compare "
-                         "successive differences and need one ratio, e.g. "
-                         + ("1e-3 1e-4 1e-5 (10) or 4e-4 2e-4 1e-4 (2)" if kind == "dt"
-                            else "3 6 12 or 6 12 24 (2)"))
+        raise InputError(
+            f"`{name}` = {list(values)!r}: the refinement ratios "
+            f"{', '.join(f'{r:.3g}' for r in ratios)} differ; the verdicts compare "
+            "successive differences and need one ratio, e.g. "
+            + (
+                "1e-3 1e-4 1e-5 (10) or 4e-4 2e-4 1e-4 (2)"
+                if kind == "dt"
+                else "3 6 12 or 6 12 24 (2)"
+            )
+        )
     return tuple(levels)
 
 
@@ -122,16 +146,49 @@ class _Plan:
     memory: float
 
 
-def _plan(label, block, *, theta0, dt, t_end, E, n_elements, beam="beam_mudric2024",
-          theta_method=1.0, mu=None, restitution=0.0, x_centre=None, gs_tol=1e-8,
-          gs_max_iter=5000, record_every=None, rest_fraction=REST_FRACTION,
-          names=None) -> _Plan:
+def _plan(
+    label,
+    block,
+    *,
+    theta0,
+    dt,
+    t_end,
+    E,
+    n_elements,
+    beam="beam_mudric2024",
+    theta_method=1.0,
+    mu=None,
+    restitution=0.0,
+    x_centre=None,
+    gs_tol=1e-8,
+    gs_max_iter=5000,
+    record_every=None,
+    rest_fraction=REST_FRACTION,
+    names=None,
+) -> _Plan:
     """Validate one run and estimate its cost, before any run of the study starts."""
-    inp = check_inputs(block, beam, theta0=theta0, dt=dt, E=E, n_elements=n_elements,
-                       theta_method=theta_method, mu=mu, restitution=restitution,
-                       x_centre=x_centre, names=names)
-    o = check_run(t_end, inp.dt, gs_tol=gs_tol, gs_max_iter=gs_max_iter,
-                  record_every=record_every, rest_fraction=rest_fraction, names=names)
+    inp = check_inputs(
+        block,
+        beam,
+        theta0=theta0,
+        dt=dt,
+        E=E,
+        n_elements=n_elements,
+        theta_method=theta_method,
+        mu=mu,
+        restitution=restitution,
+        x_centre=x_centre,
+        names=names,
+    )
+    o = check_run(
+        t_end,
+        inp.dt,
+        gs_tol=gs_tol,
+        gs_max_iter=gs_max_iter,
+        record_every=record_every,
+        rest_fraction=rest_fraction,
+        names=names,
+    )
     c = estimate_cost(inp.n_elements, inp.dt, o.t_end, o.stride)
     return _Plan(label, inp, o, c.seconds, c.memory)
 
@@ -145,16 +202,29 @@ def _execute(plans: list[_Plan], what: str, *, report, progress, max_hours) -> l
     if progress is not None and not isinstance(progress, bool):
         raise InputError(f"`progress` = {progress!r}: expected True, False or None")
     total = sum(p.seconds for p in plans)
-    RunCost(float(sum(p.opts.n_steps for p in plans)), total, max(p.memory for p in plans),
-            f"{len(plans)} runs, the longest {format_duration(max(p.seconds for p in plans))}"
-            ).check(what, "use fewer or coarser levels, or a shorter t_end",
-                    max_seconds=budget_seconds(max_hours))
+    RunCost(
+        float(sum(p.opts.n_steps for p in plans)),
+        total,
+        max(p.memory for p in plans),
+        f"{len(plans)} runs, the longest {format_duration(max(p.seconds for p in plans))}",
+    ).check(
+        what,
+        "use fewer or coarser levels, or a shorter t_end",
+        max_seconds=budget_seconds(max_hours),
+    )
     if progress or (progress is None and total >= PROGRESS_AFTER_S):
         print(f"{what}: {len(plans)} runs, estimated {format_duration(total)}", file=sys.stderr)
     runs = []
     for k, p in enumerate(plans, 1):
-        runs.append(execute(p.inp, p.opts, progress=progress, estimated=p.seconds,
-                            desc=f"{p.inp.block.name} {p.label} ({k}/{len(plans)})"))
+        runs.append(
+            execute(
+                p.inp,
+                p.opts,
+                progress=progress,
+                estimated=p.seconds,
+                desc=f"{p.inp.block.name} {p.label} ({k}/{len(plans)})",
+            )
+        )
         if report:
             r = runs[-1]
             note = "" if r.status in _NORMAL else f": {r.status}"
@@ -167,14 +237,30 @@ _NORMAL = ("completed", "overturned")
 
 def _study(kind, block, levels, plans, what, settings, report, progress, max_hours) -> Study:
     runs = _execute(plans, what, report=report, progress=progress, max_hours=max_hours)
-    return Study(kind, load_block(block).name, tuple(levels), tuple(runs),
-                 tuple(compare_runs(levels, runs, _ratio(kind, levels))),
-                 {"E_Pa": runs[0].params["E_Pa"], **settings})
+    return Study(
+        kind,
+        load_block(block).name,
+        tuple(levels),
+        tuple(runs),
+        tuple(compare_runs(levels, runs, _ratio(kind, levels))),
+        {"E_Pa": runs[0].params["E_Pa"], **settings},
+    )
 
 
-def dt_study(block, dts=(1e-3, 1e-4, 1e-5, 1e-6), *, E=None, n_elements=6, t_end=4.0,
-             theta0=None, report=None, progress=None, max_hours=None, names=None,
-             **kw) -> Study:
+def dt_study(
+    block,
+    dts=(1e-3, 1e-4, 1e-5, 1e-6),
+    *,
+    E=None,
+    n_elements=6,
+    t_end=4.0,
+    theta0=None,
+    report=None,
+    progress=None,
+    max_hours=None,
+    names=None,
+    **kw,
+) -> Study:
     """Time-step refinement (paper 002, Fig 10; dt from 1e-3 to 1e-6 s).
 
     `dts` (≥ 2 distinct positive steps with one refinement ratio) are sorted
@@ -185,23 +271,83 @@ def dt_study(block, dts=(1e-3, 1e-4, 1e-5, 1e-6), *, E=None, n_elements=6, t_end
     """
     dts = check_levels(_name(names, "dts"), dts, kind="dt")
     th0 = _theta0(block, theta0)
-    plans = [_plan(f"dt = {dt:g} s", block, theta0=th0, dt=dt, t_end=t_end, E=E,
-                   n_elements=n_elements, names=names, **kw) for dt in dts]
-    return _study("dt", block, dts, plans, f"dt study of {load_block(block).name}",
-                  {"n_elements": plans[0].inp.n_elements, "t_end_s": plans[0].opts.t_end,
-                   "theta0_deg": math.degrees(plans[0].inp.theta0)}, report, progress, max_hours)
+    plans = [
+        _plan(
+            f"dt = {dt:g} s",
+            block,
+            theta0=th0,
+            dt=dt,
+            t_end=t_end,
+            E=E,
+            n_elements=n_elements,
+            names=names,
+            **kw,
+        )
+        for dt in dts
+    ]
+    return _study(
+        "dt",
+        block,
+        dts,
+        plans,
+        f"dt study of {load_block(block).name}",
+        {
+            "n_elements": plans[0].inp.n_elements,
+            "t_end_s": plans[0].opts.t_end,
+            "theta0_deg": math.degrees(plans[0].inp.theta0),
+        },
+        report,
+        progress,
+        max_hours,
+    )
 
 
-def mesh_study(block, meshes=(3, 6, 12), *, dt=1e-5, E=None, t_end=4.0, theta0=None,
-               report=None, progress=None, max_hours=None, names=None, **kw) -> Study:
+def mesh_study(
+    block,
+    meshes=(3, 6, 12),
+    *,
+    dt=1e-5,
+    E=None,
+    t_end=4.0,
+    theta0=None,
+    report=None,
+    progress=None,
+    max_hours=None,
+    names=None,
+    **kw,
+) -> Study:
     """Mesh refinement (paper 002, Fig 11: 3, 6 and 12 elements); see `dt_study`."""
     meshes = check_levels(_name(names, "meshes"), meshes, kind="mesh")
     th0 = _theta0(block, theta0)
-    plans = [_plan(f"{n} elements", block, theta0=th0, dt=dt, t_end=t_end, E=E, n_elements=n,
-                   names=names, **kw) for n in meshes]
-    return _study("mesh", block, meshes, plans, f"mesh study of {load_block(block).name}",
-                  {"dt_s": plans[0].inp.dt, "t_end_s": plans[0].opts.t_end,
-                   "theta0_deg": math.degrees(plans[0].inp.theta0)}, report, progress, max_hours)
+    plans = [
+        _plan(
+            f"{n} elements",
+            block,
+            theta0=th0,
+            dt=dt,
+            t_end=t_end,
+            E=E,
+            n_elements=n,
+            names=names,
+            **kw,
+        )
+        for n in meshes
+    ]
+    return _study(
+        "mesh",
+        block,
+        meshes,
+        plans,
+        f"mesh study of {load_block(block).name}",
+        {
+            "dt_s": plans[0].inp.dt,
+            "t_end_s": plans[0].opts.t_end,
+            "theta0_deg": math.degrees(plans[0].inp.theta0),
+        },
+        report,
+        progress,
+        max_hours,
+    )
 
 
 def _name(names, key):
@@ -234,8 +380,9 @@ def _run_warnings(labels, runs) -> list[str]:
             out.append(f"{label}: the run failed: {r.message}")
         out += [f"{label}: {w}" for w in r.warnings]
         if r.first_peak_deg is None and r.outcome != "failed":
-            out.append(f"{label}: no first peak ({r.outcome} before a half-cycle closed); "
-                       "extend t_end")
+            out.append(
+                f"{label}: no first peak ({r.outcome} before a half-cycle closed); extend t_end"
+            )
     return out
 
 
@@ -252,14 +399,26 @@ def _orders(dts, err) -> tuple[float | None, list]:
     ok = [(math.log(d), math.log(e)) for d, e in zip(dts, err) if e is not None and e > 0]
     fit = float(np.polyfit(*zip(*ok), 1)[0]) if len(ok) >= 2 else None
     decades = [i for i, d in enumerate(dts) if abs(math.log10(d) - round(math.log10(d))) < 1e-9]
-    succ = [math.log10(err[i] / err[j]) / math.log10(dts[i] / dts[j])
-            if err[i] and err[j] else None for i, j in zip(decades[:-1], decades[1:])]
+    succ = [
+        math.log10(err[i] / err[j]) / math.log10(dts[i] / dts[j]) if err[i] and err[j] else None
+        for i, j in zip(decades[:-1], decades[1:])
+    ]
     return fit, succ
 
 
-def first_peak_study(blocks=("B4M", "B6M", "B8M"), dts=None, *, t_end=2.0, E=None,
-                     n_elements=6, report=None, progress=None, max_hours=None,
-                     names=None, **kw) -> FirstPeakStudy:
+def first_peak_study(
+    blocks=("B4M", "B6M", "B8M"),
+    dts=None,
+    *,
+    t_end=2.0,
+    E=None,
+    n_elements=6,
+    report=None,
+    progress=None,
+    max_hours=None,
+    names=None,
+    **kw,
+) -> FirstPeakStudy:
     """First peak of each block for dt → 0 against the exact rigid-block value.
 
     The observed order is the least-squares slope of log|error| against
@@ -274,13 +433,31 @@ def first_peak_study(blocks=("B4M", "B6M", "B8M"), dts=None, *, t_end=2.0, E=Non
     if dts is None:
         dts = (1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2e-5, 1e-5, 5e-6, 2e-6, 1e-6)
     dts = check_levels(_name(names, "dts"), dts, kind="dt", geometric=False)
-    plans = [_plan(f"dt = {dt:g} s", blk, theta0=_theta0(blk, None), dt=dt, t_end=t_end, E=E,
-                   n_elements=n_elements, names=names, **kw) for blk in blks for dt in dts]
-    runs = _execute(plans, f"first-peak study of {', '.join(b.name for b in blks)}",
-                    report=report, progress=progress, max_hours=max_hours)
+    plans = [
+        _plan(
+            f"dt = {dt:g} s",
+            blk,
+            theta0=_theta0(blk, None),
+            dt=dt,
+            t_end=t_end,
+            E=E,
+            n_elements=n_elements,
+            names=names,
+            **kw,
+        )
+        for blk in blks
+        for dt in dts
+    ]
+    runs = _execute(
+        plans,
+        f"first-peak study of {', '.join(b.name for b in blks)}",
+        report=report,
+        progress=progress,
+        max_hours=max_hours,
+    )
     exact, paper, peaks, errors, fit, succ, warns = {}, {}, {}, {}, {}, {}, []
     for i, blk in enumerate(blks):
-        mine = runs[i * len(dts):(i + 1) * len(dts)]
+        mine = runs[i * len(dts) : (i + 1) * len(dts)]
         ex = math.degrees(housner_first_peak(blk, _theta0(blk, None)))
         vals = [r.first_peak_deg for r in mine]
         err = [None if v is None else abs(v - ex) for v in vals]
@@ -288,14 +465,27 @@ def first_peak_study(blocks=("B4M", "B6M", "B8M"), dts=None, *, t_end=2.0, E=Non
         exact[blk.name], paper[blk.name] = ex, blk.reference.first_peak_deg
         peaks[blk.name], errors[blk.name] = vals, err
         fit[blk.name], succ[blk.name] = _orders(dts, err)
-    return FirstPeakStudy(tuple(b.name for b in blks), dts, exact, paper, peaks, errors, fit,
-                          succ, tuple(warns))
+    return FirstPeakStudy(
+        tuple(b.name for b in blks), dts, exact, paper, peaks, errors, fit, succ, tuple(warns)
+    )
 
 
-def flexibility_study(block, exponents=(8, 6, 4, 2, 0), *, meshes=(6, 12, 24),
-                      dts=(1e-4, 1e-5, 1e-6), base_dt=None, base_mesh=None, t_end=4.0,
-                      theta0=None, report=None, progress=None, max_hours=None, names=None,
-                      **kw) -> dict:
+def flexibility_study(
+    block,
+    exponents=(8, 6, 4, 2, 0),
+    *,
+    meshes=(6, 12, 24),
+    dts=(1e-4, 1e-5, 1e-6),
+    base_dt=None,
+    base_mesh=None,
+    t_end=4.0,
+    theta0=None,
+    report=None,
+    progress=None,
+    max_hours=None,
+    names=None,
+    **kw,
+) -> dict:
     """Flexibility sweep E = Ē·10ⁿ with mesh and time-step sensitivity (paper 002, Figs 16–19).
 
     Ē gives a midspan deflection of L/2500 under the block's weight. For each
@@ -321,36 +511,88 @@ def flexibility_study(block, exponents=(8, 6, 4, 2, 0), *, meshes=(6, 12, 24),
     th0 = _theta0(block, theta0)
     Ebar = flexible_modulus(block, kw.get("beam", "beam_mudric2024"))
     keys = [(None, base_dt, base_mesh)] + sorted(
-        {(n, dt, m) for n in exps for dt, m in [(base_dt, m) for m in ms] + [(d, base_mesh) for d in ds]},
-        key=lambda k: (exps.index(k[0]), -k[1], k[2]))
-    plans = [_plan(("beam's own E" if n is None else f"n = {n:g}") + f", dt = {dt:g} s, {m} el.",
-                   block, theta0=th0, dt=dt, t_end=t_end, E=None if n is None else Ebar * 10.0**n,
-                   n_elements=m, names=names, **kw) for n, dt, m in keys]
+        {
+            (n, dt, m)
+            for n in exps
+            for dt, m in [(base_dt, m) for m in ms] + [(d, base_mesh) for d in ds]
+        },
+        key=lambda k: (exps.index(k[0]), -k[1], k[2]),
+    )
+    plans = [
+        _plan(
+            ("beam's own E" if n is None else f"n = {n:g}") + f", dt = {dt:g} s, {m} el.",
+            block,
+            theta0=th0,
+            dt=dt,
+            t_end=t_end,
+            E=None if n is None else Ebar * 10.0**n,
+            n_elements=m,
+            names=names,
+            **kw,
+        )
+        for n, dt, m in keys
+    ]
     name = load_block(block).name
-    runs = dict(zip(keys, _execute(plans, f"flexibility study of {name}", report=report,
-                                   progress=progress, max_hours=max_hours)))
-    out = {"E_bar": Ebar, "block": name, "theta0": plans[0].inp.theta0, "exponents": exps,
-           "rigid": runs[None, base_dt, base_mesh], "base": {}, "mesh": {}, "dt": {}}
+    runs = dict(
+        zip(
+            keys,
+            _execute(
+                plans,
+                f"flexibility study of {name}",
+                report=report,
+                progress=progress,
+                max_hours=max_hours,
+            ),
+        )
+    )
+    out = {
+        "E_bar": Ebar,
+        "block": name,
+        "theta0": plans[0].inp.theta0,
+        "exponents": exps,
+        "rigid": runs[None, base_dt, base_mesh],
+        "base": {},
+        "mesh": {},
+        "dt": {},
+    }
     for n in exps:
-        settings = {"E_Pa": Ebar * 10.0**n, "exponent": n, "t_end_s": plans[0].opts.t_end,
-                    "theta0_deg": math.degrees(plans[0].inp.theta0)}
+        settings = {
+            "E_Pa": Ebar * 10.0**n,
+            "exponent": n,
+            "t_end_s": plans[0].opts.t_end,
+            "theta0_deg": math.degrees(plans[0].inp.theta0),
+        }
         mesh_runs, dt_runs = [runs[n, base_dt, m] for m in ms], [runs[n, d, base_mesh] for d in ds]
         out["base"][n] = runs[n, base_dt, base_mesh]
-        out["mesh"][n] = Study("mesh", name, ms, tuple(mesh_runs),
-                               tuple(compare_runs(ms, mesh_runs, _ratio("mesh", ms))),
-                               {**settings, "dt_s": base_dt})
-        out["dt"][n] = Study("dt", name, ds, tuple(dt_runs),
-                             tuple(compare_runs(ds, dt_runs, _ratio("dt", ds))),
-                             {**settings, "n_elements": base_mesh})
+        out["mesh"][n] = Study(
+            "mesh",
+            name,
+            ms,
+            tuple(mesh_runs),
+            tuple(compare_runs(ms, mesh_runs, _ratio("mesh", ms))),
+            {**settings, "dt_s": base_dt},
+        )
+        out["dt"][n] = Study(
+            "dt",
+            name,
+            ds,
+            tuple(dt_runs),
+            tuple(compare_runs(ds, dt_runs, _ratio("dt", ds))),
+            {**settings, "n_elements": base_mesh},
+        )
     return out
 
 
 def _exponents(exponents, block, beam, names) -> tuple:
     name = _name(names, "exponents")
-    if (isinstance(exponents, (str, bytes)) or not hasattr(exponents, "__len__")
-            or len(exponents) == 0):
-        raise InputError(f"`{name}` = {exponents!r}: give a list of exponents n of E = Ē·10^n, "
-                         "e.g. 8 6 4 2 0")
+    if (
+        isinstance(exponents, (str, bytes))
+        or not hasattr(exponents, "__len__")
+        or len(exponents) == 0
+    ):
+        raise InputError(
+            f"`{name}` = {exponents!r}: give a list of exponents n of E = Ē·10^n, e.g. 8 6 4 2 0"
+        )
     exps = tuple(check_exponent(n, block, beam, f"{name}[{i}]") for i, n in enumerate(exponents))
     if len(set(exps)) != len(exps):
         raise InputError(f"`{name}` = {list(exponents)!r}: an exponent is repeated")
@@ -359,7 +601,9 @@ def _exponents(exponents, block, beam, names) -> tuple:
 
 def _member(value, levels, key, levels_key, names):
     if value not in levels:
-        raise InputError(f"`{_name(names, key)}` = {value!r}: must be one of "
-                         f"`{_name(names, levels_key)}` = {list(levels)!r} (its run is shared by "
-                         "the mesh and the time-step studies)")
+        raise InputError(
+            f"`{_name(names, key)}` = {value!r}: must be one of "
+            f"`{_name(names, levels_key)}` = {list(levels)!r} (its run is shared by "
+            "the mesh and the time-step studies)"
+        )
     return value

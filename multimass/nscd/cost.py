@@ -55,9 +55,21 @@ import math
 
 from multimass.progress import RunCost, format_bytes, format_duration
 
-__all__ = ["STEP_S", "STEP_S_PER_N2", "SETUP_S_PER_N3", "ASSEMBLY_BYTES_PER_N2", "SERIES_COLUMNS",
-           "MAX_ELEMENTS", "CHUNK_SECONDS", "n_dof", "step_seconds", "setup_seconds",
-           "assembly_memory", "estimate", "chunk_steps"]
+__all__ = [
+    "STEP_S",
+    "STEP_S_PER_N2",
+    "SETUP_S_PER_N3",
+    "ASSEMBLY_BYTES_PER_N2",
+    "SERIES_COLUMNS",
+    "MAX_ELEMENTS",
+    "CHUNK_SECONDS",
+    "n_dof",
+    "step_seconds",
+    "setup_seconds",
+    "assembly_memory",
+    "estimate",
+    "chunk_steps",
+]
 
 #: fixed cost of one step (s): free flight, contact detection, contact solution
 STEP_S = 1.8e-6
@@ -112,9 +124,11 @@ def estimate(n_elements: int, steps: float, rows: float) -> RunCost:
     per_step = step_seconds(n_elements)
     seconds = setup_seconds(n_elements) + steps * per_step
     memory = assembly_memory(n_elements) + float(rows) * SERIES_COLUMNS * 8
-    basis = (f"{n_elements} elements ({n} degrees of freedom): ~{per_step * 1e6:.2g} µs per step, "
-             f"set-up {format_duration(setup_seconds(n_elements))}, dense beam matrices "
-             f"{format_bytes(assembly_memory(n_elements))}, {rows:.3g} recorded rows")
+    basis = (
+        f"{n_elements} elements ({n} degrees of freedom): ~{per_step * 1e6:.2g} µs per step, "
+        f"set-up {format_duration(setup_seconds(n_elements))}, dense beam matrices "
+        f"{format_bytes(assembly_memory(n_elements))}, {rows:.3g} recorded rows"
+    )
     return RunCost(steps=float(steps), seconds=seconds, memory=memory, basis=basis)
 
 

@@ -20,8 +20,14 @@ from multimass.validation import integer, number, positive
 
 from .cost import MAX_ELEMENTS
 
-__all__ = ["BeamModel", "build_beam", "element_stiffness", "element_mass",
-           "shape_functions", "static_deflection"]
+__all__ = [
+    "BeamModel",
+    "build_beam",
+    "element_stiffness",
+    "element_mass",
+    "shape_functions",
+    "static_deflection",
+]
 
 
 def element_stiffness(E: float, A: float, I: float, Le: float) -> np.ndarray:
@@ -30,11 +36,14 @@ def element_stiffness(E: float, A: float, I: float, Le: float) -> np.ndarray:
     k = E * I / Le**3
     K = np.zeros((6, 6))
     K[np.ix_([0, 3], [0, 3])] = a * np.array([[1.0, -1.0], [-1.0, 1.0]])
-    K[np.ix_([1, 2, 4, 5], [1, 2, 4, 5])] = k * np.array([
-        [12.0, 6 * Le, -12.0, 6 * Le],
-        [6 * Le, 4 * Le**2, -6 * Le, 2 * Le**2],
-        [-12.0, -6 * Le, 12.0, -6 * Le],
-        [6 * Le, 2 * Le**2, -6 * Le, 4 * Le**2]])
+    K[np.ix_([1, 2, 4, 5], [1, 2, 4, 5])] = k * np.array(
+        [
+            [12.0, 6 * Le, -12.0, 6 * Le],
+            [6 * Le, 4 * Le**2, -6 * Le, 2 * Le**2],
+            [-12.0, -6 * Le, 12.0, -6 * Le],
+            [6 * Le, 2 * Le**2, -6 * Le, 4 * Le**2],
+        ]
+    )
     return K
 
 
@@ -42,11 +51,19 @@ def element_mass(m: float, Le: float) -> np.ndarray:
     """Consistent mass of a 2D frame element (6 × 6), m = ρA the mass per length."""
     M = np.zeros((6, 6))
     M[np.ix_([0, 3], [0, 3])] = m * Le / 6.0 * np.array([[2.0, 1.0], [1.0, 2.0]])
-    M[np.ix_([1, 2, 4, 5], [1, 2, 4, 5])] = m * Le / 420.0 * np.array([
-        [156.0, 22 * Le, 54.0, -13 * Le],
-        [22 * Le, 4 * Le**2, 13 * Le, -3 * Le**2],
-        [54.0, 13 * Le, 156.0, -22 * Le],
-        [-13 * Le, -3 * Le**2, -22 * Le, 4 * Le**2]])
+    M[np.ix_([1, 2, 4, 5], [1, 2, 4, 5])] = (
+        m
+        * Le
+        / 420.0
+        * np.array(
+            [
+                [156.0, 22 * Le, 54.0, -13 * Le],
+                [22 * Le, 4 * Le**2, 13 * Le, -3 * Le**2],
+                [54.0, 13 * Le, 156.0, -22 * Le],
+                [-13 * Le, -3 * Le**2, -22 * Le, 4 * Le**2],
+            ]
+        )
+    )
     return M
 
 
@@ -57,8 +74,16 @@ def shape_functions(s: float, Le: float) -> np.ndarray:
     The order matches the element degrees of freedom, so ``v_b = N @ rho`` per row.
     """
     x = s / Le
-    return np.array([1.0 - x, 1.0 - 3 * x**2 + 2 * x**3, Le * (x - 2 * x**2 + x**3),
-                     x, 3 * x**2 - 2 * x**3, Le * (-x**2 + x**3)])
+    return np.array(
+        [
+            1.0 - x,
+            1.0 - 3 * x**2 + 2 * x**3,
+            Le * (x - 2 * x**2 + x**3),
+            x,
+            3 * x**2 - 2 * x**3,
+            Le * (-(x**2) + x**3),
+        ]
+    )
 
 
 @dataclass(frozen=True)
@@ -125,8 +150,17 @@ class BeamModel:
         return float(N[1] * rho[1] + N[2] * rho[2] + N[4] * rho[4] + N[5] * rho[5])
 
 
-def build_beam(L: float, E: float, A: float, I: float, rho: float, n_elements: int,
-               damping_ratios=(0.05, 0.2), damping_modes=(1, 3), g: float = 9.81) -> BeamModel:
+def build_beam(
+    L: float,
+    E: float,
+    A: float,
+    I: float,
+    rho: float,
+    n_elements: int,
+    damping_ratios=(0.05, 0.2),
+    damping_modes=(1, 3),
+    g: float = 9.81,
+) -> BeamModel:
     """Assemble the simply supported frame-element beam of paper 002, Section 6.
 
     Rayleigh damping C = a0 M + a1 K gives `damping_ratios` at the two
@@ -140,15 +174,20 @@ def build_beam(L: float, E: float, A: float, I: float, rho: float, n_elements: i
         not a positive finite number, or a damping mode number beyond the
         number of modes of the mesh.
     """
-    n_el = integer("n_elements", n_elements, low=3, high=MAX_ELEMENTS,
-                   what="beam elements; paper 002 uses 3, 6 and 12")
+    n_el = integer(
+        "n_elements",
+        n_elements,
+        low=3,
+        high=MAX_ELEMENTS,
+        what="beam elements; paper 002 uses 3, 6 and 12",
+    )
     for name, val in (("L", L), ("E", E), ("A", A), ("I", I), ("rho", rho)):
         positive(name, val)
     number("g", g, low=0.0, what="gravity in m/s²; 0 leaves the self-weight out")
     Le = L / n_el
     m = rho * A
     nfull = 3 * (n_el + 1)
-    fixed = {0, 1, 3 * n_el + 1}            # pin at x = 0 (u, v), roller at x = L (v)
+    fixed = {0, 1, 3 * n_el + 1}  # pin at x = 0 (u, v), roller at x = L (v)
     free = [i for i in range(nfull) if i not in fixed]
     red = -np.ones(nfull, dtype=np.int64)
     red[free] = np.arange(len(free))
@@ -156,7 +195,7 @@ def build_beam(L: float, E: float, A: float, I: float, rho: float, n_elements: i
     Mf = np.zeros((nfull, nfull))
     pf = np.zeros(nfull)
     ke, me = element_stiffness(E, A, I, Le), element_mass(m, Le)
-    q = -m * g                                            # self-weight per length
+    q = -m * g  # self-weight per length
     pe = np.array([0.0, q * Le / 2, q * Le**2 / 12, 0.0, q * Le / 2, -q * Le**2 / 12])
     edof = np.zeros((n_el, 6), dtype=np.int64)
     for e in range(n_el):
@@ -170,13 +209,28 @@ def build_beam(L: float, E: float, A: float, I: float, rho: float, n_elements: i
     omega = np.sqrt(np.abs(sla.eigh(K, M, eigvals_only=True)))
     ia, ib = damping_modes
     if not (1 <= ia < ib <= omega.size):
-        raise InputError(f"`damping_modes` = {damping_modes!r}: the mesh has {omega.size} modes; "
-                         "give two increasing 1-based mode numbers within them")
+        raise InputError(
+            f"`damping_modes` = {damping_modes!r}: the mesh has {omega.size} modes; "
+            "give two increasing 1-based mode numbers within them"
+        )
     a0, a1 = rayleigh_coefficients(omega[ia - 1], omega[ib - 1], *damping_ratios)
     C = a0 * M + a1 * K
-    return BeamModel(L=float(L), E=float(E), A=float(A), I=float(I), m=float(m), n_elements=n_el,
-                     x_nodes=np.linspace(0.0, L, n_el + 1), edof=edof, M=M, K=K, C=C,
-                     p_self=pf[free], rayleigh=(a0, a1), omega=omega)
+    return BeamModel(
+        L=float(L),
+        E=float(E),
+        A=float(A),
+        I=float(I),
+        m=float(m),
+        n_elements=n_el,
+        x_nodes=np.linspace(0.0, L, n_el + 1),
+        edof=edof,
+        M=M,
+        K=K,
+        C=C,
+        p_self=pf[free],
+        rayleigh=(a0, a1),
+        omega=omega,
+    )
 
 
 def static_deflection(beam: BeamModel, p: np.ndarray) -> np.ndarray:

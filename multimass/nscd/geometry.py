@@ -13,8 +13,13 @@ import math
 import numpy as np
 from numba import njit
 
-__all__ = ["element_cubic", "closest_on_element", "closest_point", "contact_frame",
-           "N_SUBINTERVALS"]
+__all__ = [
+    "element_cubic",
+    "closest_on_element",
+    "closest_point",
+    "contact_frame",
+    "N_SUBINTERVALS",
+]
 
 #: sub-intervals scanned for sign changes of the quintic in each element
 N_SUBINTERVALS = 8
@@ -43,7 +48,7 @@ def _g(s, c0, c1, c2, c3, x1, dx, dy):
     v = c0 + s * (c1 + s * (c2 + s * c3))
     dv = c1 + s * (2.0 * c2 + 3.0 * s * c3)
     ddv = 2.0 * c2 + 6.0 * s * c3
-    g = (v - dy) * dv + (x1 + s) - dx                      # paper 002, Eq 62
+    g = (v - dy) * dv + (x1 + s) - dx  # paper 002, Eq 62
     dg = dv * dv + (v - dy) * ddv + 1.0
     return g, dg
 
@@ -98,14 +103,14 @@ def closest_on_element(c0, c1, c2, c3, x1, Le, dx, dy):
         if ga < 0.0 <= gb:
             s = b if gb == 0.0 else _refine(a, b, ga, c0, c1, c2, c3, x1, dx, dy, Le)
             v = c0 + s * (c1 + s * (c2 + s * c3))
-            f2 = (x1 + s - dx) ** 2 + (v - dy) ** 2           # paper 002, Eq 60 squared
+            f2 = (x1 + s - dx) ** 2 + (v - dy) ** 2  # paper 002, Eq 60 squared
             if f2 < best_f2:
                 best_s, best_f2, move = s, f2, 0
         ga = gb
-    f2 = (x1 - dx) ** 2 + (c0 - dy) ** 2                       # left end
+    f2 = (x1 - dx) ** 2 + (c0 - dy) ** 2  # left end
     if f2 < best_f2:
         best_s, best_f2, move = 0.0, f2, -1 if g0 > 0.0 else 0
-    v = c0 + Le * (c1 + Le * (c2 + Le * c3))                   # right end
+    v = c0 + Le * (c1 + Le * (c2 + Le * c3))  # right end
     f2 = (x1 + Le - dx) ** 2 + (v - dy) ** 2
     if f2 < best_f2:
         best_s, best_f2, move = Le, f2, 1 if ga < 0.0 else 0
@@ -163,6 +168,6 @@ def contact_frame(N, qe, edof, x_nodes, Le, e, s, dx, dy):
     v = c0 + s * (c1 + s * (c2 + s * c3))
     slope = c1 + s * (2.0 * c2 + 3.0 * s * c3)
     c = 1.0 / math.sqrt(1.0 + slope * slope)
-    cpsi, spsi = -slope * c, c                              # paper 002, Eq 63
+    cpsi, spsi = -slope * c, c  # paper 002, Eq 63
     gap = (dx - (x_nodes[e] + s)) * cpsi + (dy - v) * spsi
     return cpsi, spsi, gap

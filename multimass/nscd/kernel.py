@@ -43,25 +43,43 @@ def _drop_stale_cache() -> None:
             f.unlink(missing_ok=True)
         cache.mkdir(exist_ok=True)
         mark.write_text(stamp)
-    except OSError:        # read-only install or a concurrent process: numba recompiles if needed
+    except OSError:  # read-only install or a concurrent process: numba recompiles if needed
         pass
 
 
 _drop_stale_cache()
 
-__all__ = ["run_kernel", "run_steps", "start_state", "STATUS", "STAT_NAMES", "SERIES",
-           "TRACK_NAMES"]
+__all__ = [
+    "run_kernel",
+    "run_steps",
+    "start_state",
+    "STATUS",
+    "STAT_NAMES",
+    "SERIES",
+    "TRACK_NAMES",
+]
 
 #: status codes returned by the kernel
 STATUS = {0: "completed", 1: "overturned", 2: "fell_off_beam", 3: "failed"}
 #: columns of the recorded series
 SERIES = ("t", "phi", "phi_dot", "X", "Y", "v_mid", "energy", "n_contacts")
 #: entries of the statistics vector
-STAT_NAMES = ("max_gs_iterations", "n_gs_cap_hits", "n_multi_contact_steps", "n_slip_steps",
-              "max_slip_speed", "max_energy_increase", "max_penetration", "last_moving_step",
-              "n_contact_steps", "energy_scale", "max_gs_residual")
-(I_GS, I_CAP, I_MULTI, I_SLIP, I_SLIPV, I_DE, I_PEN, I_MOVE, I_CONTACT, I_ESCALE,
- I_GSRES) = range(11)
+STAT_NAMES = (
+    "max_gs_iterations",
+    "n_gs_cap_hits",
+    "n_multi_contact_steps",
+    "n_slip_steps",
+    "max_slip_speed",
+    "max_energy_increase",
+    "max_penetration",
+    "last_moving_step",
+    "n_contact_steps",
+    "energy_scale",
+    "max_gs_residual",
+)
+(I_GS, I_CAP, I_MULTI, I_SLIP, I_SLIPV, I_DE, I_PEN, I_MOVE, I_CONTACT, I_ESCALE, I_GSRES) = range(
+    11
+)
 #: scalars carried from one call of `run_steps` to the next
 TRACK_NAMES = ("energy", "sign", "peak", "t_peak", "n_peaks", "n_impacts", "last_row")
 T_ENERGY, T_SIGN, T_PEAK, T_TPEAK, T_NPEAKS, T_NIMP, T_ROW = range(7)
@@ -111,18 +129,19 @@ def _record(series, row, t, qk, vk, qe, i_mid, energy, nc):
 
 
 @njit(cache=True)
-def _free_step(qk, vk, qe, ve, vkf, vef, qkb, qeb, Fk, inv_m, inv_i, Ainv, Kc, Cc, pe,
-               dt, theta, work):
+def _free_step(
+    qk, vk, qe, ve, vkf, vef, qkb, qeb, Fk, inv_m, inv_i, Ainv, Kc, Cc, pe, dt, theta, work
+):
     """v̄ (paper 002, Eqs 21, 24, 34) and q̄ = q + Δt(θ v̄ + (1 − θ) v) (Eqs 22, 25)."""
     for k in range(3):
-        vkf[k] = vk[k] + dt * Fk[k] * (inv_m if k < 2 else inv_i)             # Eq 21
+        vkf[k] = vk[k] + dt * Fk[k] * (inv_m if k < 2 else inv_i)  # Eq 21
         qkb[k] = qk[k] + dt * (theta * vkf[k] + (1.0 - theta) * vk[k])
     n = qe.size
     r, x = work[0], work[1]
     for i in range(n):
         r[i] = pe[i]
         x[i] = qe[i] + dt * theta * ve[i]
-    _spmv_add(Kc, x, r, -1.0)                 # −K(Δtθ q̇ + q) − C q̇ + p   (Eq 24)
+    _spmv_add(Kc, x, r, -1.0)  # −K(Δtθ q̇ + q) − C q̇ + p   (Eq 24)
     _spmv_add(Cc, ve, r, -1.0)
     for i in range(n):
         acc = 0.0
@@ -147,8 +166,27 @@ def _beam_top(qeb, edof, Le):
 
 
 @njit(cache=True)
-def _detect(qkb, qeb, vk, ve, vkf, vef, verts, edof, x_nodes, Le, L, e_rest,
-            Qk, Qe, el, ids, Ubar, Un_minus, N):
+def _detect(
+    qkb,
+    qeb,
+    vk,
+    ve,
+    vkf,
+    vef,
+    verts,
+    edof,
+    x_nodes,
+    Le,
+    L,
+    e_rest,
+    Qk,
+    Qe,
+    el,
+    ids,
+    Ubar,
+    Un_minus,
+    N,
+):
     """Active contacts at q̄ (gap ≤ 0, paper 002, Eq 35) with Q (Eqs 50, 55) and Ū = Q v̄ (Eq 42).
 
     Returns the number of contacts and the largest overlap.
@@ -170,7 +208,7 @@ def _detect(qkb, qeb, vk, ve, vkf, vef, verts, edof, x_nodes, Le, L, e_rest,
         block_q(Qk[nc], cpsi, spsi, rx, ry)
         beam_q(Qe[nc], cpsi, spsi, N)
         el[nc], ids[nc] = e, j
-        un_m, un_f, ut_f = 0.0, 0.0, 0.0                   # U⁻ = Q v_i, Ū = Q v̄
+        un_m, un_f, ut_f = 0.0, 0.0, 0.0  # U⁻ = Q v_i, Ū = Q v̄
         for k in range(3):
             un_m += Qk[nc, 0, k] * vk[k]
             un_f += Qk[nc, 0, k] * vkf[k]
@@ -182,7 +220,7 @@ def _detect(qkb, qeb, vk, ve, vkf, vef, verts, edof, x_nodes, Le, L, e_rest,
                 un_f -= Qe[nc, 0, a] * vef[ia]
                 ut_f -= Qe[nc, 1, a] * vef[ia]
         Un_minus[nc] = un_m
-        Ubar[nc, 0] = un_f + e_rest * min(un_m, 0.0)       # Newton: U_n + e U_n⁻ ≥ 0
+        Ubar[nc, 0] = un_f + e_rest * min(un_m, 0.0)  # Newton: U_n + e U_n⁻ ≥ 0
         Ubar[nc, 1] = ut_f
         nc += 1
     return nc, pen
@@ -223,17 +261,41 @@ def _slip_speed(nc, P, sliding, Qk, Qe, el, edof, vkf, vef):
 
 
 @njit(cache=True)
-def _solve_contacts(nc, ids, was_active, now_active, P, P_prev, W, Qk, Qe, el, Ubar, sliding,
-                    edof, Ainv, inv_m, inv_i, vkf, vef, mu, gs_tol, gs_max_iter, p_scale, stats):
+def _solve_contacts(
+    nc,
+    ids,
+    was_active,
+    now_active,
+    P,
+    P_prev,
+    W,
+    Qk,
+    Qe,
+    el,
+    Ubar,
+    sliding,
+    edof,
+    Ainv,
+    inv_m,
+    inv_i,
+    vkf,
+    vef,
+    mu,
+    gs_tol,
+    gs_max_iter,
+    p_scale,
+    stats,
+):
     """Impulses of the active contacts (Eqs 41–44) and v_{i+1} = v̄ + B Qᵀ P (Eq 34)."""
     for h in range(nc):
-        if was_active[ids[h]]:                              # warm start
+        if was_active[ids[h]]:  # warm start
             P[h, 0], P[h, 1] = P_prev[ids[h], 0], P_prev[ids[h], 1]
         else:
             P[h, 0], P[h, 1] = 0.0, 0.0
         for j in range(nc):
-            delassus_block(W[h, j], Qk[h], Qe[h], el[h], Qk[j], Qe[j], el[j],
-                           inv_m, inv_i, Ainv, edof)
+            delassus_block(
+                W[h, j], Qk[h], Qe[h], el[h], Qk[j], Qe[j], el[j], inv_m, inv_i, Ainv, edof
+            )
     iters, ok, residual = gauss_seidel(W, Ubar, P, sliding, nc, mu, gs_tol, gs_max_iter, p_scale)
     stats[I_GS] = max(stats[I_GS], iters)
     if not ok:
@@ -278,8 +340,9 @@ def _half_cycle(phi, t, sign, peak, t_peak, cross_eps, peaks, n_peaks):
 
 
 @njit(cache=True)
-def start_state(qk, vk, qe, ve, mass, inertia, Fk, Mc, Kc, pe, L, i_mid, cross_eps,
-                series, stats, track):
+def start_state(
+    qk, vk, qe, ve, mass, inertia, Fk, Mc, Kc, pe, L, i_mid, cross_eps, series, stats, track
+):
     """Initial energy and energy scale, the first recorded row and the half-cycle state.
 
     Fills `series[0]`, `stats[I_ESCALE]` and `track` (see `TRACK_NAMES`) in place.
@@ -295,10 +358,45 @@ def start_state(qk, vk, qe, ve, mass, inertia, Fk, Mc, Kc, pe, L, i_mid, cross_e
 
 
 @njit(cache=True)
-def run_steps(first, last, qk, vk, qe, ve, was_active, P_prev, track, series, peaks, impacts,
-              stats, mass, inertia, Fk, verts, Ainv, Mc, Kc, Cc, pe, edof, x_nodes, Le, L, dt,
-              theta, mu, e_rest, gs_tol, gs_max_iter, stride, rest_angle, rest_rate, cross_eps,
-              i_mid):
+def run_steps(
+    first,
+    last,
+    qk,
+    vk,
+    qe,
+    ve,
+    was_active,
+    P_prev,
+    track,
+    series,
+    peaks,
+    impacts,
+    stats,
+    mass,
+    inertia,
+    Fk,
+    verts,
+    Ainv,
+    Mc,
+    Kc,
+    Cc,
+    pe,
+    edof,
+    x_nodes,
+    Le,
+    L,
+    dt,
+    theta,
+    mu,
+    e_rest,
+    gs_tol,
+    gs_max_iter,
+    stride,
+    rest_angle,
+    rest_rate,
+    cross_eps,
+    i_mid,
+):
     """Moreau–Jean steps `first` … `last` (inclusive), continuing the state in place.
 
     The state that lives from one step to the next — (qk, vk, qe, ve), the
@@ -317,8 +415,8 @@ def run_steps(first, last, qk, vk, qe, ve, was_active, P_prev, track, series, pe
     n = qe.size
     inv_m, inv_i = 1.0 / mass, 1.0 / inertia
     max_events = peaks.shape[0]
-    p_scale = abs(Fk[1]) * dt                       # weight impulse over one step
-    v_impact = 10.0 * abs(Fk[1]) * inv_m * dt       # smallest approach speed logged as an impact
+    p_scale = abs(Fk[1]) * dt  # weight impulse over one step
+    v_impact = 10.0 * abs(Fk[1]) * inv_m * dt  # smallest approach speed logged as an impact
     Qk, Qe = np.zeros((4, 2, 3)), np.zeros((4, 2, 6))
     el, ids = np.zeros(4, dtype=np.int64), np.zeros(4, dtype=np.int64)
     Ubar, Un_minus, N = np.zeros((4, 2)), np.zeros(4), np.zeros(6)
@@ -331,10 +429,30 @@ def run_steps(first, last, qk, vk, qe, ve, was_active, P_prev, track, series, pe
     status, step = 0, first - 1
     for step in range(first, last + 1):
         t = step * dt
-        _free_step(qk, vk, qe, ve, vkf, vef, qkb, qeb, Fk, inv_m, inv_i, Ainv, Kc, Cc, pe,
-                   dt, theta, work)
-        nc, pen = _detect(qkb, qeb, vk, ve, vkf, vef, verts, edof, x_nodes, Le, L, e_rest,
-                          Qk, Qe, el, ids, Ubar, Un_minus, N)
+        _free_step(
+            qk, vk, qe, ve, vkf, vef, qkb, qeb, Fk, inv_m, inv_i, Ainv, Kc, Cc, pe, dt, theta, work
+        )
+        nc, pen = _detect(
+            qkb,
+            qeb,
+            vk,
+            ve,
+            vkf,
+            vef,
+            verts,
+            edof,
+            x_nodes,
+            Le,
+            L,
+            e_rest,
+            Qk,
+            Qe,
+            el,
+            ids,
+            Ubar,
+            Un_minus,
+            N,
+        )
         stats[I_PEN] = max(stats[I_PEN], pen)
         now_active[:] = False
         if nc > 0:
@@ -344,9 +462,31 @@ def run_steps(first, last, qk, vk, qe, ve, was_active, P_prev, track, series, pe
                 if not was_active[ids[h]] and Un_minus[h] < -v_impact and n_imp < max_events:
                     impacts[n_imp] = t
                     n_imp += 1
-            _solve_contacts(nc, ids, was_active, now_active, P, P_prev, W, Qk, Qe, el, Ubar,
-                            sliding, edof, Ainv, inv_m, inv_i, vkf, vef, mu, gs_tol, gs_max_iter,
-                            p_scale, stats)
+            _solve_contacts(
+                nc,
+                ids,
+                was_active,
+                now_active,
+                P,
+                P_prev,
+                W,
+                Qk,
+                Qe,
+                el,
+                Ubar,
+                sliding,
+                edof,
+                Ainv,
+                inv_m,
+                inv_i,
+                vkf,
+                vef,
+                mu,
+                gs_tol,
+                gs_max_iter,
+                p_scale,
+                stats,
+            )
         was_active[:] = now_active
         q_max = _advance(qk, vk, qe, ve, vkf, vef, dt, theta)
         e_new = _energy(qk, vk, qe, ve, mass, inertia, Fk, Mc, Kc, pe)
@@ -359,8 +499,9 @@ def run_steps(first, last, qk, vk, qe, ve, was_active, P_prev, track, series, pe
         phi = qk[2]
         if abs(phi) > rest_angle or abs(vk[2]) > rest_rate:
             stats[I_MOVE] = step
-        sign, peak, t_peak, n_peaks = _half_cycle(phi, t, sign, peak, t_peak, cross_eps,
-                                                  peaks, n_peaks)
+        sign, peak, t_peak, n_peaks = _half_cycle(
+            phi, t, sign, peak, t_peak, cross_eps, peaks, n_peaks
+        )
         if step % stride == 0:
             last_row = step // stride
             _record(series, last_row, t, qk, vk, qe, i_mid, energy, nc)
@@ -375,10 +516,41 @@ def run_steps(first, last, qk, vk, qe, ve, was_active, P_prev, track, series, pe
     return status, step
 
 
-def run_kernel(qk0, vk0, qe0, ve0, mass, inertia, Fk, verts, Ainv, Mc, Kc, Cc, pe,
-               edof, x_nodes, Le, L, dt, theta, mu, e_rest, gs_tol, gs_max_iter,
-               n_steps, stride, rest_angle, rest_rate, cross_eps, i_mid, max_events, *,
-               chunk=None, on_chunk=None):
+def run_kernel(
+    qk0,
+    vk0,
+    qe0,
+    ve0,
+    mass,
+    inertia,
+    Fk,
+    verts,
+    Ainv,
+    Mc,
+    Kc,
+    Cc,
+    pe,
+    edof,
+    x_nodes,
+    Le,
+    L,
+    dt,
+    theta,
+    mu,
+    e_rest,
+    gs_tol,
+    gs_max_iter,
+    n_steps,
+    stride,
+    rest_angle,
+    rest_rate,
+    cross_eps,
+    i_mid,
+    max_events,
+    *,
+    chunk=None,
+    on_chunk=None,
+):
     """Run `n_steps` Moreau–Jean steps from the given state (see module docstring).
 
     The compiled loop runs in calls of `chunk` steps (default: all at once);
@@ -388,34 +560,87 @@ def run_kernel(qk0, vk0, qe0, ve0, mass, inertia, Fk, verts, Ainv, Mc, Kc, Cc, p
     Returns
     -------
     status, last_step : int
-    series : ndarray (rows, len(SERIES))
-    peaks : ndarray (n_peaks, 2) — (time, |φ|) of each half-cycle, the release first
-    impacts : ndarray (n_impacts,) — times of contact activations with U_n⁻ < −10 g Δt
-    stats : ndarray (len(STAT_NAMES),)
-    qk, vk, qe, ve : final state
+    series : ndarray, shape (rows, len(SERIES))
+    peaks : ndarray, shape (n_peaks, 2)
+        (time, ``|φ|``) of each half-cycle, the release first.
+    impacts : ndarray, shape (n_impacts,)
+        Times of contact activations with U_n⁻ < −10 g Δt.
+    stats : ndarray, shape (len(STAT_NAMES),)
+    qk, vk, qe, ve : ndarray
+        The final state.
     """
     qk, vk, qe, ve = (np.array(a, dtype=float) for a in (qk0, vk0, qe0, ve0))
     series = np.zeros((n_steps // stride + 1, len(SERIES)))
-    peaks, impacts, stats = np.zeros((max_events, 2)), np.zeros(max_events), np.zeros(len(STAT_NAMES))
+    peaks, impacts, stats = (
+        np.zeros((max_events, 2)),
+        np.zeros(max_events),
+        np.zeros(len(STAT_NAMES)),
+    )
     track = np.zeros(len(TRACK_NAMES))
     was_active, P_prev = np.zeros(4, dtype=np.bool_), np.zeros((4, 2))
-    start_state(qk, vk, qe, ve, mass, inertia, Fk, Mc, Kc, pe, L, i_mid, cross_eps,
-                series, stats, track)
+    start_state(
+        qk, vk, qe, ve, mass, inertia, Fk, Mc, Kc, pe, L, i_mid, cross_eps, series, stats, track
+    )
     chunk = n_steps if chunk is None else max(1, int(chunk))
     status, step, first = 0, 0, 1
     while first <= n_steps and status == 0:
         last = min(first + chunk - 1, n_steps)
-        status, step = run_steps(first, last, qk, vk, qe, ve, was_active, P_prev, track, series,
-                                 peaks, impacts, stats, mass, inertia, Fk, verts, Ainv, Mc, Kc,
-                                 Cc, pe, edof, x_nodes, Le, L, dt, theta, mu, e_rest, gs_tol,
-                                 gs_max_iter, stride, rest_angle, rest_rate, cross_eps, i_mid)
+        status, step = run_steps(
+            first,
+            last,
+            qk,
+            vk,
+            qe,
+            ve,
+            was_active,
+            P_prev,
+            track,
+            series,
+            peaks,
+            impacts,
+            stats,
+            mass,
+            inertia,
+            Fk,
+            verts,
+            Ainv,
+            Mc,
+            Kc,
+            Cc,
+            pe,
+            edof,
+            x_nodes,
+            Le,
+            L,
+            dt,
+            theta,
+            mu,
+            e_rest,
+            gs_tol,
+            gs_max_iter,
+            stride,
+            rest_angle,
+            rest_rate,
+            cross_eps,
+            i_mid,
+        )
         if on_chunk is not None:
             on_chunk(step)
         first = last + 1
     n_peaks, peak = int(track[T_NPEAKS]), track[T_PEAK]
-    if peak > cross_eps and n_peaks < max_events:         # close the last half-cycle
+    if peak > cross_eps and n_peaks < max_events:  # close the last half-cycle
         peaks[n_peaks] = track[T_TPEAK], peak
         n_peaks += 1
     n_imp, last_row = int(track[T_NIMP]), int(track[T_ROW])
-    return (status, step, series[:last_row + 1], peaks[:n_peaks], impacts[:n_imp], stats,
-            qk, vk, qe, ve)
+    return (
+        status,
+        step,
+        series[: last_row + 1],
+        peaks[:n_peaks],
+        impacts[:n_imp],
+        stats,
+        qk,
+        vk,
+        qe,
+        ve,
+    )

@@ -20,15 +20,37 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-__all__ = ["plot_history", "plot_study", "plot_first_peak", "plot_flexibility", "history_figure",
-           "study_figure", "first_peak_figure", "flexibility_figures", "PALETTE"]
+__all__ = [
+    "plot_history",
+    "plot_study",
+    "plot_first_peak",
+    "plot_flexibility",
+    "history_figure",
+    "study_figure",
+    "first_peak_figure",
+    "flexibility_figures",
+    "PALETTE",
+]
 
 _DPI = 100
-_STATUS_COLOUR = {"converged": "tab:green", "converging": "#d95f02", "not converged": "tab:red",
-                  "undetermined": "tab:gray", "failed": "tab:red"}
+_STATUS_COLOUR = {
+    "converged": "tab:green",
+    "converging": "#d95f02",
+    "not converged": "tab:red",
+    "undetermined": "tab:gray",
+    "failed": "tab:red",
+}
 #: line colours, each at least 3:1 against white; the finest level (or the reference) is black
-PALETTE = ("tab:blue", "#d95f02", "tab:green", "tab:red", "tab:purple", "tab:brown", "#e7298a",
-           "tab:gray")
+PALETTE = (
+    "tab:blue",
+    "#d95f02",
+    "tab:green",
+    "tab:red",
+    "tab:purple",
+    "tab:brown",
+    "#e7298a",
+    "tab:gray",
+)
 
 
 def _save(fig, path: Path) -> Path:
@@ -40,8 +62,9 @@ def _save(fig, path: Path) -> Path:
 
 def _legend_outside(ax, **kw):
     """The legend to the right of the axes, outside the data area."""
-    return ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0,
-                     **kw)
+    return ax.legend(
+        fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, **kw
+    )
 
 
 def _thin(t, y, n=4000):
@@ -63,23 +86,42 @@ def _thin(t, y, n=4000):
 def _reference_lines(ax, res, exact_first_peak_deg, paper_first_peak_deg, paper_rest_time_s):
     p = res.params
     if paper_first_peak_deg is not None:
-        ax.axhline(paper_first_peak_deg, color="tab:red", ls=":", lw=1,
-                   label=f"paper 002 first peak ±{paper_first_peak_deg:g}°")
+        ax.axhline(
+            paper_first_peak_deg,
+            color="tab:red",
+            ls=":",
+            lw=1,
+            label=f"paper 002 first peak ±{paper_first_peak_deg:g}°",
+        )
         ax.axhline(-paper_first_peak_deg, color="tab:red", ls=":", lw=1)
     if exact_first_peak_deg is not None:
-        ax.axhline(-exact_first_peak_deg if p["theta0_deg"] > 0 else exact_first_peak_deg,
-                   color="k", ls="--", lw=0.8,
-                   label=f"rigid block, Housner η: {exact_first_peak_deg:.3f}°")
+        ax.axhline(
+            -exact_first_peak_deg if p["theta0_deg"] > 0 else exact_first_peak_deg,
+            color="k",
+            ls="--",
+            lw=0.8,
+            label=f"rigid block, Housner η: {exact_first_peak_deg:.3f}°",
+        )
     if res.rest_time_s is not None:
-        ax.axvline(res.rest_time_s, color="tab:green", lw=1,
-                   label=f"at rest (|θ| < {100 * p['rest_fraction']:g} % θ0): {res.rest_time_s:.2f} s")
+        ax.axvline(
+            res.rest_time_s,
+            color="tab:green",
+            lw=1,
+            label=f"at rest (|θ| < {100 * p['rest_fraction']:g} % θ0): {res.rest_time_s:.2f} s",
+        )
     if paper_rest_time_s is not None:
-        ax.axvline(paper_rest_time_s, color="tab:red", ls="-.", lw=1,
-                   label=f"paper 002 rest ≈ {paper_rest_time_s:g} s")
+        ax.axvline(
+            paper_rest_time_s,
+            color="tab:red",
+            ls="-.",
+            lw=1,
+            label=f"paper 002 rest ≈ {paper_rest_time_s:g} s",
+        )
 
 
-def history_figure(res, *, exact_first_peak_deg=None, paper_first_peak_deg=None,
-                   paper_rest_time_s=None):
+def history_figure(
+    res, *, exact_first_peak_deg=None, paper_first_peak_deg=None, paper_rest_time_s=None
+):
     """Block angle, angular velocity and beam deflection against time (paper 002, Figs 12–15)."""
     fig = Figure(figsize=(10, 7.5), layout="constrained")
     ax = fig.subplots(3, 1, sharex=True, gridspec_kw={"height_ratios": [2, 1, 1]})
@@ -89,9 +131,12 @@ def history_figure(res, *, exact_first_peak_deg=None, paper_first_peak_deg=None,
     ax[0].set_ylabel("θ (deg)")
     _legend_outside(ax[0])
     status = res.status + (f" ({res.outcome})" if res.status != res.outcome else "")
-    fig.suptitle(f"{p['block']} on {p['beam']}: E = {p['E_Pa']:.3g} Pa, {p['n_elements']} "
-                 f"elements, Δt = {p['dt_s']:g} s, θ-method {p['theta_method']:g} — {status}",
-                 fontsize=9, color="k" if res.status in ("completed", "overturned") else "tab:red")
+    fig.suptitle(
+        f"{p['block']} on {p['beam']}: E = {p['E_Pa']:.3g} Pa, {p['n_elements']} "
+        f"elements, Δt = {p['dt_s']:g} s, θ-method {p['theta_method']:g} — {status}",
+        fontsize=9,
+        color="k" if res.status in ("completed", "overturned") else "tab:red",
+    )
     ax[1].plot(*_thin(res.t, res.theta_dot), lw=0.8, color="tab:purple")
     ax[1].set_ylabel("θ̇ (rad/s)")
     ax[2].plot(*_thin(res.t, 1e3 * res.v_mid), lw=0.8, color="tab:brown")
@@ -136,9 +181,12 @@ def _study_axes(ax, study, t_max=None):
         if t_max is not None:
             keep = t <= t_max
             t, th = t[keep], th[keep]
-        ax.plot(*_thin(t, th), **_level_style(k, n),
-                label=_level_label(study.kind, lev) + ("" if r.status == "completed"
-                                                       else f" ({r.status})"))
+        ax.plot(
+            *_thin(t, th),
+            **_level_style(k, n),
+            label=_level_label(study.kind, lev)
+            + ("" if r.status == "completed" else f" ({r.status})"),
+        )
     ax.set_ylabel("θ (deg)")
     ax.grid(alpha=0.3)
     _legend_outside(ax)
@@ -147,18 +195,29 @@ def _study_axes(ax, study, t_max=None):
 def study_figure(study, title: str = ""):
     """θ(t) at each refinement level above a panel of the verdicts (paper 002, Figs 10–11)."""
     lines = _verdict_lines(study)
-    text_h = 0.2 + 0.16 * len(lines)                    # inches of the verdict panel
+    text_h = 0.2 + 0.16 * len(lines)  # inches of the verdict panel
     fig = Figure(figsize=(10, 5.5 + text_h), layout="constrained")
     ax, box = fig.subplots(2, 1, gridspec_kw={"height_ratios": [5.5, text_h]})
     _study_axes(ax, study)
     ax.set_xlabel("t (s)")
     colour = _STATUS_COLOUR[study.status]
-    ax.set_title((title or f"{study.block}: {study.kind} study") + f" — {study.status.upper()}",
-                 color=colour, fontsize=10)
+    ax.set_title(
+        (title or f"{study.block}: {study.kind} study") + f" — {study.status.upper()}",
+        color=colour,
+        fontsize=10,
+    )
     box.axis("off")
-    box.text(0.0, 1.0, "\n".join(lines), transform=box.transAxes, fontsize=7,
-             family="monospace", va="top", ha="left",
-             bbox={"facecolor": "white", "edgecolor": colour})
+    box.text(
+        0.0,
+        1.0,
+        "\n".join(lines),
+        transform=box.transAxes,
+        fontsize=7,
+        family="monospace",
+        va="top",
+        ha="left",
+        bbox={"facecolor": "white", "edgecolor": colour},
+    )
     return fig
 
 
@@ -177,13 +236,18 @@ def first_peak_figure(fps):
         err = np.array([np.nan if e is None else e for e in fps.errors_deg[name]], dtype=float)
         peaks = np.array([np.nan if p is None else p for p in fps.peaks_deg[name]], dtype=float)
         order = fps.fitted_order[name]
-        ax[0].loglog(dts, np.maximum(err, 1e-12), "o-", ms=4, color=colour,
-                     label=f"{name}: fitted order " + ("-" if order is None else f"{order:.2f}"))
+        ax[0].loglog(
+            dts,
+            np.maximum(err, 1e-12),
+            "o-",
+            ms=4,
+            color=colour,
+            label=f"{name}: fitted order " + ("-" if order is None else f"{order:.2f}"),
+        )
         ax[1].semilogx(dts, peaks, "o-", ms=4, color=colour, label=name)
         ax[1].axhline(fps.exact_deg[name], color=colour, ls="--", lw=0.8)
         if fps.paper_deg.get(name) is not None:
-            ax[1].plot([1e-5], [fps.paper_deg[name]], "*", ms=11, color=colour,
-                       markeredgecolor="k")
+            ax[1].plot([1e-5], [fps.paper_deg[name]], "*", ms=11, color=colour, markeredgecolor="k")
     finite = [e for errs in fps.errors_deg.values() for e in errs if e is not None]
     if finite:
         ax[0].loglog(dts, 0.5 * dts / dts[0] * max(finite), "k:", lw=1, label="order 1")
@@ -216,16 +280,21 @@ def _sweep_figure(flex, lim):
     E = rigid.params["E_Pa"]
     own = f"rigid base (E = {E:.0e} Pa)" if E >= 1e20 else f"beam's own E = {E:.3g} Pa"
     curves = [(rigid, own, {"color": "k", "lw": 1.8})]
-    curves += [(base[n], _exp_label(n), {"lw": 0.9, "color": PALETTE[i % len(PALETTE)]})
-               for i, n in enumerate(exps)]
+    curves += [
+        (base[n], _exp_label(n), {"lw": 0.9, "color": PALETTE[i % len(PALETTE)]})
+        for i, n in enumerate(exps)
+    ]
     for r, lab, kw in curves:
         keep = r.t <= lim
         ax.plot(*_thin(r.t[keep], np.degrees(r.theta[keep])), label=lab, **kw)
     ax.set_xlabel("t (s)")
     ax.set_ylabel("θ (deg)")
-    ax.set_title(f"{name}: flexibility sweep, Ē = {flex['E_bar']:.3g} Pa (L/2500 under the block), "
-                 f"{base[exps[0]].params['n_elements']} elements, "
-                 f"Δt = {base[exps[0]].params['dt_s']:g} s", fontsize=9)
+    ax.set_title(
+        f"{name}: flexibility sweep, Ē = {flex['E_bar']:.3g} Pa (L/2500 under the block), "
+        f"{base[exps[0]].params['n_elements']} elements, "
+        f"Δt = {base[exps[0]].params['dt_s']:g} s",
+        fontsize=9,
+    )
     ax.grid(alpha=0.3)
     _legend_outside(ax)
     return fig
@@ -240,8 +309,11 @@ def _sensitivity_figure(flex, key):
         st = flex[key][n]
         _study_axes(ax, st)
         bad = [v.measure for v in st.verdicts if v.status in ("not converged", "converging")]
-        ax.set_title(f"{_exp_label(n)}: {st.status.upper()}" + (f" ({', '.join(bad)})" if bad else ""),
-                     color=_STATUS_COLOUR[st.status], fontsize=9)
+        ax.set_title(
+            f"{_exp_label(n)}: {st.status.upper()}" + (f" ({', '.join(bad)})" if bad else ""),
+            color=_STATUS_COLOUR[st.status],
+            fontsize=9,
+        )
     axes[-1, 0].set_xlabel("t (s)")
     return fig
 
@@ -249,12 +321,14 @@ def _sensitivity_figure(flex, key):
 def flexibility_figures(flex) -> list[tuple[str, object]]:
     """(file stem, figure) of paper 002, Figs 16–19 for a `flexibility_study` result."""
     name, rigid = flex["block"], flex["rigid"]
-    pk = rigid.peak_times_s          # the second post-impact peak follows the second impact
+    pk = rigid.peak_times_s  # the second post-impact peak follows the second impact
     t_zoom = pk[1] + 0.05 if len(pk) > 1 else rigid.t[-1]
-    return [(f"fig16_flexibility_{name}", _sweep_figure(flex, rigid.t[-1])),
-            (f"fig17_first_impacts_{name}", _sweep_figure(flex, t_zoom)),
-            (f"fig18_mesh_{name}", _sensitivity_figure(flex, "mesh")),
-            (f"fig19_dt_{name}", _sensitivity_figure(flex, "dt"))]
+    return [
+        (f"fig16_flexibility_{name}", _sweep_figure(flex, rigid.t[-1])),
+        (f"fig17_first_impacts_{name}", _sweep_figure(flex, t_zoom)),
+        (f"fig18_mesh_{name}", _sensitivity_figure(flex, "mesh")),
+        (f"fig19_dt_{name}", _sensitivity_figure(flex, "dt")),
+    ]
 
 
 def plot_flexibility(flex, outdir) -> list[Path]:

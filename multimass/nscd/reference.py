@@ -31,15 +31,21 @@ def closest_point_roots(sys: System, qe: np.ndarray, d: np.ndarray) -> tuple[int
     for e in range(sys.beam.n_elements):
         r = _element_rho(sys, qe, e)
         # v(s) as a polynomial in s (highest power first), paper 002, Eq 59
-        basis = np.array([[2 / Le**3, -3 / Le**2, 0, 1], [1 / Le**2, -2 / Le, 1, 0],
-                          [-2 / Le**3, 3 / Le**2, 0, 0], [1 / Le**2, -1 / Le, 0, 0]])
+        basis = np.array(
+            [
+                [2 / Le**3, -3 / Le**2, 0, 1],
+                [1 / Le**2, -2 / Le, 1, 0],
+                [-2 / Le**3, 3 / Le**2, 0, 0],
+                [1 / Le**2, -1 / Le, 0, 0],
+            ]
+        )
         v = r[1] * basis[0] + r[2] * basis[1] + r[4] * basis[2] + r[5] * basis[3]
         x1 = sys.beam.x_nodes[e]
         g = np.polyadd(np.polymul(np.polysub(v, [d[1]]), np.polyder(v)), [1.0, x1 - d[0]])  # Eq 62
         roots = np.roots(np.trim_zeros(g, "f")) if np.any(g) else np.array([])
         cand = [s.real for s in roots if abs(s.imag) < 1e-9 * Le and 0.0 <= s.real <= Le]
         for s in cand + [0.0, Le]:
-            f = math.hypot(d[0] - x1 - s, d[1] - np.polyval(v, s))                  # Eq 60
+            f = math.hypot(d[0] - x1 - s, d[1] - np.polyval(v, s))  # Eq 60
             if f < best[0]:
                 best = (f, e, float(s))
     return best[1], best[2]
@@ -57,20 +63,21 @@ def _contact_row(sys: System, qk, qe, j):
     rho = _element_rho(sys, qe, e)
     v = N[1] * rho[1] + N[2] * rho[2] + N[4] * rho[4] + N[5] * rho[5]
     Le, xi = sys.beam.Le, sb / sys.beam.Le
-    dN = np.array([6 * (-xi + xi**2) / Le, 1 - 4 * xi + 3 * xi**2, 6 * (xi - xi**2) / Le,
-                   -2 * xi + 3 * xi**2])
+    dN = np.array(
+        [6 * (-xi + xi**2) / Le, 1 - 4 * xi + 3 * xi**2, 6 * (xi - xi**2) / Le, -2 * xi + 3 * xi**2]
+    )
     slope = dN @ rho[[1, 2, 4, 5]]
-    psi = math.atan(slope) + math.pi / 2                                          # Eq 63
+    psi = math.atan(slope) + math.pi / 2  # Eq 63
     T = np.array([[math.cos(psi), math.sin(psi)], [-math.sin(psi), math.cos(psi)]])  # Eq 48
     gap = T[0] @ (d - np.array([sys.beam.x_nodes[e] + sb, v]))
-    S = np.array([[1.0, 0.0, -r[1]], [0.0, 1.0, r[0]]])                          # Eq 45
+    S = np.array([[1.0, 0.0, -r[1]], [0.0, 1.0, r[0]]])  # Eq 45
     Nmat = np.array([[N[0], 0, 0, N[3], 0, 0], [0, N[1], N[2], 0, N[4], N[5]]])  # Eq 52
     Q = np.zeros((2, 3 + sys.beam.n_dof))
-    Q[:, :3] = T @ S                                                              # Eq 50
-    Qe = T @ Nmat                                                                 # Eq 55
+    Q[:, :3] = T @ S  # Eq 50
+    Qe = T @ Nmat  # Eq 55
     for a, i in enumerate(sys.beam.edof[e]):
         if i >= 0:
-            Q[:, 3 + i] -= Qe[:, a]                                               # Eq 58
+            Q[:, 3 + i] -= Qe[:, a]  # Eq 58
     return Q, gap
 
 
@@ -94,8 +101,14 @@ def _single(W, U, mu):
     return np.array([pn, -first * mu * pn]), True
 
 
-def reference_step(sys: System, q: np.ndarray, v: np.ndarray, P_prev: dict,
-                   gs_tol: float = 1e-8, gs_max_iter: int = 5000):
+def reference_step(
+    sys: System,
+    q: np.ndarray,
+    v: np.ndarray,
+    P_prev: dict,
+    gs_tol: float = 1e-8,
+    gs_max_iter: int = 5000,
+):
     """One step of paper 002, Eqs 27–44 on the whole state q = [q_k; q_e], v = q̇.
 
     `P_prev` maps vertex → impulse of the previous step (warm start) and is
@@ -103,13 +116,13 @@ def reference_step(sys: System, q: np.ndarray, v: np.ndarray, P_prev: dict,
     """
     bm, dt, th = sys.beam, sys.dt, sys.theta_method
     n = bm.n_dof
-    A = bm.M + dt * th * bm.C + (dt * th) ** 2 * bm.K                         # Eq 26
-    B = np.zeros((3 + n, 3 + n))                                              # Eq 33
+    A = bm.M + dt * th * bm.C + (dt * th) ** 2 * bm.K  # Eq 26
+    B = np.zeros((3 + n, 3 + n))  # Eq 33
     B[:3, :3] = np.diag([1 / sys.mass, 1 / sys.mass, 1 / sys.inertia])
     B[3:, 3:] = np.linalg.inv(A)
     qe, ve = q[3:], v[3:]
     F = np.concatenate([sys.Fk, -bm.K @ (dt * th * ve + qe) - bm.C @ ve + bm.p_self])  # Eq 32
-    vbar = v + dt * B @ F                                                     # Eq 34
+    vbar = v + dt * B @ F  # Eq 34
     qbar = q + dt * (th * vbar + (1 - th) * v)
     rows, ids, Um = [], [], []
     for j in range(4):
@@ -119,11 +132,11 @@ def reference_step(sys: System, q: np.ndarray, v: np.ndarray, P_prev: dict,
             ids.append(j)
             Um.append(got[0][0] @ v)
     P = np.array([P_prev.get(j, np.zeros(2)) for j in ids]).reshape(-1, 2)
-    Ubar = np.array([Q @ vbar for Q in rows]).reshape(-1, 2)                  # Eq 42
+    Ubar = np.array([Q @ vbar for Q in rows]).reshape(-1, 2)  # Eq 42
     Ubar[:, 0] += sys.restitution * np.minimum(Um, 0.0)
-    W = [[Qh @ B @ Qj.T for Qj in rows] for Qh in rows]                        # Eq 43
+    W = [[Qh @ B @ Qj.T for Qj in rows] for Qh in rows]  # Eq 43
     scale = abs(sys.Fk[1]) * dt
-    for _ in range(gs_max_iter):                                              # Eq 44
+    for _ in range(gs_max_iter):  # Eq 44
         change, size = 0.0, scale
         for h in range(len(rows)):
             U = Ubar[h] + sum(W[h][j] @ P[j] for j in range(len(rows)) if j != h)
@@ -136,7 +149,7 @@ def reference_step(sys: System, q: np.ndarray, v: np.ndarray, P_prev: dict,
     v_new = vbar + B @ sum((Q.T @ p for Q, p in zip(rows, P)), np.zeros(3 + n))  # Eq 34
     P_prev.clear()
     P_prev.update({j: p.copy() for j, p in zip(ids, P) if p[0] > 0.0})
-    q_new = q + dt * (th * v_new + (1 - th) * v)                              # Eq 28
+    q_new = q + dt * (th * v_new + (1 - th) * v)  # Eq 28
     return q_new, v_new
 
 

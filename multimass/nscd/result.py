@@ -7,9 +7,9 @@ accuracy check failed, then "inaccurate" (the run-status contract of
 check's value, limit and verdict:
 
 * ``energy_gain_per_step`` — the largest energy increase over one step,
-  relative to the energy scale |E₀| + m g L. Free rocking on a damped beam has
+  relative to the energy scale ``|E₀| + m g L``. Free rocking on a damped beam has
   no energy input. With θ = 1 and e = 0 each step dissipates exactly,
-  ΔE = −½|Δv|²_M − ½|Δq|²_K − Δt vᵀCv + U·P ≤ 0 (U_n P_n = 0, U_t P_t ≤ 0 once
+  ``ΔE = −½|Δv|²_M − ½|Δq|²_K − Δt vᵀCv + U·P ≤ 0`` (U_n P_n = 0, U_t P_t ≤ 0 once
   the contact problem is solved), so any gain above round-off (limit 1e-9;
   ≤ 1e-13 measured) means the contact impulses are wrong; otherwise (θ < 1 or
   e > 0, where the scheme may gain a little: ≤ 4e-4 measured) the limit is
@@ -28,8 +28,17 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["NSCDResult", "accuracy_checks", "log_warnings", "outcome_message", "json_ready",
-           "ENERGY_GAIN_TOL", "ENERGY_GAIN_TOL_DISSIPATIVE", "GS_RESIDUAL_TOL", "MAX_EVENTS"]
+__all__ = [
+    "NSCDResult",
+    "accuracy_checks",
+    "log_warnings",
+    "outcome_message",
+    "json_ready",
+    "ENERGY_GAIN_TOL",
+    "ENERGY_GAIN_TOL_DISSIPATIVE",
+    "GS_RESIDUAL_TOL",
+    "MAX_EVENTS",
+]
 
 #: room for half-cycle peaks and impacts
 MAX_EVENTS = 100000
@@ -81,7 +90,7 @@ class NSCDResult:
         predicted overlap), so they over-count the physical impacts.
     rest_time_s : float or None
         Start of the final period during which the rocking amplitude stays
-        below `rest_fraction` (default 1 %) of |θ0| (at least 0.1 s long
+        below `rest_fraction` (default 1 %) of ``|θ0|`` (at least 0.1 s long
         before t_end); None if the block is still rocking.
     n_steps, max_gs_iterations, n_gs_cap_hits : int
         Steps taken; most Gauss–Seidel sweeps in one step; steps whose
@@ -90,7 +99,7 @@ class NSCDResult:
         Largest last-sweep change of the impulses (relative) among the steps
         that hit the cap; 0 when none did.
     n_slip_steps : int
-        Steps with a sliding contact carrying load; max_slip_speed (m/s) their largest |U_t|.
+        Steps with a sliding contact carrying load; max_slip_speed (m/s) their largest ``|U_t|``.
     max_energy_increase_J : float
         Largest energy increase over one step (≤ 0 up to round-off for e = 0, θ = 1).
     wall_time_s, kernel_time_s, cost_per_step_us : float
@@ -136,7 +145,7 @@ class NSCDResult:
 
     @property
     def first_peak_deg(self) -> float | None:
-        """Peak |θ| of the first half-cycle after the first impact (deg)."""
+        """Peak ``|θ|`` of the first half-cycle after the first impact (deg)."""
         return self.peaks_deg[0] if self.peaks_deg else None
 
     @property
@@ -146,20 +155,35 @@ class NSCDResult:
 
     def summary(self) -> dict:
         """JSON-ready scalars (no time series); a non-finite number is given as None."""
-        return json_ready({
-            "status": self.status, "outcome": self.outcome, "message": self.message,
-            "warnings": list(self.warnings), "checks": self.checks, **self.params,
-            "first_peak_deg": self.first_peak_deg, "peaks_deg": list(self.peaks_deg),
-            "peak_times_s": list(self.peak_times_s), "n_impacts": len(self.impact_times_s),
-            "rest_time_s": self.rest_time_s, "n_steps": self.n_steps,
-            "max_gs_iterations": self.max_gs_iterations, "n_gs_cap_hits": self.n_gs_cap_hits,
-            "max_gs_residual": self.max_gs_residual, "n_multi_contact_steps": self.n_multi_contact_steps,
-            "n_slip_steps": self.n_slip_steps, "max_slip_speed_m_per_s": self.max_slip_speed,
-            "max_energy_increase_J": self.max_energy_increase_J,
-            "energy_scale_J": self.energy_scale_J, "max_penetration_m": self.max_penetration_m,
-            "wall_time_s": self.wall_time_s, "kernel_time_s": self.kernel_time_s,
-            "estimated_s": self.estimated_s, "cost_per_step_us": self.cost_per_step_us,
-        })
+        return json_ready(
+            {
+                "status": self.status,
+                "outcome": self.outcome,
+                "message": self.message,
+                "warnings": list(self.warnings),
+                "checks": self.checks,
+                **self.params,
+                "first_peak_deg": self.first_peak_deg,
+                "peaks_deg": list(self.peaks_deg),
+                "peak_times_s": list(self.peak_times_s),
+                "n_impacts": len(self.impact_times_s),
+                "rest_time_s": self.rest_time_s,
+                "n_steps": self.n_steps,
+                "max_gs_iterations": self.max_gs_iterations,
+                "n_gs_cap_hits": self.n_gs_cap_hits,
+                "max_gs_residual": self.max_gs_residual,
+                "n_multi_contact_steps": self.n_multi_contact_steps,
+                "n_slip_steps": self.n_slip_steps,
+                "max_slip_speed_m_per_s": self.max_slip_speed,
+                "max_energy_increase_J": self.max_energy_increase_J,
+                "energy_scale_J": self.energy_scale_J,
+                "max_penetration_m": self.max_penetration_m,
+                "wall_time_s": self.wall_time_s,
+                "kernel_time_s": self.kernel_time_s,
+                "estimated_s": self.estimated_s,
+                "cost_per_step_us": self.cost_per_step_us,
+            }
+        )
 
 
 def json_ready(x):
@@ -178,13 +202,20 @@ def json_ready(x):
 def outcome_message(outcome: str, step: int, dt: float, theta_method: float) -> str:
     """What the kernel's outcome means, and for a diverged run what to change."""
     if outcome != "failed":
-        return {"completed": "reached t_end", "overturned": "the block overturned (|θ| > 90°)",
-                "fell_off_beam": "the block left the beam"}[outcome]
-    msg = (f"the solution diverged at step {step} (t = {step * dt:g} s): non-finite state or "
-           "beam displacements beyond the span; ")
+        return {
+            "completed": "reached t_end",
+            "overturned": "the block overturned (|θ| > 90°)",
+            "fell_off_beam": "the block left the beam",
+        }[outcome]
+    msg = (
+        f"the solution diverged at step {step} (t = {step * dt:g} s): non-finite state or "
+        "beam displacements beyond the span; "
+    )
     if theta_method < 0.5:
-        return msg + ("the θ-method is only conditionally stable for θ < 1/2: use "
-                      "theta_method >= 0.5 or a smaller dt")
+        return msg + (
+            "the θ-method is only conditionally stable for θ < 1/2: use "
+            "theta_method >= 0.5 or a smaller dt"
+        )
     return msg + "use a smaller dt, or check the beam and block data"
 
 
@@ -195,22 +226,34 @@ def accuracy_checks(sys, st: dict, gs_max_iter: int, gs_tol: float) -> tuple[dic
     gain = float(st["max_energy_increase"] / st["energy_scale"])
     gain = gain if math.isfinite(gain) else math.inf
     residual, hits = float(st["max_gs_residual"]), int(st["n_gs_cap_hits"])
-    checks = {"energy_gain_per_step": {"value": gain, "limit": limit, "passed": gain <= limit},
-              "gauss_seidel_residual": {"value": residual, "limit": GS_RESIDUAL_TOL,
-                                        "passed": residual <= GS_RESIDUAL_TOL}}
+    checks = {
+        "energy_gain_per_step": {"value": gain, "limit": limit, "passed": gain <= limit},
+        "gauss_seidel_residual": {
+            "value": residual,
+            "limit": GS_RESIDUAL_TOL,
+            "passed": residual <= GS_RESIDUAL_TOL,
+        },
+    }
     warnings = []
     if not checks["energy_gain_per_step"]["passed"]:
-        why = ("θ = 1 and e = 0 dissipate at every step, so the contact impulses are wrong: "
-               "tighten gs_tol or raise gs_max_iter" if dissipative else
-               "not physical for free rocking: reduce dt, or use theta_method = 1 and "
-               "restitution = 0")
-        warnings.append(f"energy gain over one step {gain:.3g} of the energy scale "
-                        f"{st['energy_scale']:.3g} J (limit {limit:g}): {why}")
+        why = (
+            "θ = 1 and e = 0 dissipate at every step, so the contact impulses are wrong: "
+            "tighten gs_tol or raise gs_max_iter"
+            if dissipative
+            else "not physical for free rocking: reduce dt, or use theta_method = 1 and "
+            "restitution = 0"
+        )
+        warnings.append(
+            f"energy gain over one step {gain:.3g} of the energy scale "
+            f"{st['energy_scale']:.3g} J (limit {limit:g}): {why}"
+        )
     if not checks["gauss_seidel_residual"]["passed"]:
-        warnings.append(f"Gauss–Seidel stopped at its cap of {gs_max_iter} iterations in {hits} "
-                        f"steps with the impulses still changing by {residual:.3g} of their size "
-                        f"per sweep (limit {GS_RESIDUAL_TOL:g}): the contact impulses of those "
-                        "steps are not converged; raise gs_max_iter (--gs-max-iter)")
+        warnings.append(
+            f"Gauss–Seidel stopped at its cap of {gs_max_iter} iterations in {hits} "
+            f"steps with the impulses still changing by {residual:.3g} of their size "
+            f"per sweep (limit {GS_RESIDUAL_TOL:g}): the contact impulses of those "
+            "steps are not converged; raise gs_max_iter (--gs-max-iter)"
+        )
     return checks, warnings
 
 
@@ -220,6 +263,8 @@ def log_warnings(peaks, impacts) -> list[str]:
     for what, log in (("half-cycle peaks", peaks), ("impacts", impacts)):
         if len(log) >= MAX_EVENTS:
             last = log[-1, 0] if log.ndim == 2 else log[-1]
-            out.append(f"the log of {what} is full ({MAX_EVENTS} entries, the last at "
-                       f"t = {last:.4g} s): later ones are not listed; shorten t_end")
+            out.append(
+                f"the log of {what} is full ({MAX_EVENTS} entries, the last at "
+                f"t = {last:.4g} s): later ones are not listed; shorten t_end"
+            )
     return out

@@ -38,10 +38,20 @@ from .result import (
     outcome_message,
 )
 
-__all__ = ["NSCDResult", "RunOptions", "simulate", "run_system", "check_run", "estimate_cost",
-           "execute", "REST_FRACTION", "GS_TOL_RANGE", "GS_MAX_ITER_MAX"]
+__all__ = [
+    "NSCDResult",
+    "RunOptions",
+    "simulate",
+    "run_system",
+    "check_run",
+    "estimate_cost",
+    "execute",
+    "REST_FRACTION",
+    "GS_TOL_RANGE",
+    "GS_MAX_ITER_MAX",
+]
 
-#: at rest: |θ| stays below this fraction of |θ0| from rest_time_s to the end ...
+#: at rest: ``|θ|`` stays below this fraction of ``|θ0|`` from rest_time_s to the end ...
 REST_FRACTION = 0.01
 #: ... for at least this long (s); otherwise the block is reported as still rocking
 REST_HOLD = 0.1
@@ -79,8 +89,16 @@ def _name(names, key):
     return (names or {}).get(key, key)
 
 
-def check_run(t_end, dt: float, *, gs_tol=1e-8, gs_max_iter=5000, record_every=None,
-              rest_fraction=REST_FRACTION, names: dict | None = None) -> RunOptions:
+def check_run(
+    t_end,
+    dt: float,
+    *,
+    gs_tol=1e-8,
+    gs_max_iter=5000,
+    record_every=None,
+    rest_fraction=REST_FRACTION,
+    names: dict | None = None,
+) -> RunOptions:
     """Validate the options of the time loop (`dt` already validated).
 
     `names` maps an argument to the name shown in messages (e.g. ``"--t-end"``).
@@ -92,53 +110,85 @@ def check_run(t_end, dt: float, *, gs_tol=1e-8, gs_max_iter=5000, record_every=N
         gs_tol outside `GS_TOL_RANGE`; gs_max_iter not in 1..`GS_MAX_ITER_MAX`;
         record_every not a whole number ≥ 1; rest_fraction outside (0, 1).
     """
-    t_end = number(_name(names, "t_end"), t_end, low=0.0, low_open=True,
-                   what="the duration in s")
+    t_end = number(_name(names, "t_end"), t_end, low=0.0, low_open=True, what="the duration in s")
     steps = t_end / dt
     if steps > MAX_STEPS:
-        raise InputError(f"`{_name(names, 't_end')}` = {t_end:g} s at `{_name(names, 'dt')}` = "
-                         f"{dt:g} s is {steps:.3g} steps, beyond the exact step counter (2**53); "
-                         f"raise {_name(names, 'dt')} or shorten {_name(names, 't_end')}")
+        raise InputError(
+            f"`{_name(names, 't_end')}` = {t_end:g} s at `{_name(names, 'dt')}` = "
+            f"{dt:g} s is {steps:.3g} steps, beyond the exact step counter (2**53); "
+            f"raise {_name(names, 'dt')} or shorten {_name(names, 't_end')}"
+        )
     n_steps = int(round(steps))
     if n_steps < 1:
-        raise InputError(f"`{_name(names, 'dt')}` = {dt!r} s is longer than "
-                         f"`{_name(names, 't_end')}` = {t_end!r} s; take dt < t_end")
-    gs_tol = number(_name(names, "gs_tol"), gs_tol, low=GS_TOL_RANGE[0], high=GS_TOL_RANGE[1],
-                    what="the Gauss–Seidel relative tolerance, e.g. 1e-8")
-    gs_max_iter = integer(_name(names, "gs_max_iter"), gs_max_iter, low=1, high=GS_MAX_ITER_MAX,
-                          what="the Gauss–Seidel iteration cap, e.g. 5000")
-    rest_fraction = number(_name(names, "rest_fraction"), rest_fraction, low=0.0, high=1.0,
-                           low_open=True, high_open=True, what="a fraction of |θ0|, e.g. 0.01")
-    stride = (max(1, -(-n_steps // MAX_SAMPLES)) if record_every is None else
-              integer(_name(names, "record_every"), record_every, low=1,
-                      what="record every this many steps"))
+        raise InputError(
+            f"`{_name(names, 'dt')}` = {dt!r} s is longer than "
+            f"`{_name(names, 't_end')}` = {t_end!r} s; take dt < t_end"
+        )
+    gs_tol = number(
+        _name(names, "gs_tol"),
+        gs_tol,
+        low=GS_TOL_RANGE[0],
+        high=GS_TOL_RANGE[1],
+        what="the Gauss–Seidel relative tolerance, e.g. 1e-8",
+    )
+    gs_max_iter = integer(
+        _name(names, "gs_max_iter"),
+        gs_max_iter,
+        low=1,
+        high=GS_MAX_ITER_MAX,
+        what="the Gauss–Seidel iteration cap, e.g. 5000",
+    )
+    rest_fraction = number(
+        _name(names, "rest_fraction"),
+        rest_fraction,
+        low=0.0,
+        high=1.0,
+        low_open=True,
+        high_open=True,
+        what="a fraction of |θ0|, e.g. 0.01",
+    )
+    stride = (
+        max(1, -(-n_steps // MAX_SAMPLES))
+        if record_every is None
+        else integer(
+            _name(names, "record_every"), record_every, low=1, what="record every this many steps"
+        )
+    )
     return RunOptions(t_end, n_steps, stride, gs_tol, gs_max_iter, rest_fraction)
 
 
-def estimate_cost(n_elements: int, dt: float, t_end: float, record_every: int | None = None,
-                  *, setup: bool = True) -> RunCost:
+def estimate_cost(
+    n_elements: int, dt: float, t_end: float, record_every: int | None = None, *, setup: bool = True
+) -> RunCost:
     """Estimated wall time and memory of a run (`nscd.cost`), before anything is built.
 
     With ``setup=False`` the assembly (already done) is left out.
     """
-    steps = t_end / dt                                 # a float: may be huge, never overflows
+    steps = t_end / dt  # a float: may be huge, never overflows
     rows = steps / record_every + 1 if record_every else min(steps, MAX_SAMPLES) + 1
     c = cost.estimate(n_elements, steps, rows)
     if setup:
         return c
-    return RunCost(c.steps, c.seconds - cost.setup_seconds(n_elements),
-                   c.memory - cost.assembly_memory(n_elements), c.basis)
+    return RunCost(
+        c.steps,
+        c.seconds - cost.setup_seconds(n_elements),
+        c.memory - cost.assembly_memory(n_elements),
+        c.basis,
+    )
 
 
 def _check_cost(c: RunCost, what: str, max_hours) -> RunCost:
-    return c.check(what, "raise dt, shorten t_end or use fewer elements",
-                   max_seconds=budget_seconds(max_hours))
+    return c.check(
+        what, "raise dt, shorten t_end or use fewer elements", max_seconds=budget_seconds(max_hours)
+    )
 
 
 def _check_progress(progress):
     if progress is not None and not isinstance(progress, bool):
-        raise InputError(f"`progress` = {progress!r}: expected True, False or None (automatic: "
-                         f"for runs estimated above {PROGRESS_AFTER_S:g} s)")
+        raise InputError(
+            f"`progress` = {progress!r}: expected True, False or None (automatic: "
+            f"for runs estimated above {PROGRESS_AFTER_S:g} s)"
+        )
     return progress
 
 
@@ -147,12 +197,40 @@ def _kernel(sys: System, o: RunOptions, bar: Progress | None):
     bm = sys.beam
     rest_angle = max(o.rest_fraction * abs(sys.theta0), REST_ANGLE_MIN)
     on_chunk = None if bar is None or not bar.shown else (lambda step: bar.update(step * sys.dt))
-    return run_kernel(sys.qk0, np.zeros(3), sys.qe0, np.zeros(bm.n_dof), sys.mass, sys.inertia,
-                      sys.Fk, sys.verts, sys.Ainv, csr(bm.M), csr(bm.K), csr(bm.C),
-                      bm.p_self, bm.edof, bm.x_nodes, bm.Le, bm.L, sys.dt, sys.theta_method,
-                      sys.mu, sys.restitution, float(o.gs_tol), int(o.gs_max_iter), o.n_steps,
-                      int(o.stride), rest_angle, np.inf, CROSS_EPS, sys.i_mid, MAX_EVENTS,
-                      chunk=cost.chunk_steps(bm.n_elements, o.n_steps), on_chunk=on_chunk)
+    return run_kernel(
+        sys.qk0,
+        np.zeros(3),
+        sys.qe0,
+        np.zeros(bm.n_dof),
+        sys.mass,
+        sys.inertia,
+        sys.Fk,
+        sys.verts,
+        sys.Ainv,
+        csr(bm.M),
+        csr(bm.K),
+        csr(bm.C),
+        bm.p_self,
+        bm.edof,
+        bm.x_nodes,
+        bm.Le,
+        bm.L,
+        sys.dt,
+        sys.theta_method,
+        sys.mu,
+        sys.restitution,
+        float(o.gs_tol),
+        int(o.gs_max_iter),
+        o.n_steps,
+        int(o.stride),
+        rest_angle,
+        np.inf,
+        CROSS_EPS,
+        sys.i_mid,
+        MAX_EVENTS,
+        chunk=cost.chunk_steps(bm.n_elements, o.n_steps),
+        on_chunk=on_chunk,
+    )
 
 
 def _run(sys: System, o: RunOptions, bar: Progress | None, estimated: float) -> NSCDResult:
@@ -164,8 +242,9 @@ def _run(sys: System, o: RunOptions, bar: Progress | None, estimated: float) -> 
     st = dict(zip(STAT_NAMES, stats))
     outcome = STATUS[int(code)]
     # a failed run is not judged: its numbers stop where the solution diverged
-    checks, warnings = ({}, []) if outcome == "failed" else accuracy_checks(sys, st, o.gs_max_iter,
-                                                                           o.gs_tol)
+    checks, warnings = (
+        ({}, []) if outcome == "failed" else accuracy_checks(sys, st, o.gs_max_iter, o.gs_tol)
+    )
     warnings += log_warnings(peaks, impacts)
     failed = [k for k, c in checks.items() if not c["passed"]]
     status = "inaccurate" if failed and outcome != "failed" else outcome
@@ -173,65 +252,124 @@ def _run(sys: System, o: RunOptions, bar: Progress | None, estimated: float) -> 
     if failed:
         message += f"; accuracy check failed: {', '.join(failed)} (see warnings)"
     elif st["n_gs_cap_hits"]:
-        message += (f"; Gauss–Seidel hit its cap of {o.gs_max_iter} iterations in "
-                    f"{int(st['n_gs_cap_hits'])} steps, its impulses settled to "
-                    f"{st['max_gs_residual']:.2g} (within {GS_RESIDUAL_TOL:g})")
+        message += (
+            f"; Gauss–Seidel hit its cap of {o.gs_max_iter} iterations in "
+            f"{int(st['n_gs_cap_hits'])} steps, its impulses settled to "
+            f"{st['max_gs_residual']:.2g} (within {GS_RESIDUAL_TOL:g})"
+        )
     t_rest = (int(st["last_moving_step"]) + 1) * sys.dt
     rest = t_rest if outcome == "completed" and o.n_steps * sys.dt - t_rest >= REST_HOLD else None
-    post = peaks[1:] if len(peaks) and peaks[0, 0] == 0.0 else peaks   # drop the release
+    post = peaks[1:] if len(peaks) and peaks[0, 0] == 0.0 else peaks  # drop the release
     bm = sys.beam
     return NSCDResult(
-        status=status, outcome=outcome, message=message,
-        t=series[:, 0].copy(), theta=-series[:, 1], theta_dot=-series[:, 2],
-        X=series[:, 3].copy(), Y=series[:, 4].copy(), v_mid=series[:, 5].copy(),
-        energy=series[:, 6].copy(), n_contacts=series[:, 7].astype(int),
+        status=status,
+        outcome=outcome,
+        message=message,
+        t=series[:, 0].copy(),
+        theta=-series[:, 1],
+        theta_dot=-series[:, 2],
+        X=series[:, 3].copy(),
+        Y=series[:, 4].copy(),
+        v_mid=series[:, 5].copy(),
+        energy=series[:, 6].copy(),
+        n_contacts=series[:, 7].astype(int),
         peaks_deg=tuple(float(math.degrees(p)) for p in post[:, 1]),
         peak_times_s=tuple(float(t) for t in post[:, 0]),
         impact_times_s=tuple(float(t) for t in impacts),
         rest_time_s=None if rest is None else float(rest),
-        n_steps=int(last), max_gs_iterations=int(st["max_gs_iterations"]),
-        n_gs_cap_hits=int(st["n_gs_cap_hits"]), max_gs_residual=float(st["max_gs_residual"]),
+        n_steps=int(last),
+        max_gs_iterations=int(st["max_gs_iterations"]),
+        n_gs_cap_hits=int(st["n_gs_cap_hits"]),
+        max_gs_residual=float(st["max_gs_residual"]),
         n_multi_contact_steps=int(st["n_multi_contact_steps"]),
-        n_slip_steps=int(st["n_slip_steps"]), max_slip_speed=float(st["max_slip_speed"]),
+        n_slip_steps=int(st["n_slip_steps"]),
+        max_slip_speed=float(st["max_slip_speed"]),
         max_energy_increase_J=float(st["max_energy_increase"]),
         energy_scale_J=float(st["energy_scale"]),
         max_penetration_m=float(st["max_penetration"]),
-        wall_time_s=time.perf_counter() - wall0, kernel_time_s=kernel_time,
-        estimated_s=float(estimated), warnings=tuple(warnings), checks=checks,
-        params={"block": sys.block.name, "beam": sys.beam_spec.name, "E_Pa": bm.E,
-                "n_elements": bm.n_elements, "dt_s": sys.dt, "t_end_s": o.n_steps * sys.dt,
-                "theta_method": sys.theta_method, "mu": sys.mu, "restitution": sys.restitution,
-                "theta0_deg": math.degrees(sys.theta0), "x_centre_m": sys.x_centre,
-                "gs_tol": o.gs_tol, "gs_max_iter": o.gs_max_iter, "record_every": int(o.stride),
-                "rest_fraction": o.rest_fraction},
-        final_state=tuple(out[6:10]))
+        wall_time_s=time.perf_counter() - wall0,
+        kernel_time_s=kernel_time,
+        estimated_s=float(estimated),
+        warnings=tuple(warnings),
+        checks=checks,
+        params={
+            "block": sys.block.name,
+            "beam": sys.beam_spec.name,
+            "E_Pa": bm.E,
+            "n_elements": bm.n_elements,
+            "dt_s": sys.dt,
+            "t_end_s": o.n_steps * sys.dt,
+            "theta_method": sys.theta_method,
+            "mu": sys.mu,
+            "restitution": sys.restitution,
+            "theta0_deg": math.degrees(sys.theta0),
+            "x_centre_m": sys.x_centre,
+            "gs_tol": o.gs_tol,
+            "gs_max_iter": o.gs_max_iter,
+            "record_every": int(o.stride),
+            "rest_fraction": o.rest_fraction,
+        },
+        final_state=tuple(out[6:10]),
+    )
 
 
 def _what(block: str, dt: float, t_end: float, n_el: int) -> str:
     return f"nscd run of {block} (dt = {dt:g} s, t_end = {t_end:g} s, {n_el} elements)"
 
 
-def run_system(sys: System, t_end: float, *, gs_tol: float = 1e-8, gs_max_iter: int = 5000,
-               record_every: int | None = None, rest_fraction: float = REST_FRACTION,
-               max_hours: float | None = None, progress: bool | None = None) -> NSCDResult:
+def run_system(
+    sys: System,
+    t_end: float,
+    *,
+    gs_tol: float = 1e-8,
+    gs_max_iter: int = 5000,
+    record_every: int | None = None,
+    rest_fraction: float = REST_FRACTION,
+    max_hours: float | None = None,
+    progress: bool | None = None,
+) -> NSCDResult:
     """Run the compiled time loop on an assembled `System` (see `simulate`)."""
-    o = check_run(t_end, sys.dt, gs_tol=gs_tol, gs_max_iter=gs_max_iter,
-                  record_every=record_every, rest_fraction=rest_fraction)
+    o = check_run(
+        t_end,
+        sys.dt,
+        gs_tol=gs_tol,
+        gs_max_iter=gs_max_iter,
+        record_every=record_every,
+        rest_fraction=rest_fraction,
+    )
     progress = _check_progress(progress)
     n_el = sys.beam.n_elements
-    c = _check_cost(estimate_cost(n_el, sys.dt, o.t_end, o.stride, setup=False),
-                    _what(sys.block.name, sys.dt, o.t_end, n_el), max_hours)
-    with Progress(o.n_steps * sys.dt, f"nscd {sys.block.name}", show=progress,
-                  estimate=c.seconds) as bar:
+    c = _check_cost(
+        estimate_cost(n_el, sys.dt, o.t_end, o.stride, setup=False),
+        _what(sys.block.name, sys.dt, o.t_end, n_el),
+        max_hours,
+    )
+    with Progress(
+        o.n_steps * sys.dt, f"nscd {sys.block.name}", show=progress, estimate=c.seconds
+    ) as bar:
         return _run(sys, o, bar, c.seconds)
 
 
-def simulate(block, beam="beam_mudric2024", *, theta0: float, dt: float, t_end: float,
-             E: float | None = None, n_elements: int | None = None, theta_method: float = 1.0,
-             mu: float | None = None, restitution: float = 0.0, x_centre: float | None = None,
-             gs_tol: float = 1e-8, gs_max_iter: int = 5000,
-             record_every: int | None = None, rest_fraction: float = REST_FRACTION,
-             max_hours: float | None = None, progress: bool | None = None) -> NSCDResult:
+def simulate(
+    block,
+    beam="beam_mudric2024",
+    *,
+    theta0: float,
+    dt: float,
+    t_end: float,
+    E: float | None = None,
+    n_elements: int | None = None,
+    theta_method: float = 1.0,
+    mu: float | None = None,
+    restitution: float = 0.0,
+    x_centre: float | None = None,
+    gs_tol: float = 1e-8,
+    gs_max_iter: int = 5000,
+    record_every: int | None = None,
+    rest_fraction: float = REST_FRACTION,
+    max_hours: float | None = None,
+    progress: bool | None = None,
+) -> NSCDResult:
     """Free rocking of a rigid block released at rest on a simply supported beam.
 
     Moreau–Jean event-capturing time stepping (paper 002, Sections 3–4):
@@ -247,7 +385,7 @@ def simulate(block, beam="beam_mudric2024", *, theta0: float, dt: float, t_end: 
     beam : str, path or BeamSpecimen
         Default: paper 002's beam (rigid base, E = 1e24 Pa).
     theta0 : float
-        Release angle (rad); > 0 rests on the right corner; |θ0| < the block's α.
+        Release angle (rad); > 0 rests on the right corner; ``|θ0|`` < the block's α.
     dt, t_end : float
         Time step and duration (s).
     E : float, optional
@@ -267,7 +405,7 @@ def simulate(block, beam="beam_mudric2024", *, theta0: float, dt: float, t_end: 
     record_every : int, optional
         Record the series every this many steps (default: at most 20 000 samples).
     rest_fraction : float
-        The block is at rest once |θ| stays below this fraction of |θ0|.
+        The block is at rest once ``|θ|`` stays below this fraction of ``|θ0|``.
     max_hours : float, optional
         The budget: a run estimated to take longer (`nscd.cost`) is refused
         (default one hour; ``math.inf`` for none).
@@ -286,19 +424,38 @@ def simulate(block, beam="beam_mudric2024", *, theta0: float, dt: float, t_end: 
         For bad input (see `nscd.model.check_inputs` and `check_run`), and for
         a run over the budget or the memory.
     """
-    inp = check_inputs(block, beam, theta0=theta0, dt=dt, E=E, n_elements=n_elements,
-                       theta_method=theta_method, mu=mu, restitution=restitution,
-                       x_centre=x_centre)
-    o = check_run(t_end, inp.dt, gs_tol=gs_tol, gs_max_iter=gs_max_iter,
-                  record_every=record_every, rest_fraction=rest_fraction)
+    inp = check_inputs(
+        block,
+        beam,
+        theta0=theta0,
+        dt=dt,
+        E=E,
+        n_elements=n_elements,
+        theta_method=theta_method,
+        mu=mu,
+        restitution=restitution,
+        x_centre=x_centre,
+    )
+    o = check_run(
+        t_end,
+        inp.dt,
+        gs_tol=gs_tol,
+        gs_max_iter=gs_max_iter,
+        record_every=record_every,
+        rest_fraction=rest_fraction,
+    )
     progress = _check_progress(progress)
-    c = _check_cost(estimate_cost(inp.n_elements, inp.dt, o.t_end, o.stride),
-                    _what(inp.block.name, inp.dt, o.t_end, inp.n_elements), max_hours)
+    c = _check_cost(
+        estimate_cost(inp.n_elements, inp.dt, o.t_end, o.stride),
+        _what(inp.block.name, inp.dt, o.t_end, inp.n_elements),
+        max_hours,
+    )
     return execute(inp, o, progress=progress, desc=f"nscd {inp.block.name}", estimated=c.seconds)
 
 
-def execute(inp, o: RunOptions, *, progress: bool | None, desc: str,
-            estimated: float) -> NSCDResult:
+def execute(
+    inp, o: RunOptions, *, progress: bool | None, desc: str, estimated: float
+) -> NSCDResult:
     """Assemble and run validated, costed inputs, with a progress bar labelled `desc`."""
     with Progress(o.n_steps * inp.dt, desc, show=progress, estimate=estimated) as bar:
         return _run(assemble(inp), o, bar, estimated)

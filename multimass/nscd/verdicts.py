@@ -27,8 +27,16 @@ from multimass.impact_models import housner_eta
 from .model import load_block
 from .result import NSCDResult
 
-__all__ = ["Verdict", "Study", "judge", "compare_runs", "housner_first_peak", "TOLERANCES",
-           "MIN_ORDER", "N_PEAKS_COMPARED"]
+__all__ = [
+    "Verdict",
+    "Study",
+    "judge",
+    "compare_runs",
+    "housner_first_peak",
+    "TOLERANCES",
+    "MIN_ORDER",
+    "N_PEAKS_COMPARED",
+]
 
 #: smallest observed order for "converging": d_last ≤ d_prev · ratio^(−MIN_ORDER)
 MIN_ORDER = 0.5
@@ -42,7 +50,7 @@ def housner_first_peak(block, theta0: float) -> float:
     """Exact first post-impact peak (rad) of a rigid block with Housner's restitution.
 
     Energy from rest at θ0 to the impact, ω⁺ = η_H ω⁻ (paper 004, Eq 9), then
-    energy to the next rest: cos(α − θ1) = cos α + η_H² (cos(α − |θ0|) − cos α).
+    energy to the next rest: ``cos(α − θ1) = cos α + η_H² (cos(α − |θ0|) − cos α)``.
     """
     blk = load_block(block)
     a, th0 = blk.alpha, abs(theta0)
@@ -66,14 +74,22 @@ class Verdict:
 
     def to_dict(self) -> dict:
         inf = [None if not math.isfinite(d) else d for d in self.differences]
-        return {"measure": self.measure, "unit": self.unit, "levels": list(self.levels),
-                "values": list(self.values), "differences": inf, "tolerance": self.tolerance,
-                "status": self.status, "reason": self.reason,
-                "observed_order": list(self.observed_order)}
+        return {
+            "measure": self.measure,
+            "unit": self.unit,
+            "levels": list(self.levels),
+            "values": list(self.values),
+            "differences": inf,
+            "tolerance": self.tolerance,
+            "status": self.status,
+            "reason": self.reason,
+            "observed_order": list(self.observed_order),
+        }
 
 
-def judge(measure: str, levels, values, differences, tolerance: float,
-          ratio: float | None = None) -> Verdict:
+def judge(
+    measure: str, levels, values, differences, tolerance: float, ratio: float | None = None
+) -> Verdict:
     """Verdict on successive differences d_k between refinement levels k and k+1.
 
     "converged" if the last difference ≤ `tolerance`; otherwise "converging"
@@ -87,7 +103,7 @@ def judge(measure: str, levels, values, differences, tolerance: float,
     """
     d = [float(x) for x in differences]
     q = d[-1] / d[-2] if len(d) >= 2 and d[-2] > 0 else math.inf
-    q_max = ratio ** -MIN_ORDER if ratio is not None and ratio > 1 else 1.0
+    q_max = ratio**-MIN_ORDER if ratio is not None and ratio > 1 else 1.0
     if d and d[-1] <= tolerance:
         status, reason = "converged", f"last difference {d[-1]:.3g} within tolerance {tolerance:g}"
     elif len(d) < 2:
@@ -95,23 +111,40 @@ def judge(measure: str, levels, values, differences, tolerance: float,
     elif q <= q_max and q < 1.0:
         status, reason = "converging", f"differences shrink (ratio {q:.2f}) but exceed tolerance"
     elif q < 1.0:
-        status, reason = "not converged", f"differences shrink too slowly (ratio {q:.2f} > {q_max:.2f})"
+        status, reason = (
+            "not converged",
+            f"differences shrink too slowly (ratio {q:.2f} > {q_max:.2f})",
+        )
     else:
         status, reason = "not converged", f"differences do not decrease (ratio {q:.2f})"
     order = ()
     if ratio is not None and ratio > 1:
-        order = tuple(math.log(d[k] / d[k + 1]) / math.log(ratio)
-                      if 0 < d[k + 1] < math.inf and 0 < d[k] < math.inf else None
-                      for k in range(len(d) - 1))
-    return Verdict(measure, _UNITS.get(measure, ""), tuple(levels), tuple(values), tuple(d),
-                   tolerance, status, reason, order)
+        order = tuple(
+            math.log(d[k] / d[k + 1]) / math.log(ratio)
+            if 0 < d[k + 1] < math.inf and 0 < d[k] < math.inf
+            else None
+            for k in range(len(d) - 1)
+        )
+    return Verdict(
+        measure,
+        _UNITS.get(measure, ""),
+        tuple(levels),
+        tuple(values),
+        tuple(d),
+        tolerance,
+        status,
+        reason,
+        order,
+    )
 
 
 def _history_difference(a: NSCDResult, b: NSCDResult) -> float:
     """max |θ_a(t) − θ_b(t)| (deg) on the coarser record's times, over the common span."""
     t = a.t if a.t.size <= b.t.size else b.t
     t = t[t <= min(a.t[-1], b.t[-1])]
-    return float(np.degrees(np.max(np.abs(np.interp(t, a.t, a.theta) - np.interp(t, b.t, b.theta)))))
+    return float(
+        np.degrees(np.max(np.abs(np.interp(t, a.t, a.theta) - np.interp(t, b.t, b.theta))))
+    )
 
 
 def _peaks_difference(a: NSCDResult, b: NSCDResult) -> float:
@@ -124,31 +157,57 @@ def _peaks_difference(a: NSCDResult, b: NSCDResult) -> float:
 def _scalar_difference(x, y) -> float:
     if x is None and y is None:
         return 0.0
-    if x is None or y is None:     # one still rocking, the other at rest: not comparable
+    if x is None or y is None:  # one still rocking, the other at rest: not comparable
         return math.inf
     return abs(x - y)
 
 
-def compare_runs(levels, runs: list[NSCDResult], ratio: float | None = None,
-                 tolerances: dict | None = None) -> list[Verdict]:
+def compare_runs(
+    levels, runs: list[NSCDResult], ratio: float | None = None, tolerances: dict | None = None
+) -> list[Verdict]:
     """Verdicts of the four measures along runs ordered coarse → fine."""
     tol = {**TOLERANCES, **(tolerances or {})}
     pairs = list(zip(runs[:-1], runs[1:]))
-    rest = judge("rest_time_s", levels, [r.rest_time_s for r in runs],
-                 [_scalar_difference(a.rest_time_s, b.rest_time_s) for a, b in pairs],
-                 tol["rest_time_s"], ratio)
+    rest = judge(
+        "rest_time_s",
+        levels,
+        [r.rest_time_s for r in runs],
+        [_scalar_difference(a.rest_time_s, b.rest_time_s) for a, b in pairs],
+        tol["rest_time_s"],
+        ratio,
+    )
     if len(runs) >= 2 and runs[-1].rest_time_s is None and runs[-2].rest_time_s is None:
-        rest = replace(rest, status="undetermined",
-                       reason="still rocking at t_end at the two finest levels; extend t_end")
+        rest = replace(
+            rest,
+            status="undetermined",
+            reason="still rocking at t_end at the two finest levels; extend t_end",
+        )
     return [
-        judge("first_peak_deg", levels, [r.first_peak_deg for r in runs],
-              [_scalar_difference(a.first_peak_deg, b.first_peak_deg) for a, b in pairs],
-              tol["first_peak_deg"], ratio),
-        judge("peaks_deg", levels, [len(r.peaks_deg) for r in runs],
-              [_peaks_difference(a, b) for a, b in pairs], tol["peaks_deg"], ratio),
+        judge(
+            "first_peak_deg",
+            levels,
+            [r.first_peak_deg for r in runs],
+            [_scalar_difference(a.first_peak_deg, b.first_peak_deg) for a, b in pairs],
+            tol["first_peak_deg"],
+            ratio,
+        ),
+        judge(
+            "peaks_deg",
+            levels,
+            [len(r.peaks_deg) for r in runs],
+            [_peaks_difference(a, b) for a, b in pairs],
+            tol["peaks_deg"],
+            ratio,
+        ),
         rest,
-        judge("history_deg", levels, [None] * len(runs),
-              [_history_difference(a, b) for a, b in pairs], tol["history_deg"], ratio),
+        judge(
+            "history_deg",
+            levels,
+            [None] * len(runs),
+            [_history_difference(a, b) for a, b in pairs],
+            tol["history_deg"],
+            ratio,
+        ),
     ]
 
 
@@ -170,8 +229,11 @@ class Study:
         if any(r.outcome == "failed" for r in self.runs):
             return "failed"
         order = ("not converged", "converging", "converged")
-        return min((v.status for v in self.verdicts if v.status in order), key=order.index,
-                   default="undetermined")
+        return min(
+            (v.status for v in self.verdicts if v.status in order),
+            key=order.index,
+            default="undetermined",
+        )
 
     @property
     def warnings(self) -> tuple[str, ...]:
@@ -185,7 +247,13 @@ class Study:
         return tuple(out)
 
     def to_dict(self) -> dict:
-        return {"kind": self.kind, "block": self.block, "levels": list(self.levels),
-                "status": self.status, "warnings": list(self.warnings), "settings": self.settings,
-                "verdicts": [v.to_dict() for v in self.verdicts],
-                "runs": [r.summary() for r in self.runs]}
+        return {
+            "kind": self.kind,
+            "block": self.block,
+            "levels": list(self.levels),
+            "status": self.status,
+            "warnings": list(self.warnings),
+            "settings": self.settings,
+            "verdicts": [v.to_dict() for v in self.verdicts],
+            "runs": [r.summary() for r in self.runs],
+        }

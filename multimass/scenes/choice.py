@@ -5,6 +5,7 @@
    criterion is the a-priori choice (the top rung always passes).
 3. Its answer.
 4. With ``verify=True``, the measured walk:
+
    * up: compare the rung with the next richer one; while the difference exceeds
      the tolerance, the rung is *not adequate* — say so and move up;
    * down (only if the a-priori choice was adequate, or is the top rung): compare
@@ -12,6 +13,7 @@
      choice's next richer rung, or the top rung); while one is within the
      tolerance, the a-priori criteria were conservative — move down. Comparing
      with one fixed reference keeps small steps from adding up.
+
    Every comparison is kept (`Choice.comparisons`).
 
 ``time_saved_s``: wall time of the next richer model minus the chosen one's — measured
@@ -47,10 +49,16 @@ class Comparison:
     reference_time_s: float
 
     def to_dict(self) -> dict:
-        return {"model": self.model, "answer": _jsonable(self.answer),
-                "reference": self.reference, "reference_answer": _jsonable(self.reference_answer),
-                "difference": _jsonable(self.difference), "adequate": self.adequate,
-                "model_time_s": self.model_time_s, "reference_time_s": self.reference_time_s}
+        return {
+            "model": self.model,
+            "answer": _jsonable(self.answer),
+            "reference": self.reference,
+            "reference_answer": _jsonable(self.reference_answer),
+            "difference": _jsonable(self.difference),
+            "adequate": self.adequate,
+            "model_time_s": self.model_time_s,
+            "reference_time_s": self.reference_time_s,
+        }
 
 
 @dataclass(frozen=True)
@@ -73,7 +81,7 @@ class Choice:
         without verify.
     verified_answer : object or None
     difference : float or None
-        |answer − verified_answer| (absolute, or relative to the richer answer).
+        ``|answer − verified_answer|`` (absolute, or relative to the richer answer).
     tolerance : Tolerance
     adequate : bool or None
         True if the chosen model is within the tolerance of the next richer one;
@@ -112,18 +120,27 @@ class Choice:
 
     def to_dict(self) -> dict:
         """JSON-ready dict (SI units; infinities as null)."""
-        return {"scene": self.scene, "model": self.model, "label": self.label,
-                "reason": self.reason, "answer": _jsonable(self.answer), "unit": self.unit,
-                "verified_against": self.verified_against,
-                "verified_answer": _jsonable(self.verified_answer),
-                "difference": _jsonable(self.difference), "tolerance": self.tolerance.to_dict(),
-                "adequate": self.adequate, "time_saved_s": self.time_saved_s,
-                "time_saved_estimated": self.time_saved_estimated,
-                "a_priori_model": self.a_priori_model, "ladder": list(self.ladder),
-                "verdicts": [v.to_dict() for v in self.verdicts],
-                "criteria": _jsonable(self.criteria),
-                "comparisons": [c.to_dict() for c in self.comparisons],
-                "wall_time_s": self.wall_time_s}
+        return {
+            "scene": self.scene,
+            "model": self.model,
+            "label": self.label,
+            "reason": self.reason,
+            "answer": _jsonable(self.answer),
+            "unit": self.unit,
+            "verified_against": self.verified_against,
+            "verified_answer": _jsonable(self.verified_answer),
+            "difference": _jsonable(self.difference),
+            "tolerance": self.tolerance.to_dict(),
+            "adequate": self.adequate,
+            "time_saved_s": self.time_saved_s,
+            "time_saved_estimated": self.time_saved_estimated,
+            "a_priori_model": self.a_priori_model,
+            "ladder": list(self.ladder),
+            "verdicts": [v.to_dict() for v in self.verdicts],
+            "criteria": _jsonable(self.criteria),
+            "comparisons": [c.to_dict() for c in self.comparisons],
+            "wall_time_s": self.wall_time_s,
+        }
 
     def to_json(self, **kw) -> str:
         return json.dumps(self.to_dict(), **kw)
@@ -164,7 +181,7 @@ def estimate_cost(rung: Rung, scene) -> float:
     toolkit, benchmarks/nscd_cost.py). Order-of-magnitude only.
     """
     if scene.question.kind == "uplifted_frequencies":
-        return 1e-3 + 1e-5 * rung.dofs**3        # two dense eigenproblems of size ~2(n+1)
+        return 1e-3 + 1e-5 * rung.dofs**3  # two dense eigenproblems of size ~2(n+1)
     if rung.n_modes is not None:
         w = column(scene.spec).full_contact_omega
         w_max = float(w[rung.n_modes - 1]) if rung.n_modes else 0.0
@@ -176,7 +193,7 @@ def estimate_cost(rung: Rung, scene) -> float:
 
 def _describe_checks(rungs, verdicts, upto: int) -> str:
     parts = []
-    for r, v in zip(rungs[:upto + 1], verdicts[:upto + 1]):
+    for r, v in zip(rungs[: upto + 1], verdicts[: upto + 1]):
         if v.checks and v.checks[0][0] == "top of the ladder":
             parts.append(f"{r.name}: the richest model")
         else:
@@ -229,14 +246,27 @@ def choose(scene, verify: bool = False, *, backend: str = "auto") -> Choice:
     against, ref_answer, diff, adequate, saved, estimated = _outcome(runs, i, ref, verify)
     if budget is not None:
         indicators = {**indicators, "budget": budget}
-    return Choice(scene=scene.name, model=rungs[i].name, label=rungs[i].label, reason=reason,
-                  answer=chosen.value, unit=chosen.unit, verified_against=against,
-                  verified_answer=ref_answer, difference=diff, tolerance=scene.tol,
-                  adequate=adequate, time_saved_s=float(saved), time_saved_estimated=estimated,
-                  a_priori_model=rungs[i0].name, ladder=tuple(r.name for r in rungs),
-                  verdicts=tuple(verdicts), criteria=indicators,
-                  comparisons=tuple(runs.comps[k] for k in sorted(runs.comps)),
-                  wall_time_s=chosen.wall_time_s)
+    return Choice(
+        scene=scene.name,
+        model=rungs[i].name,
+        label=rungs[i].label,
+        reason=reason,
+        answer=chosen.value,
+        unit=chosen.unit,
+        verified_against=against,
+        verified_answer=ref_answer,
+        difference=diff,
+        tolerance=scene.tol,
+        adequate=adequate,
+        time_saved_s=float(saved),
+        time_saved_estimated=estimated,
+        a_priori_model=rungs[i0].name,
+        ladder=tuple(r.name for r in rungs),
+        verdicts=tuple(verdicts),
+        criteria=indicators,
+        comparisons=tuple(runs.comps[k] for k in sorted(runs.comps)),
+        wall_time_s=chosen.wall_time_s,
+    )
 
 
 class _Runs:
@@ -256,8 +286,16 @@ class _Runs:
         """Rung i against the richer rung j."""
         a, b = self.answer(i), self.answer(j)
         d = self.scene.tol.difference(a.value, b.value)
-        self.comps[(i, j)] = Comparison(self.rungs[i].name, a.value, self.rungs[j].name, b.value,
-                                        d, self.scene.tol.allows(d), a.wall_time_s, b.wall_time_s)
+        self.comps[(i, j)] = Comparison(
+            self.rungs[i].name,
+            a.value,
+            self.rungs[j].name,
+            b.value,
+            d,
+            self.scene.tol.allows(d),
+            a.wall_time_s,
+            b.wall_time_s,
+        )
         return self.comps[(i, j)]
 
 
@@ -267,12 +305,14 @@ def _outcome(runs: _Runs, i: int, ref: int | None, verify: bool):
         c = runs.comps[(i, ref)]
         saved = runs.answers[ref].wall_time_s - runs.answers[i].wall_time_s
         return c.reference, c.reference_answer, c.difference, c.adequate, saved, False
-    if ref is not None and (i - 1, i) in runs.comps:      # the top rung: why the cheaper failed
+    if ref is not None and (i - 1, i) in runs.comps:  # the top rung: why the cheaper failed
         c = runs.comps[(i - 1, i)]
         return c.model, c.answer, c.difference, None, 0.0, False
     top = len(runs.rungs) - 1
     if i < top and not verify:
-        saved = estimate_cost(runs.rungs[i + 1], runs.scene) - estimate_cost(runs.rungs[i], runs.scene)
+        saved = estimate_cost(runs.rungs[i + 1], runs.scene) - estimate_cost(
+            runs.rungs[i], runs.scene
+        )
         return None, None, None, None, saved, True
     return None, None, None, None, 0.0, False
 
@@ -290,18 +330,22 @@ def _walk(i0: int, names, compare, tol) -> tuple[int, int | None, list[str]]:
             break
         notes.append(f"{c.model} NOT adequate: {_diff(c, tol)} against {c.reference}")
         i += 1
-    if i > i0:                               # moved up: (i - 1, i) already failed
+    if i > i0:  # moved up: (i - 1, i) already failed
         ref = i + 1 if i < top else i
-    else:                                    # check the cheaper rungs against one reference
+    else:  # check the cheaper rungs against one reference
         ref = i + 1 if i < top else i
         while i > 0:
             c = compare(i - 1, ref)
             if not c.adequate:
-                notes.append(f"{c.model} (cheaper) confirmed not adequate: {_diff(c, tol)} "
-                             f"against {c.reference}")
+                notes.append(
+                    f"{c.model} (cheaper) confirmed not adequate: {_diff(c, tol)} "
+                    f"against {c.reference}"
+                )
                 break
-            notes.append(f"{c.model} (cheaper) measured adequate: {_diff(c, tol)} against "
-                         f"{c.reference}; the a-priori criteria were conservative")
+            notes.append(
+                f"{c.model} (cheaper) measured adequate: {_diff(c, tol)} against "
+                f"{c.reference}; the a-priori criteria were conservative"
+            )
             i -= 1
     if top == 0:
         notes.append(f"chosen {names[i]}: the only model of this scene's ladder")
@@ -316,7 +360,9 @@ def _walk(i0: int, names, compare, tol) -> tuple[int, int | None, list[str]]:
 def _diff(c: Comparison, tol: Tolerance) -> str:
     if tol.unit == "verdict":
         return f"verdict {c.answer} vs {c.reference_answer}"
-    d = "inf" if not math.isfinite(c.difference) else (
-        f"{100 * c.difference:.3g} %" if tol.relative else f"{c.difference:.3g} {tol.unit}")
+    d = (
+        "inf"
+        if not math.isfinite(c.difference)
+        else (f"{100 * c.difference:.3g} %" if tol.relative else f"{c.difference:.3g} {tol.unit}")
+    )
     return f"difference {d} {'≤' if c.adequate else '>'} {tol.describe()}"
-

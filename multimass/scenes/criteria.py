@@ -4,7 +4,7 @@ Every criterion is cheap — from the specimen, a static deflection, the lineari
 modal analysis of the full model (paper 001 §3) and a *linear* full-contact modal
 response to the excitation — and is checked for each rung against a *budget*: the tolerance as a
 fraction (relative tolerances as they are; absolute ones divided by a scale of the
-answer: |θ0| for released rotations, α_cg for forced ones, g for released
+answer: ``|θ0|`` for released rotations, α_cg for forced ones, g for released
 accelerations, the peak linear acceleration for forced ones, the first uplifted
 frequency for frequencies). `multimass.choose` picks the cheapest rung that passes
 all its criteria; `verify` then measures the real difference.
@@ -19,10 +19,10 @@ C1  rigid only: ω₁ / p_l ≥ 10. The superstructure's first period is short a
     (S1–S3 have 14.5–18.7 and their released rigid equivalents come within 1.3–2 % of
     the flexible θ_max; S1 with E_s/100 has ω₁/p_l = 2.2, and there even the SDOF is
     57 % off the 2-node column).
-C2  uplift demand (forced only): λ_n = max_t |S ü_g + Σ_{j≤n} Lθ_j q̈_j| / (m_t g B),
+C2  uplift demand (forced only): ``λ_n = max_t |S ü_g + Σ_{j≤n} Lθ_j q̈_j| / (m_t g B)``,
     the peak overturning moment of the linear full-contact response with n modes over
-    the restoring moment (λ > 1: it uplifts; paper 001 Eq 8). κ_n = |λ_N − λ_n| /
-    (λ_N − 1) is how much the neglected modes change the excess over uplift; 0 if
+    the restoring moment (λ > 1: it uplifts; paper 001 Eq 8).
+    ``κ_n = |λ_N − λ_n| / (λ_N − 1)`` is how much the neglected modes change the excess over uplift; 0 if
     neither uplifts, ∞ if only one does. Pass: κ_n ≤ budget (judgement; S1's pulse of
     paper 001 §4.4, 0.4 g against g tan α_cg = 0.36 g, has κ_0 = 0.88: its rigid
     equivalent barely rocks, 0.001 rad, while the column rocks to 0.025 rad).
@@ -39,13 +39,13 @@ C4  coupling (every question, rungs with n ≥ 1): a mode is coupled with rockin
     (S1: modes 1, 2 shift by 175 % and 12 % and "interact strongly"; mode 3 shifts by
     0.1 % and does not); the 5 % threshold is this toolkit's judgement.
 C5  impact share at the node (accelerations, when it rocks): s_k(n) = Σ_{j>n} c_j /
-    Σ_j c_j with c_j = |φ_kj Lθ_j| ω_j, the neglected modes' share of the
+    Σ_j c_j with ``c_j = |φ_kj Lθ_j| ω_j``, the neglected modes' share of the
     acceleration an impact's θ̇ jump excites at node k. Pass: s_k(n) ≤ 0.25
     (judgement: it ignores damping and the finite impact duration, which both lower
     the high modes, so it overestimates; under paper 001's pulse, S1's A2 with
     s = 0.21 came within 0.1 % of the full column, S2's A2 with s = 0.31 and 0.49
     within 7 % and 18 %).
-C6  linear acceleration (accelerations, forced): γ_n = |A_n − A_N| / A_N with A_n the
+C6  linear acceleration (accelerations, forced): ``γ_n = |A_n − A_N| / A_N`` with A_n the
     peak of ü_g + Σ_{j≤n} φ_kj q̈_j at node k. Pass: γ_n ≤ budget.
 
     Rotation questions use C1 (rigid), C4 (n ≥ 1), C2, C3; overturning the same with a
@@ -56,6 +56,7 @@ C6  linear acceleration (accelerations, forced): γ_n = |A_n − A_N| / A_N with
     after all, the verification's downward walk finds it.)
 
 Blocks.
+
 B1  beam flexibility: δ / L with δ = m g L³ / (48 E I), the midspan deflection of the
     simply supported beam under the block's weight (paper 002 §6.3 defines Ē by
     δ = L/2500). Pass for the rigid block: δ/L ≤ 1/250 000 = 4e-6, i.e. E ≥ Ē·10².
@@ -82,14 +83,24 @@ import multimass.modal as modal
 from ..structure import column
 from .reduce import modes
 
-__all__ = ["Verdict", "assess", "column_indicators", "block_indicators", "linear_modal_response",
-           "RATIO_RIGID", "COUPLING_SHIFT", "IMPACT_SHARE", "OVERTURN_BUDGET", "BEAM_RIGID"]
+__all__ = [
+    "Verdict",
+    "assess",
+    "column_indicators",
+    "block_indicators",
+    "linear_modal_response",
+    "RATIO_RIGID",
+    "COUPLING_SHIFT",
+    "IMPACT_SHARE",
+    "OVERTURN_BUDGET",
+    "BEAM_RIGID",
+]
 
-RATIO_RIGID = 10.0          # C1: ω₁/p_l
-COUPLING_SHIFT = 0.05       # C4: relative frequency shift on uplift
-IMPACT_SHARE = 0.25         # C5: neglected share of the impact-excited acceleration
-OVERTURN_BUDGET = 0.05      # C2/C3 budget of an overturning question
-BEAM_RIGID = 1.0 / 250000   # B1: δ/L (paper 002 §6.3: 10⁻³ L/250)
+RATIO_RIGID = 10.0  # C1: ω₁/p_l
+COUPLING_SHIFT = 0.05  # C4: relative frequency shift on uplift
+IMPACT_SHARE = 0.25  # C5: neglected share of the impact-excited acceleration
+OVERTURN_BUDGET = 0.05  # C2/C3 budget of an overturning question
+BEAM_RIGID = 1.0 / 250000  # B1: δ/L (paper 002 §6.3: 10⁻³ L/250)
 
 
 @dataclass(frozen=True)
@@ -98,18 +109,25 @@ class Verdict:
 
     rung: str
     passes: bool
-    checks: tuple = ()          # (name, value, threshold, ok) per criterion
+    checks: tuple = ()  # (name, value, threshold, ok) per criterion
 
     def reason(self) -> str:
         """The checks as text, e.g. "C1 ω₁/p_l = 18.7 ≥ 10 ok; C2 κ = 0.88 > 0.05 FAILS"."""
         rel = {("max", True): "≤", ("max", False): ">", ("min", True): "≥", ("min", False): "<"}
-        return "; ".join(f"{n} = {_fmt(v)} {rel[kind, ok]} {_fmt(t)} {'ok' if ok else 'FAILS'}"
-                         for n, v, t, kind, ok in self.checks)
+        return "; ".join(
+            f"{n} = {_fmt(v)} {rel[kind, ok]} {_fmt(t)} {'ok' if ok else 'FAILS'}"
+            for n, v, t, kind, ok in self.checks
+        )
 
     def to_dict(self) -> dict:
-        return {"rung": self.rung, "passes": self.passes,
-                "checks": [{"name": n, "value": _num(v), "threshold": _num(t),
-                            "kind": kind, "ok": ok} for n, v, t, kind, ok in self.checks]}
+        return {
+            "rung": self.rung,
+            "passes": self.passes,
+            "checks": [
+                {"name": n, "value": _num(v), "threshold": _num(t), "kind": kind, "ok": ok}
+                for n, v, t, kind, ok in self.checks
+            ],
+        }
 
 
 def _fmt(x) -> str:
@@ -129,8 +147,8 @@ def _check(name, value, threshold, kind="max"):
 def _grid(excitation, omega1: float) -> np.ndarray:
     dt_rec = getattr(excitation, "dt", None)
     T = float(excitation.duration)
-    dt = dt_rec / 4.0 if dt_rec else T / 20000.0   # a pulse's end jumps are smeared over dt
-    t_end = T + 3.0 * 2.0 * math.pi / omega1        # three periods of free vibration after it
+    dt = dt_rec / 4.0 if dt_rec else T / 20000.0  # a pulse's end jumps are smeared over dt
+    t_end = T + 3.0 * 2.0 * math.pi / omega1  # three periods of free vibration after it
     return np.arange(0.0, t_end + 0.5 * dt, dt)
 
 
@@ -151,7 +169,7 @@ def linear_modal_response(st, excitation, omega, zeta, L):
     dt = t[1] - t[0]
     qdd = np.empty((t.size, omega.size))
     for j, (w, z, lj) in enumerate(zip(omega, zeta, L)):
-        num, den = [-lj, 0.0, 0.0], [1.0, 2.0 * z * w, w * w]   # q̈/ü_g = −L s²/(s² + 2ζωs + ω²)
+        num, den = [-lj, 0.0, 0.0], [1.0, 2.0 * z * w, w * w]  # q̈/ü_g = −L s²/(s² + 2ζωs + ω²)
         b, a, _ = signal.cont2discrete((num, den), dt, method="foh")
         qdd[:, j] = signal.lfilter(np.ravel(b), np.ravel(a), ag)
     return t, ag, qdd
@@ -175,21 +193,27 @@ def column_indicators(scene) -> dict:
     L, Lt = Phi.T @ st.m, Phi.T @ (st.m * st.H)
     fn, fu = _undamped_frequencies_hz(st)
     shift = np.abs(fu / fn - 1.0)
-    try:                                    # the damped Foss analysis, for the MAC values
+    try:  # the damped Foss analysis, for the MAC values
         mac = np.diag(modal.analyse(st).mac_full_vs_compound()).tolist()
-    except modal.ModalError:                # a structure the modal analysis cannot take
+    except modal.ModalError:  # a structure the modal analysis cannot take
         mac = None
     n_c = int(np.argmin(shift > COUPLING_SHIFT)) if not np.all(shift > COUPLING_SHIFT) else n
     r = _mean_restitution(scene)
-    tail = np.r_[np.cumsum((Lt**2)[::-1])[::-1], 0.0]            # Σ_{j>n} Lθ_j², n = 0..N
-    out = {"omega1_rad_s": float(omega[0]), "p_l_rad_s": st.p_l,
-           "omega1_over_p_l": float(omega[0] / st.p_l),
-           "full_contact_hz": fn.tolist(), "uplifted_hz": fu.tolist(),
-           "frequency_shift": shift.tolist(),
-           "mac_full_vs_compound": mac,
-           "n_coupled": n_c, "restitution_mean": r,
-           "epsilon": ((1.0 - r) ** 2 * tail / st.J_p).tolist(),
-           "alpha_cg": st.alpha_cg, "first_uplifted_hz": float(fu[0])}
+    tail = np.r_[np.cumsum((Lt**2)[::-1])[::-1], 0.0]  # Σ_{j>n} Lθ_j², n = 0..N
+    out = {
+        "omega1_rad_s": float(omega[0]),
+        "p_l_rad_s": st.p_l,
+        "omega1_over_p_l": float(omega[0] / st.p_l),
+        "full_contact_hz": fn.tolist(),
+        "uplifted_hz": fu.tolist(),
+        "frequency_shift": shift.tolist(),
+        "mac_full_vs_compound": mac,
+        "n_coupled": n_c,
+        "restitution_mean": r,
+        "epsilon": ((1.0 - r) ** 2 * tail / st.J_p).tolist(),
+        "alpha_cg": st.alpha_cg,
+        "first_uplifted_hz": float(fu[0]),
+    }
     node = scene.node
     if node is not None:
         c = np.abs(Phi[node - 1] * Lt) * omega
@@ -216,13 +240,13 @@ def _undamped_frequencies_hz(st) -> tuple[np.ndarray, np.ndarray]:
 
     rk = rocking(st)
     w2 = sla.eigh(rk.K, rk.M, eigvals_only=True)
-    fu = np.sqrt(w2[w2 > 0.0]) / (2.0 * np.pi)        # the one negative value is rocking, −p_l²
+    fu = np.sqrt(w2[w2 > 0.0]) / (2.0 * np.pi)  # the one negative value is rocking, −p_l²
     return st.full_contact_omega / (2.0 * np.pi), fu
 
 
 def _kappa(lam_n: float, lam_full: float) -> float:
     if lam_n <= 1.0 and lam_full <= 1.0:
-        return 0.0          # neither uplifts: both answer "no rocking"
+        return 0.0  # neither uplifts: both answer "no rocking"
     if (lam_n > 1.0) != (lam_full > 1.0):
         return math.inf
     return abs(lam_full - lam_n) / (lam_full - 1.0)
@@ -237,8 +261,7 @@ def _budget(scene, ind: dict) -> float:
     if q.kind == "peak_rotation":
         scale = abs(scene.excitation.theta0) if scene.is_release else ind["alpha_cg"]
     elif q.kind == "peak_acceleration":
-        scale = (scene.spec.g if scene.is_release
-                 else ind["linear_peak_acceleration"][-1])
+        scale = scene.spec.g if scene.is_release else ind["linear_peak_acceleration"][-1]
     else:
         scale = ind["first_uplifted_hz"]
     return tol.value / scale
@@ -277,11 +300,17 @@ def block_indicators(scene) -> dict:
         return {"beam": None, "deflection_over_span": 0.0}
     bm = scene.beam_spec
     E = bm.E if scene.E is None else scene.E
-    delta = spec.mass * spec.g * bm.span**3 / (48.0 * E * bm.second_moment)   # paper 002 §6.3
+    delta = spec.mass * spec.g * bm.span**3 / (48.0 * E * bm.second_moment)  # paper 002 §6.3
     E_bar = spec.mass * spec.g * bm.span**2 * 2500.0 / (48.0 * bm.second_moment)
-    return {"beam": bm.name, "E_Pa": E, "E_over_Ebar": E / E_bar, "deflection_m": delta,
-            "deflection_over_span": delta / bm.span, "span_over_deflection": bm.span / delta,
-            "threshold_deflection_over_span": BEAM_RIGID}
+    return {
+        "beam": bm.name,
+        "E_Pa": E,
+        "E_over_Ebar": E / E_bar,
+        "deflection_m": delta,
+        "deflection_over_span": delta / bm.span,
+        "span_over_deflection": bm.span / delta,
+        "threshold_deflection_over_span": BEAM_RIGID,
+    }
 
 
 def _block_verdict(rung, scene, ind: dict) -> Verdict:
@@ -301,4 +330,3 @@ def assess(scene, rungs) -> tuple[list[Verdict], dict, float | None]:
         return [_column_verdict(r, scene, ind, budget) for r in rungs], ind, budget
     ind = block_indicators(scene)
     return [_block_verdict(r, scene, ind) for r in rungs], ind, None
-

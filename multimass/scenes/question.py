@@ -16,12 +16,20 @@ __all__ = ["Question", "Tolerance", "QUESTIONS", "IMPACTS", "ANSWER_UNITS"]
 QUESTIONS = ("peak_rotation", "overturning", "peak_acceleration", "uplifted_frequencies")
 IMPACTS = ("CIM", "DD", "DD1", "DD2", "DD3", "DD4", "DD5")
 #: unit of each question's answer
-ANSWER_UNITS = {"peak_rotation": "rad", "overturning": "verdict", "peak_acceleration": "m/s2",
-                "uplifted_frequencies": "Hz"}
+ANSWER_UNITS = {
+    "peak_rotation": "rad",
+    "overturning": "verdict",
+    "peak_acceleration": "m/s2",
+    "uplifted_frequencies": "Hz",
+}
 #: absolute-tolerance keys: (unit of the answer they apply to, factor to SI)
-_ABS_KEYS = {"absolute_rad": ("rad", 1.0), "absolute_deg": ("rad", math.pi / 180.0),
-             "absolute_m_per_s2": ("m/s2", 1.0), "absolute_g": ("m/s2", None),
-             "absolute_hz": ("Hz", 1.0)}
+_ABS_KEYS = {
+    "absolute_rad": ("rad", 1.0),
+    "absolute_deg": ("rad", math.pi / 180.0),
+    "absolute_m_per_s2": ("m/s2", 1.0),
+    "absolute_g": ("m/s2", None),
+    "absolute_hz": ("Hz", 1.0),
+}
 
 
 def _fail(where: str, field_: str, value, fix: str) -> InputError:
@@ -51,15 +59,18 @@ def _keys(where: str, table: str, data, allowed: set[str], required: set[str] = 
     if not isinstance(data, dict):
         raise _fail(where, table, data, f"expected a table; write it as [{table}]")
     prefix = f"{table}." if table else ""
-    unknown = sorted(set(data) - allowed - set(required))   # a misspelt key first: clearer
+    unknown = sorted(set(data) - allowed - set(required))  # a misspelt key first: clearer
     if unknown:
-        raise InputError(f"{where}: unknown key `{prefix}{unknown[0]}`; remove it or correct its "
-                         f"spelling (allowed in [{table or 'top level'}]: "
-                         f"{', '.join(sorted(allowed | set(required)))})")
+        raise InputError(
+            f"{where}: unknown key `{prefix}{unknown[0]}`; remove it or correct its "
+            f"spelling (allowed in [{table or 'top level'}]: "
+            f"{', '.join(sorted(allowed | set(required)))})"
+        )
     for key in sorted(required):
         if key not in data:
-            raise InputError(f"{where}: missing key `{prefix}{key}`; add it to "
-                             f"[{table or 'top level'}]")
+            raise InputError(
+                f"{where}: missing key `{prefix}{key}`; add it to [{table or 'top level'}]"
+            )
 
 
 @dataclass(frozen=True)
@@ -93,21 +104,27 @@ class Question:
             raise _fail(w, "question.kind", self.kind, f"use one of {', '.join(QUESTIONS)}")
         if self.kind == "peak_acceleration":
             if (self.node is None) == (self.sensor is None):
-                raise InputError("question: a peak_acceleration question needs exactly one of "
-                                 "`question.node` (1-based node number) or `question.sensor` "
-                                 "(a name from the specimen's [sensors] table)")
+                raise InputError(
+                    "question: a peak_acceleration question needs exactly one of "
+                    "`question.node` (1-based node number) or `question.sensor` "
+                    "(a name from the specimen's [sensors] table)"
+                )
             if self.node is not None:
                 _integer(w, "question.node", self.node, 1, "a 1-based node number")
             elif not isinstance(self.sensor, str) or not self.sensor:
-                raise _fail(w, "question.sensor", self.sensor, "give a sensor name, e.g. \"A2\"")
+                raise _fail(w, "question.sensor", self.sensor, 'give a sensor name, e.g. "A2"')
         elif self.node is not None or self.sensor is not None:
-            raise InputError(f"question: `question.node`/`question.sensor` apply only to "
-                             f"peak_acceleration, not to {self.kind}; remove them")
+            raise InputError(
+                f"question: `question.node`/`question.sensor` apply only to "
+                f"peak_acceleration, not to {self.kind}; remove them"
+            )
         _integer(w, "question.n_modes", self.n_modes, 1, "the number of uplifted frequencies")
         if self.after_impacts is not None:
             if self.kind != "peak_rotation":
-                raise InputError(f"question: `question.after_impacts` applies only to "
-                                 f"peak_rotation, not to {self.kind}; remove it")
+                raise InputError(
+                    f"question: `question.after_impacts` applies only to "
+                    f"peak_rotation, not to {self.kind}; remove it"
+                )
             _integer(w, "question.after_impacts", self.after_impacts, 0, "a number of impacts")
 
     @property
@@ -125,7 +142,7 @@ class Tolerance:
     value : float
         A fraction (relative) or an amount in `unit` (absolute, SI).
     relative : bool
-        True: |a − b| / |b| ≤ value, b the richer model's answer.
+        True: ``|a − b| / |b| ≤ value``, b the richer model's answer.
     unit : str
         "1" for relative; else the answer's unit ("rad", "m/s2", "Hz").
         Overturning verdicts must agree: ``Tolerance.verdict()``.
@@ -138,20 +155,28 @@ class Tolerance:
     def __post_init__(self):
         if self.unit == "verdict":
             return
-        _number("tolerance", "tolerance.value", self.value, low=0.0, low_open=True,
-                what="a positive tolerance")
+        _number(
+            "tolerance",
+            "tolerance.value",
+            self.value,
+            low=0.0,
+            low_open=True,
+            what="a positive tolerance",
+        )
         if self.relative and self.unit != "1":
-            raise _fail("tolerance", "tolerance.unit", self.unit, "a relative tolerance has unit \"1\"")
+            raise _fail(
+                "tolerance", "tolerance.unit", self.unit, 'a relative tolerance has unit "1"'
+            )
         if not self.relative and self.unit not in ("rad", "m/s2", "Hz"):
             raise _fail("tolerance", "tolerance.unit", self.unit, "use rad, m/s2 or Hz")
 
     @classmethod
-    def verdict(cls) -> "Tolerance":
+    def verdict(cls) -> Tolerance:
         """The overturning tolerance: verdicts must agree (difference 0 or 1)."""
         return cls(0.0, relative=False, unit="verdict")
 
     def difference(self, cheap, rich) -> float:
-        """|cheap − rich| (absolute) or |cheap − rich| / |rich| (relative); worst mode for tuples."""
+        """``|cheap − rich|`` (absolute) or ``|cheap − rich| / |rich|`` (relative); worst mode for tuples."""
         if self.unit == "verdict":
             return 0.0 if bool(cheap) == bool(rich) else 1.0
         pairs = list(zip(cheap, rich)) if isinstance(cheap, (tuple, list)) else [(cheap, rich)]
@@ -176,5 +201,9 @@ class Tolerance:
         return f"{100 * self.value:g} %" if self.relative else f"{self.value:g} {self.unit}"
 
     def to_dict(self) -> dict:
-        return {"value": self.value, "relative": self.relative, "unit": self.unit,
-                "text": self.describe()}
+        return {
+            "value": self.value,
+            "relative": self.relative,
+            "unit": self.unit,
+            "text": self.describe(),
+        }

@@ -29,7 +29,7 @@ def state_accelerations(st, phase: np.ndarray, U, theta, Ud, thd, ag, F):
     Udd = np.zeros_like(U)
     thdd = np.zeros_like(theta)
     fc = phase == 0
-    if n and fc.any():                                   # paper 001, Eq 3
+    if n and fc.any():  # paper 001, Eq 3
         Udd[fc] = -(Ud[fc] @ st.C.T + U[fc] @ st.K.T) / m - ag[fc, None]
     rk = ~fc
     if not rk.any():
@@ -42,10 +42,15 @@ def state_accelerations(st, phase: np.ndarray, U, theta, Ud, thd, ag, F):
     height = float(m @ H) + st.m0 * st.h0
     lever = s * B * st.m_t - smu
     arm = s[:, None] * B * m - mu
-    bu = (-arm * (w**2)[:, None] - ud @ st.C.T - u @ st.K.T
-          - m * (a * c - g * sn)[:, None])                             # paper 001, Eq 4
-    bt = (2.0 * w * np.einsum("ij,ij->i", ud, arm) - 2.0 * B * f
-          - a * (height * c + lever * sn) - g * (-height * sn + lever * c))   # paper 001, Eq 5
+    bu = (
+        -arm * (w**2)[:, None] - ud @ st.C.T - u @ st.K.T - m * (a * c - g * sn)[:, None]
+    )  # paper 001, Eq 4
+    bt = (
+        2.0 * w * np.einsum("ij,ij->i", ud, arm)
+        - 2.0 * B * f
+        - a * (height * c + lever * sn)
+        - g * (-height * sn + lever * c)
+    )  # paper 001, Eq 5
     a_tt = st.J_p + np.einsum("ij,ij->i", u, mu) - 2.0 * s * B * smu
     thdd[rk] = (bt - bu @ H) / (a_tt - H @ (m * H))
     if n:
@@ -72,8 +77,10 @@ def node_accelerations(reduced: Reduced, series, nodes) -> np.ndarray:
     """
     st, R = reduced.structure, reduced.recovery
     if series is None or len(series) == 0:
-        raise InputError("`series` is empty: simulate with `output_dt` set to record the "
-                         "time history the accelerations are computed from")
+        raise InputError(
+            "`series` is empty: simulate with `output_dt` set to record the "
+            "time history the accelerations are computed from"
+        )
     idx = np.asarray(nodes, dtype=int) - 1
     if idx.size == 0 or idx.min() < 0 or idx.max() >= R.shape[0]:
         raise InputError(f"`nodes` = {list(nodes)!r}: give node numbers in 1..{R.shape[0]}")
@@ -88,6 +95,10 @@ def node_accelerations(reduced: Reduced, series, nodes) -> np.ndarray:
     u, udd = U @ Rk.T, Udd @ Rk.T
     Hk = reduced.original.H[idx]
     s = phase.astype(float)[:, None]
-    rocking = (udd + np.outer(thdd, Hk) + (s * st.B - u) * (thd**2)[:, None]
-               + (ag * np.cos(theta) - st.g * np.sin(theta))[:, None])          # paper 001, Eq 7
+    rocking = (
+        udd
+        + np.outer(thdd, Hk)
+        + (s * st.B - u) * (thd**2)[:, None]
+        + (ag * np.cos(theta) - st.g * np.sin(theta))[:, None]
+    )  # paper 001, Eq 7
     return np.where(phase[:, None] == 0, udd + ag[:, None], rocking)

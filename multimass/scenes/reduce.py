@@ -20,21 +20,23 @@ node 0 (m0, h0, J0; `multimass.Structure` allows h0 > 0).
     and the Dirac-delta force, Eqs 14–17) involve the elastic displacements
     only through M u, 1ᵀ M u, Hᵀ M u, uᵀ M u, C and K; in modal coordinates
     q = Φᵀ M u these are q, L·q, L_θ·q, qᵀq, diag(2ζ_j ω_j) and diag(ω_j²).
-    So any n-node column with
+    So any n-node column with ::
+
         Σ m'_k = |L|²,   Σ m'_k h'_k = L·L_θ,   Σ m'_k h'_k² = |L_θ|²,
         K' = M'^½ Q Ω² Qᵀ M'^½  (Q orthogonal with Qᵀ M'^½ 1 = L, Qᵀ M'^½ h' = L_θ),
+
     and C' = a0 M' + a1 K' (the column's Rayleigh coefficients), plus the base
     node that restores m_t, H_cg and J_p, moves *exactly* as the column's
     Galerkin projection onto its first n modes, nonlinear rocking terms
     included. The nodes are generalised coordinates: here n equal masses
-    |L|²/n at heights μ + σ z_k (μ, σ the mean and spread the moments fix, z_k
+    ``|L|²/n`` at heights μ + σ z_k (μ, σ the mean and spread the moments fix, z_k
     evenly spaced with unit variance); for n ≥ 4 a height may fall below the
     base. Elastic displacements at the column's own nodes are recovered as
     u ≈ Φ_n q = R u' (`Reduced.recovery`). For n = 1 this is the classical
     equivalent SDOF oscillator of mode 1 (effective modal mass
     m* = (φ₁ᵀ M 1)² and height h* = φ₁ᵀ M H / φ₁ᵀ M 1 with mass-normalised φ₁;
     e.g. Chopra, *Dynamics of Structures*, Section 13.1), with R = Γ₁ φ₁.
-    The base mass m_t − |L|² is ≥ 0 and J0' ≥ J0 ≥ 0 by Cauchy–Schwarz, so
+    The base mass ``m_t − |L|²`` is ≥ 0 and J0' ≥ J0 ≥ 0 by Cauchy–Schwarz, so
     the reduction always exists.
 
 Built to match: m_t, H_cg, J_p, ω₁..ω_n and their damping ratios, and the
@@ -77,11 +79,14 @@ class Reduced:
 
 def _check_column(st, what: str) -> None:
     if not isinstance(st, Structure):
-        raise InputError(f"`structure` = {st!r}: give a multimass.Structure "
-                         "(e.g. multimass.column('S1'))")
+        raise InputError(
+            f"`structure` = {st!r}: give a multimass.Structure (e.g. multimass.column('S1'))"
+        )
     if st.n == 0:
-        raise InputError(f"`structure` = {st.name!r} is already rigid (N = 0): `{what}` needs "
-                         "a column with elastic nodes")
+        raise InputError(
+            f"`structure` = {st.name!r} is already rigid (N = 0): `{what}` needs "
+            "a column with elastic nodes"
+        )
 
 
 def _with_base(st: Structure, name: str, H, m, K) -> Structure:
@@ -91,20 +96,36 @@ def _with_base(st: Structure, name: str, H, m, K) -> Structure:
     first = st.static_moment - float(m @ H)
     tiny = 1e-12 * st.m_t
     if m0 < -tiny:
-        raise InputError(f"reduction of {st.name!r}: the elastic nodes carry {m.sum():.6g} kg, "
-                         f"more than m_t = {st.m_t:.6g} kg")
+        raise InputError(
+            f"reduction of {st.name!r}: the elastic nodes carry {m.sum():.6g} kg, "
+            f"more than m_t = {st.m_t:.6g} kg"
+        )
     if m0 > tiny:
         h0 = first / m0
-    else:           # all the mass is elastic: the first moment must already match
+    else:  # all the mass is elastic: the first moment must already match
         m0, h0 = 0.0, 0.0
     J0 = st.J_p - float(m @ (H**2 + st.B**2)) - m0 * (st.B**2 + h0**2)
     if J0 < -1e-9 * st.J_p:
-        raise InputError(f"reduction of {st.name!r}: the kept nodes have more rotary inertia "
-                         f"than J_p (J0 would be {J0:.6g} kg m²)")
+        raise InputError(
+            f"reduction of {st.name!r}: the kept nodes have more rotary inertia "
+            f"than J_p (J0 would be {J0:.6g} kg m²)"
+        )
     a0, a1 = st.rayleigh
     C = a0 * np.diag(m) + a1 * K if m.size else np.zeros((0, 0))
-    return Structure(name=name, H=H, m=m, m0=m0, J0=max(J0, 0.0), B=st.B, g=st.g, K=K, C=C,
-                     rayleigh=(a0, a1), h0=h0, specimen=st.specimen)
+    return Structure(
+        name=name,
+        H=H,
+        m=m,
+        m0=m0,
+        J0=max(J0, 0.0),
+        B=st.B,
+        g=st.g,
+        K=K,
+        C=C,
+        rayleigh=(a0, a1),
+        h0=h0,
+        specimen=st.specimen,
+    )
 
 
 def rigid_equivalent(structure: Structure) -> Reduced:
@@ -123,8 +144,9 @@ def rigid_equivalent(structure: Structure) -> Reduced:
         kept, so impact models find its restitution data.
     """
     _check_column(structure, "rigid_equivalent")
-    st = _with_base(structure, f"{structure.name}-rigid", np.zeros(0), np.zeros(0),
-                    np.zeros((0, 0)))
+    st = _with_base(
+        structure, f"{structure.name}-rigid", np.zeros(0), np.zeros(0), np.zeros((0, 0))
+    )
     return Reduced(st, np.zeros((structure.n, 0)), structure)
 
 
@@ -140,7 +162,7 @@ def _orthonormal_completion(A: np.ndarray) -> np.ndarray:
     Q, R = np.linalg.qr(A, mode="complete")
     d = np.sign(np.diag(R))
     d[d == 0] = 1.0
-    Q[:, :d.size] *= d
+    Q[:, : d.size] *= d
     return Q
 
 
@@ -173,7 +195,7 @@ def modal_reduction(structure: Structure, n: int) -> Reduced:
     n = int(n)
     omega, Phi = modes(st)
     Phi = Phi[:, :n]
-    L, Lt = Phi.T @ st.m, Phi.T @ (st.m * st.H)       # participations φᵀM1, φᵀMH
+    L, Lt = Phi.T @ st.m, Phi.T @ (st.m * st.H)  # participations φᵀM1, φᵀMH
     total = float(L @ L)
     mu = float(L @ Lt) / total
     sigma = float(np.sqrt(max(float(Lt @ Lt) / total - mu**2, 0.0)))
@@ -181,16 +203,16 @@ def modal_reduction(structure: Structure, n: int) -> Reduced:
     m = np.full(n, total / n)
     sq = np.sqrt(m)
     if n == 1:
-        Q = np.array([[1.0]])                          # Qᵀ √m* = L: L = √m* (L > 0)
+        Q = np.array([[1.0]])  # Qᵀ √m* = L: L = √m* (L > 0)
     else:
         Wa = _orthonormal_completion(np.column_stack([sq, sq * h]))
         Wt = _orthonormal_completion(np.column_stack([L, Lt]))
-        Q = Wa @ Wt.T                                  # Qᵀ [√m, √m h] = [L, L_θ]
-    K = (sq[:, None] * Q) @ np.diag(omega[:n] ** 2) @ (Q.T * sq[None, :])   # M'^½ Q Ω² Qᵀ M'^½
+        Q = Wa @ Wt.T  # Qᵀ [√m, √m h] = [L, L_θ]
+    K = (sq[:, None] * Q) @ np.diag(omega[:n] ** 2) @ (Q.T * sq[None, :])  # M'^½ Q Ω² Qᵀ M'^½
     K = 0.5 * (K + K.T)
     name = f"{st.name}-sdof" if n == 1 else f"{st.name}-m{n}"
     reduced = _with_base(st, name, h, m, K)
-    R = Phi @ (Q.T * sq[None, :])                      # u ≈ Φ q, q = Qᵀ M'^½ u'
+    R = Phi @ (Q.T * sq[None, :])  # u ≈ Φ q, q = Qᵀ M'^½ u'
     return Reduced(reduced, R, st)
 
 

@@ -117,8 +117,10 @@ def ladder(scene) -> list[Rung]:
         rungs = [Rung("rigid", "rigid equivalent (1 DOF)", 1, 0)]
         if n > 1:
             rungs.append(Rung("sdof", "flexible SDOF oscillator (2 DOF)", 2, 1))
-        rungs += [Rung(f"modal-{k}", f"{k}-node modal column ({k + 1} DOF)", k + 1, k)
-                  for k in range(2, n)]
+        rungs += [
+            Rung(f"modal-{k}", f"{k}-node modal column ({k + 1} DOF)", k + 1, k)
+            for k in range(2, n)
+        ]
         rungs.append(Rung("column", f"{n}-node column ({n + 1} DOF)", n + 1, n))
         if scene.question.kind == "uplifted_frequencies":
             rungs = [r for r in rungs if r.n_modes >= scene.question.n_modes]
@@ -150,9 +152,10 @@ def _fast_ready() -> bool:
     if _WARM["fast"] is None:
         try:
             from ..fast import warm_up
+
             warm_up()
             _WARM["fast"] = True
-        except Exception:       # no numba or no compiled path: the SciPy reference is used
+        except Exception:  # no numba or no compiled path: the SciPy reference is used
             _WARM["fast"] = False
     return _WARM["fast"]
 
@@ -160,8 +163,13 @@ def _fast_ready() -> bool:
 def simulate_scene(structure, scene, output_dt, backend: str = "auto"):
     """`multimass.simulate` with the scene's options; "auto": compiled when possible."""
 
-    kw = dict(impact=scene.impact_model, restitution=scene.restitution_value,
-              t_end=scene.duration, output_dt=output_dt, max_step=scene.solver_max_step)
+    kw = dict(
+        impact=scene.impact_model,
+        restitution=scene.restitution_value,
+        t_end=scene.duration,
+        output_dt=output_dt,
+        max_step=scene.solver_max_step,
+    )
     if backend == "compiled":
         return simulate(structure, scene.excitation, backend="compiled", **kw)
     if backend == "auto" and _fast_ready():
@@ -179,14 +187,15 @@ def _trusted(resp, rung: str, scene) -> None:
     if resp.status not in ("completed", "overturned", "inaccurate"):
         raise SolverError(f"model {rung!r} of scene {scene.name!r} {resp.status}: {resp.message}")
     if resp.status == "inaccurate":
-        raise SolverError(f"model {rung!r} of scene {scene.name!r} is inaccurate: "
-                          + "; ".join(resp.warnings))
+        raise SolverError(
+            f"model {rung!r} of scene {scene.name!r} is inaccurate: " + "; ".join(resp.warnings)
+        )
 
 
 def _rotation(resp, scene) -> float:
     if resp.status == "overturned":
         return math.pi / 2
-    peaks = np.asarray(resp.peaks)[scene.after_impacts:]
+    peaks = np.asarray(resp.peaks)[scene.after_impacts :]
     return float(peaks.max()) if peaks.size else 0.0
 
 
@@ -197,8 +206,8 @@ def _column_answer(rung: Rung, scene, backend: str) -> RungAnswer:
     start = time.perf_counter()
     red = reduced_model(rung, scene)
     if q.kind == "uplifted_frequencies":
-        modes = modal.analyse(red.structure).rocking.to_pandas()      # by mode number,
-        freqs = tuple(float(f) for f in modes["freq_hz"].iloc[:q.n_modes])   # overdamped too
+        modes = modal.analyse(red.structure).rocking.to_pandas()  # by mode number,
+        freqs = tuple(float(f) for f in modes["freq_hz"].iloc[: q.n_modes])  # overdamped too
         return RungAnswer(rung.name, freqs, "Hz", time.perf_counter() - start, "modal")
 
     output_dt = OUTPUT_DT_ACCELERATION if q.kind == "peak_acceleration" else None
@@ -211,17 +220,27 @@ def _column_answer(rung: Rung, scene, backend: str) -> RungAnswer:
     else:
         value = float(np.abs(node_accelerations(red, resp.series, [scene.node])).max())
     wall = time.perf_counter() - start
-    return RungAnswer(rung.name, value, q.unit, wall, resp.status,
-                      {"n_impacts": resp.n_impacts, "theta_max": resp.theta_max,
-                       "backend": resp.options.get("backend", "scipy"),
-                       "structure": red.structure.name})
+    return RungAnswer(
+        rung.name,
+        value,
+        q.unit,
+        wall,
+        resp.status,
+        {
+            "n_impacts": resp.n_impacts,
+            "theta_max": resp.theta_max,
+            "backend": resp.options.get("backend", "scipy"),
+            "structure": red.structure.name,
+        },
+    )
 
 
 # ---------------------------------------------------------------------------- blocks
 def _nscd_warm():
     if not _WARM["nscd"]:
         import multimass.nscd as nscd
-        nscd.simulate("B6M", theta0=0.1, dt=1e-3, t_end=0.01)   # compile or load the kernel
+
+        nscd.simulate("B6M", theta0=0.1, dt=1e-3, t_end=0.01)  # compile or load the kernel
         _WARM["nscd"] = True
 
 
@@ -234,15 +253,27 @@ def _block_answer(rung: Rung, scene, backend: str) -> RungAnswer:
         resp = simulate_scene(rigid_block(scene.spec), scene, None, backend)
         _trusted(resp, "rigid-block", scene)
         value = _rotation(resp, scene) if q.kind == "peak_rotation" else resp.status == "overturned"
-        return RungAnswer(rung.name, value, q.unit, time.perf_counter() - start, resp.status,
-                          {"n_impacts": resp.n_impacts,
-                           "backend": resp.options.get("backend", "scipy")})
+        return RungAnswer(
+            rung.name,
+            value,
+            q.unit,
+            time.perf_counter() - start,
+            resp.status,
+            {"n_impacts": resp.n_impacts, "backend": resp.options.get("backend", "scipy")},
+        )
     import multimass.nscd as nscd
+
     _nscd_warm()
     start = time.perf_counter()
-    res = nscd.simulate(scene.spec, _beam(scene), theta0=scene.excitation.theta0,
-                        dt=scene.nscd_dt, t_end=scene.duration, E=scene.E,
-                        n_elements=scene.nscd_elements)
+    res = nscd.simulate(
+        scene.spec,
+        _beam(scene),
+        theta0=scene.excitation.theta0,
+        dt=scene.nscd_dt,
+        t_end=scene.duration,
+        E=scene.E,
+        n_elements=scene.nscd_elements,
+    )
     wall = time.perf_counter() - start
     _trusted(res, "nscd", scene)
     if q.kind == "overturning":
@@ -252,9 +283,19 @@ def _block_answer(rung: Rung, scene, backend: str) -> RungAnswer:
     else:
         k = scene.after_impacts
         peaks = [abs(scene.excitation.theta0)] if k == 0 else []
-        peaks += [math.radians(p) for p in res.peaks_deg[max(k - 1, 0):]]
+        peaks += [math.radians(p) for p in res.peaks_deg[max(k - 1, 0) :]]
         value = max(peaks) if peaks else 0.0
-    return RungAnswer(rung.name, value, q.unit, wall, res.status,
-                      {"n_steps": res.n_steps, "dt_s": scene.nscd_dt, "E_Pa": res.params["E_Pa"],
-                       "n_elements": res.params["n_elements"],
-                       "cost_per_step_us": res.cost_per_step_us})
+    return RungAnswer(
+        rung.name,
+        value,
+        q.unit,
+        wall,
+        res.status,
+        {
+            "n_steps": res.n_steps,
+            "dt_s": scene.nscd_dt,
+            "E_Pa": res.params["E_Pa"],
+            "n_elements": res.params["n_elements"],
+            "cost_per_step_us": res.cost_per_step_us,
+        },
+    )

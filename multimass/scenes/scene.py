@@ -14,7 +14,8 @@ A `Scene` is built in Python or read from a TOML file (`Scene.from_toml`)::
     [question]
     kind = "peak_rotation"       # | overturning | peak_acceleration | uplifted_frequencies
     [tolerance]
-    relative = 0.05              # or absolute_rad / absolute_deg / absolute_m_per_s2 / absolute_g / absolute_hz
+    relative = 0.05              # or absolute_rad / absolute_deg / absolute_m_per_s2
+                                 # / absolute_g / absolute_hz
     [simulation]                 # optional
     t_end_s = 6.0
     impact = "DD2"               # restitution, max_step_s, nscd_dt_s, nscd_elements
@@ -27,14 +28,14 @@ free_release: theta0_rad or theta0_deg, [u0_m]; sine_wave, cosine_wave, cosine_p
 Questions and their answers:
 
 ``peak_rotation``
-    Largest |θ| (rad) over the half-cycles after `after_impacts` impacts
+    Largest ``|θ|`` (rad) over the half-cycles after `after_impacts` impacts
     (default 1 for a free release — its first peak is the release angle
     itself — else 0). An overturned structure answers π/2.
 ``overturning``
     True if the structure overturns before t_end. Verdicts must agree, so the
     scene has no [tolerance] table.
 ``peak_acceleration``
-    Largest |total lateral acceleration| (m/s², paper 001 Eq 7) at a column
+    Largest absolute total lateral acceleration (m/s², paper 001 Eq 7) at a column
     node (`node`, 1-based, or `sensor`, a name of the specimen's [sensors]).
 ``uplifted_frequencies``
     The first `n_modes` (default 2) uplifted vibration frequencies (Hz) of the
@@ -129,7 +130,7 @@ class Scene:
 
     @property
     def kind(self) -> str:
-        """"column", "block" (rigid ground) or "block_on_beam"."""
+        """ "column", "block" (rigid ground) or "block_on_beam"."""
         if self.spec.kind == "column":
             return "column"
         return "block" if self.beam is None else "block_on_beam"
@@ -183,7 +184,7 @@ class Scene:
         return Tolerance.verdict() if self.question.kind == "overturning" else self.tolerance
 
     @classmethod
-    def from_toml(cls, path) -> "Scene":
+    def from_toml(cls, path) -> Scene:
         """Read and validate a scene file (module docstring); paths resolve against its folder.
 
         A missing, empty, binary or non-UTF-8 file, a directory or bad TOML syntax is an
@@ -194,15 +195,28 @@ class Scene:
     def describe(self) -> dict:
         """A JSON-ready description of the scene."""
         spec = self.spec
-        exc = self.excitation.describe() if hasattr(self.excitation, "describe") else repr(self.excitation)
-        return {"name": self.name, "specimen": spec.name, "kind": self.kind,
-                "beam": None if self.beam_spec is None else self.beam_spec.name,
-                "E_Pa": self.E, "excitation": exc, "question": self.question.kind,
-                "node": self.node, "n_modes": self.question.n_modes if
-                self.question.kind == "uplifted_frequencies" else None,
-                "after_impacts": self.after_impacts if self.question.kind == "peak_rotation" else None,
-                "tolerance": self.tol.to_dict(), "t_end_s": self.duration,
-                "impact": self.impact_model, "restitution": self.restitution_value,
-                "max_step_s": self.solver_max_step,
-                "source": self.source or None}
-
+        exc = (
+            self.excitation.describe()
+            if hasattr(self.excitation, "describe")
+            else repr(self.excitation)
+        )
+        return {
+            "name": self.name,
+            "specimen": spec.name,
+            "kind": self.kind,
+            "beam": None if self.beam_spec is None else self.beam_spec.name,
+            "E_Pa": self.E,
+            "excitation": exc,
+            "question": self.question.kind,
+            "node": self.node,
+            "n_modes": self.question.n_modes
+            if self.question.kind == "uplifted_frequencies"
+            else None,
+            "after_impacts": self.after_impacts if self.question.kind == "peak_rotation" else None,
+            "tolerance": self.tol.to_dict(),
+            "t_end_s": self.duration,
+            "impact": self.impact_model,
+            "restitution": self.restitution_value,
+            "max_step_s": self.solver_max_step,
+            "source": self.source or None,
+        }

@@ -69,11 +69,18 @@ def _structure(data, w: str, folder: Path) -> dict:
     if "E_Pa" in data and "E_over_Ebar" in data:
         raise InputError(f"{w}: give one of `structure.E_Pa` and `structure.E_over_Ebar`, not both")
     if "E_Pa" in data:
-        out["E"] = _number(w, "structure.E_Pa", data["E_Pa"], low=0.0, low_open=True,
-                           what="Young's modulus in Pa")
+        out["E"] = _number(
+            w, "structure.E_Pa", data["E_Pa"], low=0.0, low_open=True, what="Young's modulus in Pa"
+        )
     elif "E_over_Ebar" in data:
-        ratio = _number(w, "structure.E_over_Ebar", data["E_over_Ebar"], low=0.0, low_open=True,
-                        what="E / Ē, Ē giving a midspan deflection L/2500 (paper 002, Section 6.3)")
+        ratio = _number(
+            w,
+            "structure.E_over_Ebar",
+            data["E_over_Ebar"],
+            low=0.0,
+            low_open=True,
+            what="E / Ē, Ē giving a midspan deflection L/2500 (paper 002, Section 6.3)",
+        )
         if "beam" not in out:
             raise InputError(f"{w}: `structure.E_over_Ebar` needs `structure.beam`")
         out["E_over_Ebar"] = ratio
@@ -94,11 +101,17 @@ def _excitation(data, w: str, folder: Path):
     _keys(w, "excitation", data, optional | {"kind"}, required)
     if kind == "free_release":
         if ("theta0_rad" in data) == ("theta0_deg" in data):
-            raise InputError(f"{w}: a free release needs exactly one of `excitation.theta0_rad` "
-                             "and `excitation.theta0_deg`")
-        th = (_number(w, "excitation.theta0_rad", data["theta0_rad"], what="an angle in rad")
-              if "theta0_rad" in data else
-              math.radians(_number(w, "excitation.theta0_deg", data["theta0_deg"], what="an angle in deg")))
+            raise InputError(
+                f"{w}: a free release needs exactly one of `excitation.theta0_rad` "
+                "and `excitation.theta0_deg`"
+            )
+        th = (
+            _number(w, "excitation.theta0_rad", data["theta0_rad"], what="an angle in rad")
+            if "theta0_rad" in data
+            else math.radians(
+                _number(w, "excitation.theta0_deg", data["theta0_deg"], what="an angle in deg")
+            )
+        )
         u0 = data.get("u0_m")
         if u0 is not None:
             u0 = _number(w, "excitation.u0_m", u0, what="the top node's initial displacement in m")
@@ -106,15 +119,31 @@ def _excitation(data, w: str, folder: Path):
     if kind == "record":
         if not isinstance(data["path"], str):
             raise _fail(w, "excitation.path", data["path"], "give the record file's path")
-        scale = _number(w, "excitation.scale", data.get("scale", 1.0), low=0.0, low_open=True,
-                        what="a factor on the record")
+        scale = _number(
+            w,
+            "excitation.scale",
+            data.get("scale", 1.0),
+            low=0.0,
+            low_open=True,
+            what="a factor on the record",
+        )
         path = Path(resolve_path(data["path"], folder))
         if not path.is_file():
-            raise _fail(w, "excitation.path", data["path"], f"no such file ({path}); paths are "
-                        "relative to the scene file's folder")
+            raise _fail(
+                w,
+                "excitation.path",
+                data["path"],
+                f"no such file ({path}); paths are relative to the scene file's folder",
+            )
         return read_record(path, units=data.get("units"), scale=scale)
-    omega = _number(w, "excitation.omega_rad_per_s", data["omega_rad_per_s"], low=0.0,
-                    low_open=True, what="a circular frequency in rad/s")
+    omega = _number(
+        w,
+        "excitation.omega_rad_per_s",
+        data["omega_rad_per_s"],
+        low=0.0,
+        low_open=True,
+        what="a circular frequency in rad/s",
+    )
     amp = _amplitude(w, data)
     if kind == "sine_wave":
         return SineWave(amplitude=amp, omega=omega)
@@ -143,19 +172,33 @@ def _tolerance(data, w: str, question: Question) -> Tolerance | None:
     if data is None:
         if question.kind == "overturning":
             return None
-        raise InputError(f"{w}: missing table [tolerance]; add e.g. `relative = 0.05` (5 %) or "
-                         f"an absolute tolerance in the answer's unit ({question.unit})")
+        raise InputError(
+            f"{w}: missing table [tolerance]; add e.g. `relative = 0.05` (5 %) or "
+            f"an absolute tolerance in the answer's unit ({question.unit})"
+        )
     _keys(w, "tolerance", data, {"relative", *_ABS_KEYS})
     if len(data) != 1:
-        raise InputError(f"{w}: [tolerance] needs exactly one of `relative`, "
-                         f"{', '.join('`' + k + '`' for k in _ABS_KEYS)}; got {sorted(data) or 'none'}")
-    (key, value), = data.items()
+        raise InputError(
+            f"{w}: [tolerance] needs exactly one of `relative`, "
+            f"{', '.join('`' + k + '`' for k in _ABS_KEYS)}; got {sorted(data) or 'none'}"
+        )
+    ((key, value),) = data.items()
     if key == "relative":
-        return Tolerance(_number(w, "tolerance.relative", value, low=0.0, low_open=True, high=1.0,
-                                 what="a fraction, e.g. 0.05 for 5 %"), relative=True)
+        return Tolerance(
+            _number(
+                w,
+                "tolerance.relative",
+                value,
+                low=0.0,
+                low_open=True,
+                high=1.0,
+                what="a fraction, e.g. 0.05 for 5 %",
+            ),
+            relative=True,
+        )
     unit, factor = _ABS_KEYS[key]
     x = _number(w, f"tolerance.{key}", value, low=0.0, low_open=True, what=f"a tolerance in {unit}")
-    if factor is None:              # absolute_g: in units of g
+    if factor is None:  # absolute_g: in units of g
         factor = G
     return Tolerance(x * factor, relative=False, unit=unit)
 
@@ -163,10 +206,20 @@ def _tolerance(data, w: str, question: Question) -> Tolerance | None:
 def _simulation(data, w: str) -> dict:
     if data is None:
         return {}
-    _keys(w, "simulation", data, {"t_end_s", "impact", "restitution", "max_step_s", "nscd_dt_s",
-                                  "nscd_elements"})
-    names = {"t_end_s": "t_end", "impact": "impact", "restitution": "restitution",
-             "max_step_s": "max_step", "nscd_dt_s": "nscd_dt", "nscd_elements": "nscd_elements"}
+    _keys(
+        w,
+        "simulation",
+        data,
+        {"t_end_s", "impact", "restitution", "max_step_s", "nscd_dt_s", "nscd_elements"},
+    )
+    names = {
+        "t_end_s": "t_end",
+        "impact": "impact",
+        "restitution": "restitution",
+        "max_step_s": "max_step",
+        "nscd_dt_s": "nscd_dt",
+        "nscd_elements": "nscd_elements",
+    }
     return {names[k]: v for k, v in data.items()}
 
 
@@ -174,8 +227,13 @@ def arguments_from_mapping(data, source: str, folder: Path) -> dict:
     """The keyword arguments of a `Scene`, from a parsed TOML mapping (`Scene.from_toml`
     builds the scene); `source` names the file in errors."""
     w = source
-    _keys(w, "", data, {"description", "tolerance", "simulation"},
-          {"name", "structure", "excitation", "question"})
+    _keys(
+        w,
+        "",
+        data,
+        {"description", "tolerance", "simulation"},
+        {"name", "structure", "excitation", "question"},
+    )
     if not isinstance(data["name"], str) or not data["name"].strip():
         raise _fail(w, "name", data["name"], "give the scene a name")
     st = _structure(data["structure"], w, Path(folder))
@@ -185,10 +243,18 @@ def arguments_from_mapping(data, source: str, folder: Path) -> dict:
     ratio = st.pop("E_over_Ebar", None)
     if ratio is not None:
         import multimass.nscd as nscd
+
         try:
             st["E"] = nscd.flexible_modulus(st["specimen"], st["beam"]) * ratio
         except ValueError as exc_:
             raise InputError(f"{w}: `structure` = {data['structure']!r}: {exc_}") from None
-    return dict(name=data["name"], description=str(data.get("description", "")), excitation=exc,
-                 question=question, tolerance=tol, source=source, **st,
-                 **_simulation(data.get("simulation"), w))
+    return dict(
+        name=data["name"],
+        description=str(data.get("description", "")),
+        excitation=exc,
+        question=question,
+        tolerance=tol,
+        source=source,
+        **st,
+        **_simulation(data.get("simulation"), w),
+    )

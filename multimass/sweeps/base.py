@@ -33,12 +33,12 @@ def validate_workers(workers: Any) -> int | None:
     if workers is None:
         return None
     if isinstance(workers, bool) or not hasattr(workers, "__index__"):
-        raise InputError(f"`workers` = {workers!r}: expected a positive integer or None "
-                         "(None uses all cores)")
+        raise InputError(
+            f"`workers` = {workers!r}: expected a positive integer or None (None uses all cores)"
+        )
     n = workers.__index__()
     if n < 1:
-        raise InputError(f"`workers` = {workers!r}: must be at least 1; "
-                         "pass None to use all cores")
+        raise InputError(f"`workers` = {workers!r}: must be at least 1; pass None to use all cores")
     return n
 
 
@@ -68,8 +68,9 @@ class Executor(abc.ABC):
         """Number of tasks that can run at once (sizes the default batches)."""
 
     @abc.abstractmethod
-    def map_unordered(self, fn: Callable[[Any], Any],
-                      args: Sequence[Any]) -> Iterator[tuple[int, Any]]:
+    def map_unordered(
+        self, fn: Callable[[Any], Any], args: Sequence[Any]
+    ) -> Iterator[tuple[int, Any]]:
         """Apply `fn` to each of `args`, one task each.
 
         Yields ``(i, fn(args[i]))`` as tasks finish, in any order. If a task
@@ -94,7 +95,7 @@ class Executor(abc.ABC):
                 "of a module (no lambda or nested function), or use executor='serial'"
             ) from exc
 
-    def close(self) -> None:
+    def close(self) -> None:  # noqa: B027 (a no-op by default; executors that start things override it)
         """Release workers, pools or clusters this executor started (idempotent)."""
 
     def __enter__(self) -> Executor:

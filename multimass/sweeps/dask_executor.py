@@ -21,8 +21,9 @@ def _import_distributed():
     try:
         import distributed
     except ImportError as exc:
-        raise ImportError(f"the `dask` executor needs dask.distributed, which is not "
-                          f"installed; {_DASK_HINT}") from exc
+        raise ImportError(
+            f"the `dask` executor needs dask.distributed, which is not installed; {_DASK_HINT}"
+        ) from exc
     return distributed
 
 
@@ -56,21 +57,32 @@ class DaskExecutor(Executor):
 
     name = "dask"
 
-    def __init__(self, workers: int | None = None, *, address: str | None = None,
-                 client: Any = None, connect_timeout: float = 10.0, **cluster_options):
+    def __init__(
+        self,
+        workers: int | None = None,
+        *,
+        address: str | None = None,
+        client: Any = None,
+        connect_timeout: float = 10.0,
+        **cluster_options,
+    ):
         self._distributed = _import_distributed()
         if address is not None and (not isinstance(address, str) or not address.strip()):
-            raise InputError(f"`address` = {address!r}: give the scheduler address, e.g. "
-                             "'tcp://10.0.0.5:8786' (printed by `dask scheduler`)")
+            raise InputError(
+                f"`address` = {address!r}: give the scheduler address, e.g. "
+                "'tcp://10.0.0.5:8786' (printed by `dask scheduler`)"
+            )
 
         self._timeout = positive("connect_timeout", connect_timeout, "s")
         self._n_local = validate_workers(workers)
         if client is not None and address is not None:
             raise InputError("`client` and `address` both given: pass one of them")
         if (client is not None or address is not None) and (workers or cluster_options):
-            raise InputError(f"`workers` = {workers!r} / cluster options "
-                             f"{sorted(cluster_options)} apply only to a LocalCluster started "
-                             "here; the cluster behind `client`/`address` has its own workers")
+            raise InputError(
+                f"`workers` = {workers!r} / cluster options "
+                f"{sorted(cluster_options)} apply only to a LocalCluster started "
+                "here; the cluster behind `client`/`address` has its own workers"
+            )
         self._address = address
         self._client = client
         self._cluster_options = cluster_options
@@ -88,6 +100,7 @@ class DaskExecutor(Executor):
         address = self._address
         if address is None and self._n_local is None and not self._cluster_options:
             import dask.config
+
             address = dask.config.get("scheduler-address", None)
             if address is None:
                 try:
@@ -96,17 +109,21 @@ class DaskExecutor(Executor):
                     pass
         if address is not None:
             try:
-                self._own_client = d.Client(address, set_as_default=False,
-                                            timeout=self._timeout)
+                self._own_client = d.Client(address, set_as_default=False, timeout=self._timeout)
             except (OSError, TimeoutError, ValueError) as exc:
                 raise InputError(
                     f"no Dask scheduler answered at `address` (--dask-address) = {address!r} "
                     f"within {self._timeout:g} s ({type(exc).__name__}: {exc}); start one with "
                     "`dask scheduler` and workers with `dask worker ADDRESS`, or check the "
-                    "address") from None
+                    "address"
+                ) from None
             return self._own_client
-        options = dict(n_workers=self._n_local or available_workers(), threads_per_worker=1,
-                       processes=True, dashboard_address=":0")
+        options = dict(
+            n_workers=self._n_local or available_workers(),
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=":0",
+        )
         options.update(self._cluster_options)
         self._own_cluster = d.LocalCluster(**options)
         self._own_client = d.Client(self._own_cluster, set_as_default=False)
@@ -120,11 +137,13 @@ class DaskExecutor(Executor):
         from distributed.protocol.pickle import (
             dumps,  # cloudpickle-backed, as Dask sends it
         )
+
         try:
             dumps(func)
         except Exception as exc:
-            raise InputError(f"`func` = {func!r} cannot be pickled for Dask "
-                             f"({type(exc).__name__}: {exc})") from exc
+            raise InputError(
+                f"`func` = {func!r} cannot be pickled for Dask ({type(exc).__name__}: {exc})"
+            ) from exc
 
     def map_unordered(self, fn, args):
         client = self.client

@@ -74,8 +74,10 @@ def _portable(exc: BaseException) -> BaseException:
         pickle.loads(pickle.dumps(exc))
         return exc
     except Exception:
-        return RuntimeError(f"{type(exc).__module__}.{type(exc).__qualname__}: {exc} "
-                            "(the original exception could not be pickled)")
+        return RuntimeError(
+            f"{type(exc).__module__}.{type(exc).__qualname__}: {exc} "
+            "(the original exception could not be pickled)"
+        )
 
 
 class _Failure:
@@ -171,8 +173,10 @@ def _validate_batch_size(batch_size: Any) -> int | None:
     if batch_size is None:
         return None
     if isinstance(batch_size, bool) or not hasattr(batch_size, "__index__"):
-        raise InputError(f"`batch_size` = {batch_size!r}: expected a positive integer or "
-                         "None (None picks a few batches per worker)")
+        raise InputError(
+            f"`batch_size` = {batch_size!r}: expected a positive integer or "
+            "None (None picks a few batches per worker)"
+        )
     if batch_size.__index__() < 1:
         raise InputError(f"`batch_size` = {batch_size!r}: must be at least 1")
     return batch_size.__index__()
@@ -182,8 +186,10 @@ def _show_progress(progress: Any, n_jobs: int) -> bool:
     if progress is None:
         return n_jobs > PROGRESS_MIN_JOBS and bool(getattr(sys.stderr, "isatty", bool)())
     if not isinstance(progress, bool):
-        raise InputError(f"`progress` = {progress!r}: expected True, False or None "
-                         "(None shows a bar for long sweeps on a terminal)")
+        raise InputError(
+            f"`progress` = {progress!r}: expected True, False or None "
+            "(None shows a bar for long sweeps on a terminal)"
+        )
     return progress
 
 
@@ -197,14 +203,23 @@ def _raise_job_error(fail: _Failure, index: int, n_jobs: int, executor: Executor
     exc = fail.exc
     if fail.remote:  # the pickled exception lost its traceback: chain the worker's text
         exc.__cause__ = _RemoteTraceback(f'\n"""\n{fail.tb}"""')
-    raise JobError(f"job {index} of {n_jobs} failed in the `{executor.name}` executor: "
-                   f"{type(exc).__name__}: {exc}", index) from exc
+    raise JobError(
+        f"job {index} of {n_jobs} failed in the `{executor.name}` executor: "
+        f"{type(exc).__name__}: {exc}",
+        index,
+    ) from exc
 
 
-def run_jobs(func: Callable[[Any], Any], jobs: Iterable[Any], *,
-             executor: str | type[Executor] | Executor = "process",
-             workers: int | None = None, batch_size: int | None = None,
-             progress: bool | None = None, desc: str | None = None) -> list:
+def run_jobs(
+    func: Callable[[Any], Any],
+    jobs: Iterable[Any],
+    *,
+    executor: str | type[Executor] | Executor = "process",
+    workers: int | None = None,
+    batch_size: int | None = None,
+    progress: bool | None = None,
+    desc: str | None = None,
+) -> list:
     """Apply `func` to every job and return the results in job order.
 
     Parameters
@@ -290,8 +305,10 @@ def _drive(func, plan, jobs, ex: Executor, show: bool, desc: str | None) -> list
                 _raise_job_error(out, index[out.index], n_jobs, ex)
             size = len(index)
             if not isinstance(out, list) or len(out) != size:
-                raise ExecutorError(f"the `{ex.name}` executor returned {type(out).__name__} "
-                                    f"for batch {pos}; expected a list of {size} results")
+                raise ExecutorError(
+                    f"the `{ex.name}` executor returned {type(out).__name__} "
+                    f"for batch {pos}; expected a list of {size} results"
+                )
             for i, r in zip(index, out):
                 results[i] = r
             done += size
@@ -302,11 +319,14 @@ def _drive(func, plan, jobs, ex: Executor, show: bool, desc: str | None) -> list
         raise ExecutorError(
             f"the `{ex.name}` executor failed after {done} of {n_jobs} jobs: "
             f"{type(exc).__name__}: {exc}. `func`, the jobs and their results must be "
-            "picklable, and a job must not kill its worker (memory, segfault)") from exc
+            "picklable, and a job must not kill its worker (memory, segfault)"
+        ) from exc
     finally:
         getattr(stream, "close", lambda: None)()  # a generator cancels pending tasks
         bar.close()
     if done != n_jobs:
-        raise ExecutorError(f"the `{ex.name}` executor finished {done} of {n_jobs} jobs; "
-                            "its map_unordered must yield every batch once")
+        raise ExecutorError(
+            f"the `{ex.name}` executor finished {done} of {n_jobs} jobs; "
+            "its map_unordered must yield every batch once"
+        )
     return results

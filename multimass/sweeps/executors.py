@@ -40,8 +40,10 @@ class SerialExecutor(Executor):
 
     def __init__(self, workers: int | None = None):
         if validate_workers(workers) not in (None, 1):
-            raise InputError(f"`workers` = {workers!r}: the serial executor runs one job at "
-                             "a time; drop `workers` or use executor='process'")
+            raise InputError(
+                f"`workers` = {workers!r}: the serial executor runs one job at "
+                "a time; drop `workers` or use executor='process'"
+            )
 
     @property
     def workers(self) -> int:
@@ -73,8 +75,10 @@ def _preload_in_forkserver(*modules: str | None) -> None:
     modules others asked for are kept (read from a private attribute, defensively).
     """
     from multiprocessing import forkserver
-    current = list(getattr(getattr(forkserver, "_forkserver", None), "_preload_modules", None)
-                   or ["__main__"])
+
+    current = list(
+        getattr(getattr(forkserver, "_forkserver", None), "_preload_modules", None) or ["__main__"]
+    )
     wanted = current + [m for m in ("multimass", *modules) if m and m not in current]
     if wanted != current:
         forkserver.set_forkserver_preload(wanted)
@@ -84,7 +88,7 @@ def _refers_to_main(obj) -> bool:
     """True if pickling `obj` refers to ``__main__`` (a class or function of the user's script)."""
     try:
         return b"__main__" in pickle.dumps(obj)
-    except Exception:           # let the pool report the pickling problem itself
+    except Exception:  # let the pool report the pickling problem itself
         return True
 
 
@@ -109,11 +113,13 @@ def _script_not_rerun():
         sys.modules["__main__"] = main
 
 
-_BROKEN_HINT = ("a worker process died before it could run a job. In a script, this is "
-                "usually the missing guard: process pools start each worker by importing the "
-                "script again, so put the code that runs the sweep under "
-                "`if __name__ == \"__main__\":` (or pass executor=\"serial\"); otherwise a job "
-                "ran out of memory or crashed its worker")
+_BROKEN_HINT = (
+    "a worker process died before it could run a job. In a script, this is "
+    "usually the missing guard: process pools start each worker by importing the "
+    "script again, so put the code that runs the sweep under "
+    '`if __name__ == "__main__":` (or pass executor="serial"); otherwise a job '
+    "ran out of memory or crashed its worker"
+)
 
 
 class ProcessExecutor(Executor):
@@ -150,13 +156,14 @@ class ProcessExecutor(Executor):
 
     name = "process"
 
-    def __init__(self, workers: int | None = None, start_method: str | None = None,
-                 preload=()):
+    def __init__(self, workers: int | None = None, start_method: str | None = None, preload=()):
         self._workers = validate_workers(workers) or available_workers()
         methods = multiprocessing.get_all_start_methods()
         if start_method is not None and start_method not in methods:
-            raise InputError(f"`start_method` = {start_method!r}: not available here; "
-                             f"choose one of {', '.join(map(repr, methods))} or None")
+            raise InputError(
+                f"`start_method` = {start_method!r}: not available here; "
+                f"choose one of {', '.join(map(repr, methods))} or None"
+            )
         self.start_method = start_method or _default_start_method()
         self.preload = tuple(preload)
         self._pool: ProcessPoolExecutor | None = None
@@ -168,15 +175,19 @@ class ProcessExecutor(Executor):
     def prepare(self, func):
         """Check that workers can import `func`; with 'forkserver', preload its module."""
         super().prepare(func)
-        target = getattr(func, "func", func)          # a functools.partial's function
+        target = getattr(func, "func", func)  # a functools.partial's function
         module = getattr(target, "__module__", None)
-        if (self.start_method != "fork" and module == "__main__"
-                and not getattr(sys.modules.get("__main__"), "__file__", None)):
+        if (
+            self.start_method != "fork"
+            and module == "__main__"
+            and not getattr(sys.modules.get("__main__"), "__file__", None)
+        ):
             raise InputError(
                 f"`func` = {func!r} is defined in an interactive session, which "
                 f"'{self.start_method}' workers cannot import; put it in a .py module and "
                 "import it, or use executor='dask' (pickles by value) or "
-                "ProcessExecutor(start_method='fork')")
+                "ProcessExecutor(start_method='fork')"
+            )
         if self.start_method == "forkserver":
             _preload_in_forkserver(module, *self.preload)
 
@@ -190,7 +201,7 @@ class ProcessExecutor(Executor):
         pool = self._get_pool()
         args = list(args)
         hide = self.start_method != "fork" and not _refers_to_main((fn, args))
-        with _script_not_rerun() if hide else nullcontext():    # workers start in submit
+        with _script_not_rerun() if hide else nullcontext():  # workers start in submit
             position = {pool.submit(fn, a): i for i, a in enumerate(args)}
         pending = set(position)
         try:
@@ -223,8 +234,9 @@ EXECUTORS: dict[str, type[Executor]] = {
 }
 
 
-def get_executor(executor: str | type[Executor] | Executor = "process",
-                 workers: int | None = None, **options) -> Executor:
+def get_executor(
+    executor: str | type[Executor] | Executor = "process", workers: int | None = None, **options
+) -> Executor:
     """An executor from a registry name, an `Executor` subclass or an instance.
 
     Parameters
@@ -246,18 +258,24 @@ def get_executor(executor: str | type[Executor] | Executor = "process",
     """
     if isinstance(executor, Executor):
         if workers is not None or options:
-            raise InputError(f"`workers`/options given with the executor instance "
-                             f"{executor!r}: pass them to its constructor instead")
+            raise InputError(
+                f"`workers`/options given with the executor instance "
+                f"{executor!r}: pass them to its constructor instead"
+            )
         return executor
     if isinstance(executor, str):
         cls = EXECUTORS.get(executor.lower())
         if cls is None:
-            raise InputError(f"`executor` = {executor!r}: unknown executor; choose one of "
-                             f"{', '.join(map(repr, EXECUTORS))}, or pass an Executor")
+            raise InputError(
+                f"`executor` = {executor!r}: unknown executor; choose one of "
+                f"{', '.join(map(repr, EXECUTORS))}, or pass an Executor"
+            )
     elif isinstance(executor, type) and issubclass(executor, Executor):
         cls = executor
     else:
-        raise InputError(f"`executor` = {executor!r}: expected a name "
-                         f"({', '.join(map(repr, EXECUTORS))}), an Executor subclass "
-                         "or an Executor instance")
+        raise InputError(
+            f"`executor` = {executor!r}: expected a name "
+            f"({', '.join(map(repr, EXECUTORS))}), an Executor subclass "
+            "or an Executor instance"
+        )
     return cls(workers, **options)

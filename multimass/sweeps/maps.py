@@ -28,8 +28,14 @@ from .engine import run_jobs
 from .executors import get_executor
 from .ranges import check_values
 
-__all__ = ["OverturningMap", "overturning_map", "map_cell", "OUTCOMES", "executor_session",
-           "default_backend"]
+__all__ = [
+    "OverturningMap",
+    "overturning_map",
+    "map_cell",
+    "OUTCOMES",
+    "executor_session",
+    "default_backend",
+]
 
 OUTCOMES = ("no_rocking", "rest", "overturned", "undecided")
 #: An undecided cell is run once more with this many times the free-rocking time.
@@ -95,17 +101,25 @@ def map_cell(cell: _Cell) -> tuple:
     st = cell.structure
     exc = PULSES[cell.pulse](amplitude=cell.a0, omega=cell.omega)
     for t_free in (cell.t_free, UNDECIDED_RETRY * cell.t_free):
-        resp = simulate_outcome(st, exc, t_end=exc.duration + t_free, stop_when_safe=True,
-                                **cell.options)
+        resp = simulate_outcome(
+            st, exc, t_end=exc.duration + t_free, stop_when_safe=True, **cell.options
+        )
         if resp.status == "failed":
-            raise RuntimeError(f"cell ω = {cell.omega:.6g} rad/s, a0 = {cell.a0:.6g} m/s²: "
-                               f"{resp.message}")
+            raise RuntimeError(
+                f"cell ω = {cell.omega:.6g} rad/s, a0 = {cell.a0:.6g} m/s²: {resp.message}"
+            )
         outcome = _classify(resp)
         if outcome != "undecided":
             break
     t_over = next((e.time for e in resp.events if e.kind == "overturn"), math.nan)
-    return (outcome, t_over, resp.theta_max / st.alpha_cg, resp.n_impacts, resp.n_rhs,
-            resp.status != "inaccurate")
+    return (
+        outcome,
+        t_over,
+        resp.theta_max / st.alpha_cg,
+        resp.n_impacts,
+        resp.n_rhs,
+        resp.status != "inaccurate",
+    )
 
 
 @dataclass(frozen=True, eq=False)
@@ -159,8 +173,9 @@ class OverturningMap:
         """Smallest a0/(α g) that overturns, per ω/p (refined; None if none in range)."""
         out = []
         for w in self.omega_p:
-            b = self.boundaries[(self.boundaries.omega_p == w)
-                                & (self.boundaries.high_outcome == "overturned")]
+            b = self.boundaries[
+                (self.boundaries.omega_p == w) & (self.boundaries.high_outcome == "overturned")
+            ]
             cells = self.cells[(self.cells.omega_p == w) & (self.cells.outcome == "overturned")]
             if cells.empty:
                 out.append(None)
@@ -182,20 +197,23 @@ class OverturningMap:
     def summary(self) -> dict:
         """JSON-ready summary (keys of the `multimass stability --json` object)."""
         counts = self.cells[self.cells.grid].outcome.value_counts().to_dict()
-        return {"block": self.block, "pulse": self.pulse,
-                "restitution": self.options.get("restitution_name"),
-                "restitution_value": self.options.get("restitution_value"),
-                "k": self.options.get("k"),
-                "omega_p": [float(w) for w in self.omega_p],
-                "amp": [float(a) for a in self.amp],
-                "min_overturn_amp": self.min_overturn_amp(),
-                "overturn_fraction": self.overturn_fraction(),
-                "undecided_fraction": self.undecided_fraction(),
-                "outcomes": {k: int(counts.get(k, 0)) for k in OUTCOMES},
-                "inaccurate": int((~self.cells.accurate).sum()),
-                "n_simulations": int(len(self.cells)),
-                "wall_time_s": float(self.wall_time_s),
-                "options": {k: v for k, v in self.options.items() if k not in ("restitution_name",)}}
+        return {
+            "block": self.block,
+            "pulse": self.pulse,
+            "restitution": self.options.get("restitution_name"),
+            "restitution_value": self.options.get("restitution_value"),
+            "k": self.options.get("k"),
+            "omega_p": [float(w) for w in self.omega_p],
+            "amp": [float(a) for a in self.amp],
+            "min_overturn_amp": self.min_overturn_amp(),
+            "overturn_fraction": self.overturn_fraction(),
+            "undecided_fraction": self.undecided_fraction(),
+            "outcomes": {k: int(counts.get(k, 0)) for k in OUTCOMES},
+            "inaccurate": int((~self.cells.accurate).sum()),
+            "n_simulations": int(len(self.cells)),
+            "wall_time_s": float(self.wall_time_s),
+            "options": {k: v for k, v in self.options.items() if k not in ("restitution_name",)},
+        }
 
 
 def default_backend(sim_options: dict) -> dict:
@@ -208,16 +226,29 @@ def default_backend(sim_options: dict) -> dict:
 def _block(block) -> Structure:
     st = block if isinstance(block, Structure) else from_specimen(block)
     if st.n != 0:
-        raise InputError(f"`block` = {st.name!r} is not a rigid block; overturning maps are "
-                         "for rigid blocks (use a rocking spectrum for columns)")
+        raise InputError(
+            f"`block` = {st.name!r} is not a rigid block; overturning maps are "
+            "for rigid blocks (use a rocking spectrum for columns)"
+        )
     return st
 
 
-def overturning_map(block, pulse: str = "sine", omega_p=np.linspace(1, 10, 10),
-                    amp=np.linspace(0.5, 5, 10), *, impact: str = "CIM", restitution="modified",
-                    k: float | None = None, refine: int = 0, t_free: float = 10.0,
-                    executor="process", workers: int | None = None, progress=None,
-                    **sim_options) -> OverturningMap:
+def overturning_map(
+    block,
+    pulse: str = "sine",
+    omega_p=np.linspace(1, 10, 10),
+    amp=np.linspace(0.5, 5, 10),
+    *,
+    impact: str = "CIM",
+    restitution="modified",
+    k: float | None = None,
+    refine: int = 0,
+    t_free: float = 10.0,
+    executor="process",
+    workers: int | None = None,
+    progress=None,
+    **sim_options,
+) -> OverturningMap:
     """Overturning map over (ω/p, a0/(α g)) for a single sine or cosine pulse (paper 004).
 
     Parameters
@@ -257,58 +288,82 @@ def overturning_map(block, pulse: str = "sine", omega_p=np.linspace(1, 10, 10),
     t_free = v.positive("t_free", t_free, "free rocking after the pulse, s")
     from multimass.impact_models import impact_model
 
-    model = impact_model(impact, st.specimen, restitution, k)   # validates restitution and k
+    model = impact_model(impact, st.specimen, restitution, k)  # validates restitution and k
     sim_options = default_backend(sim_options)
     options = dict(impact=impact, restitution=restitution, k=k) | sim_options
     scale_a = st.alpha_cg * st.g
 
     def cells_for(pairs):
-        return [_Cell(st, pulse, float(w * st.p), float(a * scale_a), t_free, options)
-                for w, a in pairs]
+        return [
+            _Cell(st, pulse, float(w * st.p), float(a * scale_a), t_free, options) for w, a in pairs
+        ]
 
     # the options and the longest cell (lowest ω, retried) checked here, before any worker
     slow = cells_for([(omega_p[0], amp[-1])])[0]
     exc = PULSES[pulse](amplitude=slow.a0, omega=slow.omega)
-    estimate(st, exc, t_end=exc.duration + UNDECIDED_RETRY * t_free, stop_when_safe=True,
-             **options)
+    estimate(st, exc, t_end=exc.duration + UNDECIDED_RETRY * t_free, stop_when_safe=True, **options)
 
     wall = time.perf_counter()
     pairs = [(w, a) for a in amp for w in omega_p]
     with executor_session(executor, workers, options.get("backend") == "compiled") as ex:
-        results = run_jobs(map_cell, cells_for(pairs), executor=ex, progress=progress,
-                           desc=f"{st.name} {pulse} map")
+        results = run_jobs(
+            map_cell,
+            cells_for(pairs),
+            executor=ex,
+            progress=progress,
+            desc=f"{st.name} {pulse} map",
+        )
         rows = [_row(w, a, r, True) for (w, a), r in zip(pairs, results)]
         boundaries = _refine(rows, omega_p, int(refine), cells_for, ex, progress)
     rows += boundaries.pop("extra")
     wall = time.perf_counter() - wall
     rest_value = getattr(model.restitution, "k", None)
     return OverturningMap(
-        block=st.name, pulse=pulse, omega_p=omega_p, amp=amp, cells=pd.DataFrame(rows),
-        boundaries=pd.DataFrame(boundaries["segments"],
-                                columns=["omega_p", "amp_low", "amp_high", "low_outcome", "high_outcome"]),
-        options={"restitution_name": restitution if isinstance(restitution, str) else "value",
-                 "restitution_value": model.restitution.describe(), "k": rest_value,
-                 "impact": impact, "refine": int(refine), "t_free": t_free,
-                 **{k_: v for k_, v in sim_options.items()}},
-        wall_time_s=wall)
+        block=st.name,
+        pulse=pulse,
+        omega_p=omega_p,
+        amp=amp,
+        cells=pd.DataFrame(rows),
+        boundaries=pd.DataFrame(
+            boundaries["segments"],
+            columns=["omega_p", "amp_low", "amp_high", "low_outcome", "high_outcome"],
+        ),
+        options={
+            "restitution_name": restitution if isinstance(restitution, str) else "value",
+            "restitution_value": model.restitution.describe(),
+            "k": rest_value,
+            "impact": impact,
+            "refine": int(refine),
+            "t_free": t_free,
+            **{k_: v for k_, v in sim_options.items()},
+        },
+        wall_time_s=wall,
+    )
 
 
 def _row(w, a, result, grid):
     outcome, t_over, theta, impacts, _, accurate = result
-    return {"omega_p": float(w), "amp": float(a), "outcome": outcome, "overturn_time": t_over,
-            "theta_max_over_alpha": theta, "n_impacts": impacts, "accurate": bool(accurate),
-            "grid": grid}
+    return {
+        "omega_p": float(w),
+        "amp": float(a),
+        "outcome": outcome,
+        "overturn_time": t_over,
+        "theta_max_over_alpha": theta,
+        "n_impacts": impacts,
+        "accurate": bool(accurate),
+        "grid": grid,
+    }
 
 
 def _refine(rows, omega_p, rounds, cells_for, executor, progress) -> dict:
     """Bisect, in amplitude, every grid interval whose ends differ in overturning."""
-    columns: dict[float, list] = {}                   # rows by ω/p: one pass, not one per ω/p
+    columns: dict[float, list] = {}  # rows by ω/p: one pass, not one per ω/p
     for r in rows:
         columns.setdefault(r["omega_p"], []).append(r)
     segments = []
     for w in omega_p:
         col = sorted(columns.get(float(w), ()), key=lambda r: r["amp"])
-        for lo, hi in zip(col, col[1:]):          # undecided cells bound no boundary
+        for lo, hi in zip(col, col[1:]):  # undecided cells bound no boundary
             if "undecided" in (lo["outcome"], hi["outcome"]):
                 continue
             if (lo["outcome"] == "overturned") != (hi["outcome"] == "overturned"):
@@ -318,13 +373,18 @@ def _refine(rows, omega_p, rounds, cells_for, executor, progress) -> dict:
         if not segments:
             break
         mids = [(s[0], 0.5 * (s[1] + s[2])) for s in segments]
-        results = run_jobs(map_cell, cells_for(mids), executor=executor, progress=progress,
-                           desc="refining boundary")
+        results = run_jobs(
+            map_cell,
+            cells_for(mids),
+            executor=executor,
+            progress=progress,
+            desc="refining boundary",
+        )
         active = []
         for s, (w, a), r in zip(segments, mids, results):
             row = _row(w, a, r, False)
             extra.append(row)
-            if row["outcome"] == "undecided":      # keep the bracket, refine it no further
+            if row["outcome"] == "undecided":  # keep the bracket, refine it no further
                 stopped.append(s)
                 continue
             active.append(s)

@@ -13,8 +13,12 @@ from matplotlib.patches import Patch
 __all__ = ["plot_map", "plot_map_comparison", "plot_spectrum"]
 
 _CODES = {"no_rocking": 0, "rest": 1, "undecided": 2, "overturned": 3}
-_LABELS = {"no_rocking": "no rocking (never uplifts)", "rest": "rocks, then rests (safe)",
-           "undecided": "undecided (still rocking at the end)", "overturned": "overturns"}
+_LABELS = {
+    "no_rocking": "no rocking (never uplifts)",
+    "rest": "rocks, then rests (safe)",
+    "undecided": "undecided (still rocking at the end)",
+    "overturned": "overturns",
+}
 # distinct in lightness as well as hue (legible in grey and to colour-blind readers)
 _COLOURS = ["#f0f0f0", "#9ecae1", "#fdae6b", "#4d4d4d"]
 
@@ -31,12 +35,25 @@ def _edges(v: np.ndarray) -> np.ndarray:
 
 def _draw_map(ax, m, boundary_colour="k"):
     codes = np.vectorize(_CODES.get)(m.grid)
-    ax.pcolormesh(_edges(m.omega_p), _edges(m.amp), codes, cmap=ListedColormap(_COLOURS),
-                  vmin=-0.5, vmax=3.5, shading="flat")
+    ax.pcolormesh(
+        _edges(m.omega_p),
+        _edges(m.amp),
+        codes,
+        cmap=ListedColormap(_COLOURS),
+        vmin=-0.5,
+        vmax=3.5,
+        shading="flat",
+    )
     b = m.boundaries
     if not b.empty:
-        ax.plot(b.omega_p, 0.5 * (b.amp_low + b.amp_high), ".", color=boundary_colour, ms=3,
-                label=_BOUNDARY_LABEL)
+        ax.plot(
+            b.omega_p,
+            0.5 * (b.amp_low + b.amp_high),
+            ".",
+            color=boundary_colour,
+            ms=3,
+            label=_BOUNDARY_LABEL,
+        )
     ax.set_xlabel("ω/p")
     ax.set_ylabel("a0/(α g)")
 
@@ -59,20 +76,38 @@ def plot_map(m, path, title: str = "") -> Path:
     fig = Figure(figsize=(7.5, 5.5), layout="constrained")
     ax = fig.subplots()
     _draw_map(ax, m, boundary_colour="tab:red")
-    handles = [Patch(facecolor=c, edgecolor="0.6", label=_LABELS[k])
-               for k, c in zip(_CODES, _COLOURS)]
+    handles = [
+        Patch(facecolor=c, edgecolor="0.6", label=_LABELS[k]) for k, c in zip(_CODES, _COLOURS)
+    ]
     if not m.boundaries.empty:
         handles.append(Line2D([], [], ls="", marker=".", color="tab:red", label=_BOUNDARY_LABEL))
     bad = m.cells[m.cells.grid & ~m.cells.accurate]
     if not bad.empty:
         ax.plot(bad.omega_p, bad.amp, ls="", marker="x", ms=4, color="tab:purple")
-        handles.append(Line2D([], [], ls="", marker="x", color="tab:purple",
-                              label=f"accuracy check failed ({len(bad)} cells)"))
-    ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2,
-              fontsize=8, frameon=False)
-    ax.set_title(title or f"{m.block}: single {m.pulse} pulse, restitution {_restitution_label(m)}"
-                 f"\n{len(m.cells)} simulations, {m.overturn_fraction():.1%} of the grid overturns"
-                 + (f", {m.undecided_fraction():.1%} undecided" if m.undecided().any() else ""))
+        handles.append(
+            Line2D(
+                [],
+                [],
+                ls="",
+                marker="x",
+                color="tab:purple",
+                label=f"accuracy check failed ({len(bad)} cells)",
+            )
+        )
+    ax.legend(
+        handles=handles,
+        loc="upper center",
+        bbox_to_anchor=(0.5, -0.12),
+        ncol=2,
+        fontsize=8,
+        frameon=False,
+    )
+    ax.set_title(
+        title
+        or f"{m.block}: single {m.pulse} pulse, restitution {_restitution_label(m)}"
+        f"\n{len(m.cells)} simulations, {m.overturn_fraction():.1%} of the grid overturns"
+        + (f", {m.undecided_fraction():.1%} undecided" if m.undecided().any() else "")
+    )
     path = Path(path)
     fig.savefig(path, dpi=120)
     return path
@@ -87,7 +122,14 @@ def plot_map_comparison(maps: dict, path, title: str = "") -> Path:
         over = m.overturned().astype(float)
         ax.contourf(m.omega_p, m.amp, over, levels=[0.5, 1.5], colors=[c], alpha=0.25)
         ax.contour(m.omega_p, m.amp, over, levels=[0.5], colors=[c], linewidths=1.5)
-        ax.plot([], [], color=c, lw=6, alpha=0.4, label=f"{label}: {m.overturn_fraction():.1%} overturns")
+        ax.plot(
+            [],
+            [],
+            color=c,
+            lw=6,
+            alpha=0.4,
+            label=f"{label}: {m.overturn_fraction():.1%} overturns",
+        )
     ax.set_xlabel("ω/p")
     ax.set_ylabel("a0/(α g)")
     ax.legend(loc="upper left", fontsize=8)
@@ -114,8 +156,15 @@ def plot_spectrum(table, x: str, path, xlabel: str, title: str, y: str = "theta_
     odd = table[table.status == "inaccurate"]
     ax.plot(ok[x], ok[y], "o", ms=3.5, color="tab:blue", alpha=0.6, label="runs")
     if not odd.empty:
-        ax.plot(odd[x], odd[y], "o", ms=5, mfc="none", color="0.45",
-                label=f"inaccurate, not in the mean ({len(odd)} runs)")
+        ax.plot(
+            odd[x],
+            odd[y],
+            "o",
+            ms=5,
+            mfc="none",
+            color="0.45",
+            label=f"inaccurate, not in the mean ({len(odd)} runs)",
+        )
     if not ok.empty:
         g = ok.groupby(x)[y]
         mean = g.mean()
@@ -123,16 +172,25 @@ def plot_spectrum(table, x: str, path, xlabel: str, title: str, y: str = "theta_
         if ok.groupby(x).size().max() > 1:
             std = g.std().fillna(0.0)
             low = np.maximum((mean - std).values, 0.5 * mean.values)
-            ax.fill_between(mean.index, low, (mean + std).values, color="0.8", alpha=0.7,
-                            label="± 1 std")
+            ax.fill_between(
+                mean.index, low, (mean + std).values, color="0.8", alpha=0.7, label="± 1 std"
+            )
         positive = ok[y][ok[y] > 0]
         if not positive.empty and positive.max() / positive.min() > 100:
             ax.set_yscale("log")
     if not over.empty:
         top = ax.get_ylim()[1]
         counts = over.groupby(x).size()
-        ax.plot(counts.index, np.full(len(counts), top), "x", color="tab:red", ms=8, mew=2,
-                clip_on=False, label=f"overturned ({len(over)} runs)")
+        ax.plot(
+            counts.index,
+            np.full(len(counts), top),
+            "x",
+            color="tab:red",
+            ms=8,
+            mew=2,
+            clip_on=False,
+            label=f"overturned ({len(over)} runs)",
+        )
     ax.set_xlabel(xlabel)
     ax.set_ylabel("θ_max (rad)")
     ax.grid(alpha=0.3, which="both")

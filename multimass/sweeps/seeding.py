@@ -22,17 +22,24 @@ _INT63 = (1 << 63) - 1
 def _base_sequence(base_seed: Any) -> np.random.SeedSequence:
     if isinstance(base_seed, np.random.SeedSequence):
         # a fresh copy, so that repeated calls spawn the same children
-        return np.random.SeedSequence(base_seed.entropy, spawn_key=base_seed.spawn_key,
-                                      pool_size=base_seed.pool_size)
-    if base_seed is None or (isinstance(base_seed, (int, np.integer))
-                             and not isinstance(base_seed, bool) and base_seed >= 0):
+        return np.random.SeedSequence(
+            base_seed.entropy, spawn_key=base_seed.spawn_key, pool_size=base_seed.pool_size
+        )
+    if base_seed is None or (
+        isinstance(base_seed, (int, np.integer))
+        and not isinstance(base_seed, bool)
+        and base_seed >= 0
+    ):
         return np.random.SeedSequence(None if base_seed is None else int(base_seed))
-    raise InputError(f"`base_seed` = {base_seed!r}: expected a non-negative integer, a "
-                     "numpy SeedSequence, or None (fresh entropy, not reproducible)")
+    raise InputError(
+        f"`base_seed` = {base_seed!r}: expected a non-negative integer, a "
+        "numpy SeedSequence, or None (fresh entropy, not reproducible)"
+    )
 
 
-def job_seeds(base_seed: int | np.random.SeedSequence | None, n: int, *,
-              as_int: bool = True) -> list:
+def job_seeds(
+    base_seed: int | np.random.SeedSequence | None, n: int, *, as_int: bool = True
+) -> list:
     """One independent seed per job.
 
     Parameters

@@ -82,10 +82,14 @@ class Spectrum:
         return out
 
     def summary(self) -> dict:
-        return {"structure": self.structure, "kind": self.kind,
-                "rows": self.table.replace({np.nan: None}).to_dict(orient="records"),
-                "n_simulations": int(len(self.table)), "wall_time_s": float(self.wall_time_s),
-                "options": self.options}
+        return {
+            "structure": self.structure,
+            "kind": self.kind,
+            "rows": self.table.replace({np.nan: None}).to_dict(orient="records"),
+            "n_simulations": int(len(self.table)),
+            "wall_time_s": float(self.wall_time_s),
+            "options": self.options,
+        }
 
 
 def _common(repeats, seed, t_free) -> tuple:
@@ -114,10 +118,21 @@ def _run(st, points, sweep_cols, executor, workers, progress, desc, kind, option
     return Spectrum(st.name, kind, table, options, time.perf_counter() - wall)
 
 
-def pulse_spectrum(structure, pulse: str = "cosine", omega=15.0, amp=0.4 * 9.81, *,
-                   impact: str = "DD2", repeats: int = 1, seed: int | None = 0,
-                   t_free: float = 5.0, executor="process", workers=None, progress=None,
-                   **sim_options) -> Spectrum:
+def pulse_spectrum(
+    structure,
+    pulse: str = "cosine",
+    omega=15.0,
+    amp=0.4 * 9.81,
+    *,
+    impact: str = "DD2",
+    repeats: int = 1,
+    seed: int | None = 0,
+    t_free: float = 5.0,
+    executor="process",
+    workers=None,
+    progress=None,
+    **sim_options,
+) -> Spectrum:
     """θ_max over pulse frequencies and amplitudes (paper 001, Fig 10).
 
     Parameters
@@ -153,16 +168,39 @@ def pulse_spectrum(structure, pulse: str = "cosine", omega=15.0, amp=0.4 * 9.81,
         exc = make_pulse(pulse, amplitude=a, omega=w, structure_kind=kind)
         points.append(_Point(st, exc, exc.duration + t_free, s, options))
     _check_in_parent(points)
-    cols = {"omega": [g[0] for g in grid], "amp": [g[1] for g in grid],
-            "repeat": [g[2] for g in grid], "seed": list(seeds)}
-    return _run(st, points, cols, executor, workers, progress, f"{st.name} {pulse} spectrum",
-                f"{pulse}_pulse", options | {"pulse": pulse, "t_free": t_free, "seed": seed})
+    cols = {
+        "omega": [g[0] for g in grid],
+        "amp": [g[1] for g in grid],
+        "repeat": [g[2] for g in grid],
+        "seed": list(seeds),
+    }
+    return _run(
+        st,
+        points,
+        cols,
+        executor,
+        workers,
+        progress,
+        f"{st.name} {pulse} spectrum",
+        f"{pulse}_pulse",
+        options | {"pulse": pulse, "t_free": t_free, "seed": seed},
+    )
 
 
-def record_spectrum(structure, record: Record, scale=np.linspace(0.5, 1.5, 5), *,
-                    impact: str = "DD5", repeats: int = 3, seed: int | None = 0,
-                    t_free: float = 5.0, executor="process", workers=None, progress=None,
-                    **sim_options) -> Spectrum:
+def record_spectrum(
+    structure,
+    record: Record,
+    scale=np.linspace(0.5, 1.5, 5),
+    *,
+    impact: str = "DD5",
+    repeats: int = 3,
+    seed: int | None = 0,
+    t_free: float = 5.0,
+    executor="process",
+    workers=None,
+    progress=None,
+    **sim_options,
+) -> Spectrum:
     """θ_max over scale factors of a record, repeated with random restitution (paper 001, Fig 12).
 
     Parameters
@@ -184,9 +222,20 @@ def record_spectrum(structure, record: Record, scale=np.linspace(0.5, 1.5, 5), *
     grid = [(s, r) for s in scales for r in range(int(repeats))]
     seeds = job_seeds(seed, len(grid))
     options = dict(impact=impact) | default_backend(sim_options)
-    points = [_Point(st, record.scaled(s), record.duration + t_free, sd, options)
-              for (s, _), sd in zip(grid, seeds)]
+    points = [
+        _Point(st, record.scaled(s), record.duration + t_free, sd, options)
+        for (s, _), sd in zip(grid, seeds)
+    ]
     _check_in_parent(points)
     cols = {"scale": [g[0] for g in grid], "repeat": [g[1] for g in grid], "seed": list(seeds)}
-    return _run(st, points, cols, executor, workers, progress, f"{st.name} record spectrum",
-                "record", options | {"record": record.name, "t_free": t_free, "seed": seed})
+    return _run(
+        st,
+        points,
+        cols,
+        executor,
+        workers,
+        progress,
+        f"{st.name} record spectrum",
+        "record",
+        options | {"record": record.name, "t_free": t_free, "seed": seed},
+    )

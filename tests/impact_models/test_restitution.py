@@ -21,13 +21,16 @@ from multimass.impact_models import (
 from multimass.impact_models.table2 import TABLE_2
 
 
-@pytest.mark.parametrize("name, eta_H, eta_M, k_avg", [
-    # paper 004, Table 1 (η_M with the size averages k = 0.8608 / 0.7306, Section 3)
-    ("B3M", 0.7526, 0.8106, 0.8608),
-    ("B6M", 0.9294, 0.9472, 0.8608),
-    ("B3L", 0.7526, 0.8598, 0.7306),
-    ("B6L", 0.9294, 0.9617, 0.7306),
-])
+@pytest.mark.parametrize(
+    "name, eta_H, eta_M, k_avg",
+    [
+        # paper 004, Table 1 (η_M with the size averages k = 0.8608 / 0.7306, Section 3)
+        ("B3M", 0.7526, 0.8106, 0.8608),
+        ("B6M", 0.9294, 0.9472, 0.8608),
+        ("B3L", 0.7526, 0.8598, 0.7306),
+        ("B6L", 0.9294, 0.9617, 0.7306),
+    ],
+)
 def test_table_1_restitution(name, eta_H, eta_M, k_avg):
     blk = specimens.load(name)
     assert blk.k_size_average == k_avg
@@ -75,7 +78,9 @@ def test_k_outside_unit_interval():
 
 
 def _ctx(side, index=0, seed=0):
-    return ImpactContext(multimass.column("S1"), side, np.zeros(5), index, np.random.default_rng(seed))
+    return ImpactContext(
+        multimass.column("S1"), side, np.zeros(5), index, np.random.default_rng(seed)
+    )
 
 
 def test_corner_means_follow_the_impacting_corner():
@@ -98,7 +103,7 @@ def test_random_restitution_is_clipped_and_seeded():
         return [src.value(ImpactContext(s1, 1, np.zeros(5), i, rng)) for i in range(200)]
 
     vals = draws(5)
-    assert all(0 < v <= 1.0 for v in vals) and max(vals) == 1.0     # clipped to (0, 1]
+    assert all(0 < v <= 1.0 for v in vals) and max(vals) == 1.0  # clipped to (0, 1]
     assert vals == draws(5) and vals != draws(6)
     # closed form: E[min(X, 1)] = μ − σ (φ(z) − z (1 − Φ(z))), z = (1 − μ)/σ = 0.1 → 0.9098
     assert np.mean(vals) == pytest.approx(0.9098, abs=0.03)
@@ -112,8 +117,11 @@ def test_table_2_configurations(name):
     assert type(model).__name__ == {"classical": "Classical", "dirac": "DiracDelta"}[kind]
     if cp is not None:
         assert model.C_p == cp
-    expected = {"mean": "CornerRestitution", "empirical": "EmpiricalRestitution",
-                "random": "RandomRestitution"}[rest]
+    expected = {
+        "mean": "CornerRestitution",
+        "empirical": "EmpiricalRestitution",
+        "random": "RandomRestitution",
+    }[rest]
     assert type(model.restitution).__name__ == expected
 
 

@@ -36,7 +36,7 @@ def test_s1_rocking_pair_is_plus_minus_p_l(s1):
     assert lam[0] > 0 > lam[1]
     p_l = s1.structure.p_l
     assert _within_pct(lam[0], p_l, 0.5) and _within_pct(-lam[1], p_l, 0.5)
-    assert _within_pct(lam[0], 2.51, 0.5)          # paper 001, Table 1: p_l = 2.51 rad/s
+    assert _within_pct(lam[0], 2.51, 0.5)  # paper 001, Table 1: p_l = 2.51 rad/s
 
 
 @pytest.mark.parametrize("name", ["S1", "S2", "S3"])
@@ -124,11 +124,16 @@ def test_mac_measured_phase_is_checked(s1):
 
 # --- heavy damping: an uplifted mode becomes overdamped ------------------------------------------
 
+
 @pytest.fixture(scope="module")
 def zeta09(tmp_path_factory):
-    p = column_toml(tmp_path_factory.mktemp("z09"), [0.06, 0.49, 0.93, 1.43, 1.93],
-                    [77.3, 6.2, 88.2, 8.2, 46.2], name="z09",
-                    **{"zeta_1 = 0.005": "zeta_1 = 0.9", "zeta_2 = 0.015": "zeta_2 = 0.9"})
+    p = column_toml(
+        tmp_path_factory.mktemp("z09"),
+        [0.06, 0.49, 0.93, 1.43, 1.93],
+        [77.3, 6.2, 88.2, 8.2, 46.2],
+        name="z09",
+        **{"zeta_1 = 0.005": "zeta_1 = 0.9", "zeta_2 = 0.015": "zeta_2 = 0.9"},
+    )
     return modal.analyse(p)
 
 
@@ -144,14 +149,16 @@ def test_heavy_damping_is_classified_not_an_error(zeta09):
     assert rk["kind"][0] == "overdamped" and rk["damping"][0] > 1
     assert list(rk["mode"]) == [1, 2, 3, 4, 5]
     lam = zeta09.rocking_eigenvalues
-    assert lam[0] > 0 > lam[1] and lam[0] == pytest.approx(s.p_l, rel=1e-3)   # Eq 6
+    assert lam[0] > 0 > lam[1] and lam[0] == pytest.approx(s.p_l, rel=1e-3)  # Eq 6
     # damping this heavy mixes uplifted modes 1 and 2: flagged, not hidden
     assert np.all(rk["participation"][:2] < 0.9) and np.all(rk["participation"][2:] > 0.98)
     from multimass.modal.report import markdown, summary
+
     md = markdown(zeta09, summary(zeta09))
     assert "**Mixed modes:**" in md and "uplifted mode 1 (45 %)" in md
     # every overdamped couple solves the quadratic eigenproblem of Eqs 19–21
     from multimass.modal import rocking
+
     sys = rocking(s)
     for l in zeta09.rocking.overdamped_eigenvalues.ravel():
         Q = l**2 * sys.M + l * sys.C + sys.K

@@ -56,6 +56,7 @@ def test_zero_shape_raises():
 # --- complex shapes: MAC_jk = |φ_jᴴ ψ_k|² / ((φ_jᴴ φ_j)(ψ_kᴴ ψ_k)) needs the conjugate ---
 # Components with different phases, so that φᵀψ (no conjugate) differs from φᴴψ.
 
+
 def test_complex_shape_against_itself_times_a_complex_scalar_is_one():
     phi = np.array([1.0, 1.0j, 2.0 - 1.0j])
     # by hand: φᴴφ = 1 + 1 + 5 = 7, while φᵀφ = 1 − 1 + (3 − 4j) = 3 − 4j (|.| = 5)
@@ -77,11 +78,14 @@ def test_complex_orthogonal_shapes_give_zero():
     np.testing.assert_allclose(m, np.eye(2), atol=1e-15)
 
 
-@pytest.mark.parametrize("bad, fragment", [
-    (np.array(["a", "b"]), "<U1"),
-    ([[1.0, 2.0], [3.0]], "ragged"),
-    (np.array([True, False]), "bool"),
-])
+@pytest.mark.parametrize(
+    "bad, fragment",
+    [
+        (np.array(["a", "b"]), "<U1"),
+        ([[1.0, 2.0], [3.0]], "ragged"),
+        (np.array([True, False]), "bool"),
+    ],
+)
 def test_non_numeric_shapes_raise(bad, fragment):
     with pytest.raises(ModalError, match=fragment):
         mac(bad)

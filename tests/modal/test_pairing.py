@@ -37,15 +37,22 @@ def chain():
     """Rayleigh-damped chain whose lowest and highest modes are overdamped, the middle not."""
     n = N_CHAIN
     K = K_SPRING * (2 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1))
-    K[-1, -1] = K_SPRING                                   # free end
+    K[-1, -1] = K_SPRING  # free end
     M = MASS * np.eye(n)
-    a0, a1 = _rayleigh_for(1.1, 1.6)          # modes 1 and 4-8 overdamped
-    sys = LinearSystem("full_contact", M, a0 * M + a1 * K, K, r=np.zeros(n), f0=np.zeros(n),
-                       dofs=tuple(f"u{i + 1}" for i in range(n)))
+    a0, a1 = _rayleigh_for(1.1, 1.6)  # modes 1 and 4-8 overdamped
+    sys = LinearSystem(
+        "full_contact",
+        M,
+        a0 * M + a1 * K,
+        K,
+        r=np.zeros(n),
+        f0=np.zeros(n),
+        dofs=tuple(f"u{i + 1}" for i in range(n)),
+    )
     modes, _ = phase_modes(sys, np.arange(n))
     j = np.arange(1, n + 1)
     w = _chain_omega(j)
-    zeta = a0 / (2 * w) + a1 * w / 2                       # Rayleigh, per mode (classical damping)
+    zeta = a0 / (2 * w) + a1 * w / 2  # Rayleigh, per mode (classical damping)
     return modes, w, zeta
 
 
@@ -58,7 +65,7 @@ def test_the_chain_case_discriminates(chain):
     slow = -zeta[over] * w[over] + w[over] * np.sqrt(zeta[over] ** 2 - 1)
     fast = -zeta[over] * w[over] - w[over] * np.sqrt(zeta[over] ** 2 - 1)
     roots = np.sort(np.r_[slow, fast])
-    adjacent = {tuple(sorted(roots[i:i + 2])) for i in range(0, roots.size, 2)}
+    adjacent = {tuple(sorted(roots[i : i + 2])) for i in range(0, roots.size, 2)}
     truth = {tuple(sorted(p)) for p in zip(fast, slow)}
     assert adjacent != truth
 
@@ -68,9 +75,13 @@ def test_overdamped_modes_are_the_closed_form_ones(chain):
     expected = np.flatnonzero(zeta > 1) + 1
     np.testing.assert_array_equal(modes.overdamped_mode, expected)
     k = expected - 1
-    root = w[k] * np.sqrt(zeta[k] ** 2 - 1)                # λ1,2 = −ζω ∓ ω√(ζ² − 1)
-    np.testing.assert_allclose(modes.overdamped_eigenvalues[:, 0], -zeta[k] * w[k] - root, rtol=1e-10)
-    np.testing.assert_allclose(modes.overdamped_eigenvalues[:, 1], -zeta[k] * w[k] + root, rtol=1e-10)
+    root = w[k] * np.sqrt(zeta[k] ** 2 - 1)  # λ1,2 = −ζω ∓ ω√(ζ² − 1)
+    np.testing.assert_allclose(
+        modes.overdamped_eigenvalues[:, 0], -zeta[k] * w[k] - root, rtol=1e-10
+    )
+    np.testing.assert_allclose(
+        modes.overdamped_eigenvalues[:, 1], -zeta[k] * w[k] + root, rtol=1e-10
+    )
     np.testing.assert_allclose(modes.overdamped_omega, w[k], rtol=1e-10)
     np.testing.assert_allclose(modes.overdamped_damping, zeta[k], rtol=1e-10)
     assert np.all(modes.overdamped_damping >= 1.0)
@@ -90,7 +101,9 @@ def test_overdamped_shapes_are_the_undamped_shapes(chain):
     modes, _, _ = chain
     for col, j in enumerate(modes.overdamped_mode):
         exact = _chain_shape(j)
-        assert modal.mac(modes.overdamped_shapes[:, col], exact)[0, 0] == pytest.approx(1, abs=1e-10)
+        assert modal.mac(modes.overdamped_shapes[:, col], exact)[0, 0] == pytest.approx(
+            1, abs=1e-10
+        )
         assert modal.mac(modes.real_shapes[:, j - 1], exact)[0, 0] == pytest.approx(1, abs=1e-10)
 
 
@@ -103,14 +116,19 @@ def test_classical_damping_mixes_no_modes(chain):
 
 def test_every_eigenvalue_is_used_once(chain):
     modes, _, _ = chain
-    used = np.r_[modes.vibration_eigenvalues, modes.vibration_eigenvalues.conj(),
-                 modes.overdamped_eigenvalues.ravel()]
-    np.testing.assert_allclose(np.sort_complex(used), np.sort_complex(modes.eigenvalues), rtol=1e-12)
+    used = np.r_[
+        modes.vibration_eigenvalues,
+        modes.vibration_eigenvalues.conj(),
+        modes.overdamped_eigenvalues.ravel(),
+    ]
+    np.testing.assert_allclose(
+        np.sort_complex(used), np.sort_complex(modes.eigenvalues), rtol=1e-12
+    )
     table = modes.to_pandas()
     assert list(table["mode"]) == list(range(1, N_CHAIN + 1))
 
 
-@pytest.mark.parametrize("c", [200.0, 81.0, 5000.0])     # ζ = 2.5, 1.0125, 62.5
+@pytest.mark.parametrize("c", [200.0, 81.0, 5000.0])  # ζ = 2.5, 1.0125, 62.5
 def test_pair_formula_on_a_textbook_overdamped_oscillator(c):
     # m ẍ + c ẋ + k x = 0: ω = √(k/m), ζ = c / (2√(km)); its roots from numpy.roots
     m, k = 2.0, 800.0
@@ -122,6 +140,7 @@ def test_pair_formula_on_a_textbook_overdamped_oscillator(c):
 
 
 # --- a column meshed finely: Rayleigh damping overdamps its high modes --------------------------
+
 
 @pytest.fixture(scope="module")
 def col40(tmp_path_factory):
@@ -148,12 +167,16 @@ def test_40_node_rocking_phase_keeps_its_rocking_pair_and_lists_every_mode(col40
     rk = col40.rocking
     lam = col40.rocking_eigenvalues
     assert lam[0] > 0 > lam[1]
-    assert lam[0] == pytest.approx(col40.structure.p_l, rel=1e-3)     # paper 001, Eq 6
+    assert lam[0] == pytest.approx(col40.structure.p_l, rel=1e-3)  # paper 001, Eq 6
     assert list(rk.to_pandas()["mode"]) == list(range(1, 41))
     assert rk.overdamped_mode.size >= 20 and np.all(rk.overdamped_damping >= 1)
     assert np.all(rk.overdamped_eigenvalues < 0)
-    used = np.r_[rk.vibration_eigenvalues, rk.vibration_eigenvalues.conj(),
-                 rk.overdamped_eigenvalues.ravel(), lam]
+    used = np.r_[
+        rk.vibration_eigenvalues,
+        rk.vibration_eigenvalues.conj(),
+        rk.overdamped_eigenvalues.ravel(),
+        lam,
+    ]
     np.testing.assert_allclose(np.sort_complex(used), np.sort_complex(rk.eigenvalues), rtol=1e-12)
 
 
@@ -172,15 +195,22 @@ def test_one_node_column_overdamped_while_rocking(tmp_path):
     # Reference: the quartic det(Λ² M_L + Λ C_L + K_L) = 0 written by hand (paper 001, Eqs 19–21)
     p = column_toml(tmp_path, [1.0], [200.0], name="sdof", **{"zeta_1 = 0.005": "zeta_1 = 0.5"})
     res = modal.analyse(p)
-    m, H, k, g, B, J0 = 200.0, 1.0, 5.0e8, 9.81, 0.305, 10.0     # the file's numbers
-    c = 2 * 0.5 * np.sqrt(k * m)                                   # ζ_1 = 0.5 at ω_1 = √(k/m)
+    m, H, k, g, B, J0 = 200.0, 1.0, 5.0e8, 9.81, 0.305, 10.0  # the file's numbers
+    c = 2 * 0.5 * np.sqrt(k * m)  # ζ_1 = 0.5 at ω_1 = √(k/m)
     J = m * (H**2 + B**2) + J0
-    roots = np.roots([m * J - (m * H) ** 2, c * J, k * J + g * m * m * H, -g * m * H * c,
-                      -g * m * (H * k + g * m)]).real
+    roots = np.roots(
+        [
+            m * J - (m * H) ** 2,
+            c * J,
+            k * J + g * m * m * H,
+            -g * m * H * c,
+            -g * m * (H * k + g * m),
+        ]
+    ).real
     pos = roots[roots > 0]
     assert pos.size == 1
     neg = np.sort(roots[roots < 0])
-    partner = neg[np.argmin(np.abs(neg + pos[0]))]                 # the rocking couple ±≈p_l
+    partner = neg[np.argmin(np.abs(neg + pos[0]))]  # the rocking couple ±≈p_l
     vib = np.sort(neg[neg != partner])
     np.testing.assert_allclose(res.rocking_eigenvalues, [pos[0], partner], rtol=1e-10)
     assert res.rocking.omega.size == 0 and res.rocking.overdamped_mode.tolist() == [1]

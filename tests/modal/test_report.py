@@ -31,7 +31,14 @@ def test_files_are_written(s1_report):
 def test_markdown_prints_paper_values_beside_ours(s1_report):
     out, info = s1_report
     md = (out / "S1_modal.md").read_text()
-    for paper in ("7.6", "41.4", "20.7", "46.9", "298", "2.51"):   # paper 001, Table 1 and Section 4.2
+    for paper in (
+        "7.6",
+        "41.4",
+        "20.7",
+        "46.9",
+        "298",
+        "2.51",
+    ):  # paper 001, Table 1 and Section 4.2
         assert f"| {paper} |" in md
     ours = info["rocking"]["freq_hz"][0]
     assert f"{ours:.4g}" in md
@@ -42,7 +49,14 @@ def test_json_matches_summary_and_has_required_keys(s1_report):
     out, info = s1_report
     data = json.loads((out / "S1_modal.json").read_text())
     assert data == json.loads(json.dumps(info))
-    for key in ("specimen", "derived", "full_contact", "rocking", "mac_full_vs_compound", "reference"):
+    for key in (
+        "specimen",
+        "derived",
+        "full_contact",
+        "rocking",
+        "mac_full_vs_compound",
+        "reference",
+    ):
         assert key in data
     assert set(data["derived"]) >= {"m_t", "J_p", "H_cg", "alpha_cg", "p_l"}
     assert data["full_contact"]["freq_hz"] == sorted(data["full_contact"]["freq_hz"])
@@ -54,7 +68,7 @@ def test_json_matches_summary_and_has_required_keys(s1_report):
 def test_s2_mismatch_is_shown_not_hidden():
     info = summary(modal.analyse("S2"))
     rows = info["comparison"]["derived"]
-    assert rows["J_p"]["published"] == 509 and not rows["J_p"]["agrees"]     # paper 001, Table 1
+    assert rows["J_p"]["published"] == 509 and not rows["J_p"]["agrees"]  # paper 001, Table 1
     assert rows["H_cg"]["published"] == 1.18 and not rows["H_cg"]["agrees"]
     md = modal.report.markdown(modal.analyse("S2"), info)
     assert "**Mismatch:**" in md and "509" in md
@@ -76,8 +90,9 @@ def test_printed_unit():
 def test_measured_shapes_mac(tmp_path):
     res = modal.analyse("S1")
     vc = res.compound_shapes()[:, :2]
-    lines = ["node,mode_1,mode_2"] + [f"{n},{a:.6f},{b:.6f}" for n, (a, b) in
-                                       zip(res.shape_nodes, vc * [2.0, -3.0])]
+    lines = ["node,mode_1,mode_2"] + [
+        f"{n},{a:.6f},{b:.6f}" for n, (a, b) in zip(res.shape_nodes, vc * [2.0, -3.0])
+    ]
     lines.append("freq_hz,20.1,44.0")
     path = tmp_path / "measured.csv"
     path.write_text("\n".join(lines))
@@ -89,12 +104,15 @@ def test_measured_shapes_mac(tmp_path):
     np.testing.assert_allclose(np.diag(macs[:, :2]), 1.0, atol=1e-9)
 
 
-@pytest.mark.parametrize("text, fragment", [
-    ("mode_1\n0.1\n", "no `node` column"),
-    ("node\n2\n3\n", "no mode columns"),
-    ("node,m1\n2,0.1\nx,0.2\n", "integer node numbers"),
-    ("node,m1\n2,0.1\n3,abc\n", "column `m1`"),
-])
+@pytest.mark.parametrize(
+    "text, fragment",
+    [
+        ("mode_1\n0.1\n", "no `node` column"),
+        ("node\n2\n3\n", "no mode columns"),
+        ("node,m1\n2,0.1\nx,0.2\n", "integer node numbers"),
+        ("node,m1\n2,0.1\n3,abc\n", "column `m1`"),
+    ],
+)
 def test_measured_shapes_bad_input(tmp_path, text, fragment):
     p = tmp_path / "bad.csv"
     p.write_text(text)
@@ -111,6 +129,7 @@ def test_measured_nodes_outside_the_model(tmp_path):
 
 # --- figures: what they draw is what the JSON says; nothing hidden or clipped ------------------
 
+
 @pytest.fixture(scope="module", params=["S1", "S2", "S3"])
 def analysis(request):
     return modal.analyse(request.param)
@@ -124,8 +143,11 @@ def test_shape_figure_draws_the_json_numbers(analysis):
     fig = shapes_figure(analysis)
     for j, ax in enumerate(fig.axes[:3]):
         lines = {ln.get_label(): ln for ln in ax.get_lines()}
-        for label, key in (("full contact v_n", "full_contact"), ("uplifted elastic v_t", "elastic"),
-                           ("uplifted compound v_c", "compound")):
+        for label, key in (
+            ("full contact v_n", "full_contact"),
+            ("uplifted elastic v_t", "elastic"),
+            ("uplifted compound v_c", "compound"),
+        ):
             np.testing.assert_array_equal(lines[label].get_xdata(), sh[key][j])
             np.testing.assert_array_equal(lines[label].get_ydata(), sh["heights_m"])
     # the height axis starts at the base and shows it
@@ -150,12 +172,12 @@ def test_eigenvalue_zoom_labels_hide_nothing(analysis):
     fig.draw_without_rendering()
     zoom = fig.axes[1]
     texts = [t for t in zoom.texts]
-    assert len(texts) == 4                                   # n1, n2, u1, u2
+    assert len(texts) == 4  # n1, n2, u1, u2
     boxes = [t.get_window_extent() for t in texts]
     frame = zoom.get_window_extent()
     for i, b in enumerate(boxes):
         assert frame.contains(b.x0, b.y0) and frame.contains(b.x1, b.y1), texts[i].get_text()
-        for other in boxes[i + 1:]:
+        for other in boxes[i + 1 :]:
             assert not b.overlaps(other)
     # ±p_l and the rocking pair: no label within a marker's radius (s = 140 pt², dpi 100)
     radius = np.sqrt(140) / 2 * fig.dpi / 72

@@ -30,8 +30,9 @@ def test_align_by_hand():
     h = np.array([1.0, 2.0])
     v_n = np.array([[1.0], [0.0]])
     z = np.array([[-1.0], [0.0], [0.0]])
-    np.testing.assert_allclose(align_to_full_contact(z, np.array([0]), v_n, np.arange(2), h),
-                               [[1.0], [0.0], [0.0]])
+    np.testing.assert_allclose(
+        align_to_full_contact(z, np.array([0]), v_n, np.arange(2), h), [[1.0], [0.0], [0.0]]
+    )
     # v_t = (0, 1) is unrelated to v_n (MAC 0) but v_c = v_t + H v_r = (−1, −1) is closer
     # (MAC 0.5) and opposes v_n: the whole mode is flipped, v_r too
     z = np.array([[0.0], [1.0], [-1.0]])

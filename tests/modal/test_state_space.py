@@ -16,8 +16,9 @@ from multimass.modal import (
 
 def _system(M, C, K, phase="full_contact"):
     n = M.shape[0]
-    return LinearSystem(phase, M, C, K, r=np.zeros(n), f0=np.zeros(n),
-                        dofs=tuple(f"q{i}" for i in range(n)))
+    return LinearSystem(
+        phase, M, C, K, r=np.zeros(n), f0=np.zeros(n), dofs=tuple(f"q{i}" for i in range(n))
+    )
 
 
 def test_sdof_eigenvalues_in_closed_form():
@@ -25,7 +26,7 @@ def test_sdof_eigenvalues_in_closed_form():
     w = np.sqrt(k / m)
     sys = _system(np.array([[m]]), np.array([[2 * zeta * w * m]]), np.array([[k]]))
     lam = foss(sys).eigenvalues
-    expected = -zeta * w + 1j * w * np.sqrt(1 - zeta**2)    # textbook damped SDOF
+    expected = -zeta * w + 1j * w * np.sqrt(1 - zeta**2)  # textbook damped SDOF
     assert lam[np.argmax(lam.imag)] == pytest.approx(expected, rel=1e-12)
     omega, z = frequency_and_damping(lam)
     np.testing.assert_allclose(omega, w, rtol=1e-12)
@@ -60,7 +61,7 @@ def test_classically_damped_full_contact_returns_rayleigh_ratios():
     lam = lam[lam.imag > 0]
     lam = lam[np.argsort(np.abs(lam))]
     _, z = frequency_and_damping(lam)
-    np.testing.assert_allclose(z[:2], [0.005, 0.015], rtol=1e-9)   # paper 001, Table 1, S1
+    np.testing.assert_allclose(z[:2], [0.005, 0.015], rtol=1e-9)  # paper 001, Table 1, S1
 
 
 def test_eigenvectors_satisfy_the_quadratic_eigenproblem():
@@ -76,13 +77,19 @@ def test_eigenvectors_satisfy_the_quadratic_eigenproblem():
 # The reference eigenvalues are roots of det(Λ² M_L + Λ C_L + K_L) = 0 with M_L, C_L, K_L
 # written out from the specimen file's numbers, never taken from the code under test.
 
+
 def _one_node_quartic(m, H, k, c, J, g):
     """Coefficients of det([[mΛ² + cΛ + k, mHΛ² − gm], [mHΛ² − gm, JΛ² − gmH]]), Λ⁴ first.
 
     Expanded by hand: (mΛ² + cΛ + k)(JΛ² − gmH) − (mHΛ² − gm)².
     """
-    return [m * J - (m * H) ** 2, c * J, k * J + g * m * m * H, -g * m * H * c,
-            -g * m * (H * k + g * m)]
+    return [
+        m * J - (m * H) ** 2,
+        c * J,
+        k * J + g * m * m * H,
+        -g * m * H * c,
+        -g * m * (H * k + g * m),
+    ]
 
 
 def _match(ours, ref):
@@ -95,6 +102,7 @@ def _match(ours, ref):
 def test_one_node_rocking_eigenvalues_match_the_hand_quartic(tmp_path):
     from multimass import modal
     from tests.conftest import column_toml
+
     p = column_toml(tmp_path, [1.0], [200.0], name="sdof")
     res = modal.analyse(p)
     # the file's numbers (tests/conftest.py::column_toml from S1.toml): one node at H = 1 m,
@@ -106,7 +114,7 @@ def test_one_node_rocking_eigenvalues_match_the_hand_quartic(tmp_path):
     roots = np.roots(_one_node_quartic(m, H, k, c, J, g))
     assert _match(res.rocking.eigenvalues, roots) < 1e-10
     vib = roots[roots.imag > 0][0]
-    assert res.rocking.omega[0] == pytest.approx(abs(vib), rel=1e-10)          # Eq 25
+    assert res.rocking.omega[0] == pytest.approx(abs(vib), rel=1e-10)  # Eq 25
     assert res.rocking.damping[0] == pytest.approx(-vib.real / abs(vib), rel=1e-10)
     real = np.sort(roots[roots.imag == 0].real)[::-1]
     np.testing.assert_allclose(res.rocking_eigenvalues, real, rtol=1e-10)
@@ -118,13 +126,24 @@ def _two_node_reference(H1, H2, m1, m2):
     K_fp on u_1 and K_rot on Ω_1, rotations condensed out; Rayleigh C fitted to ζ_1, ζ_2 at
     the two undamped modes; M_L, C_L, K_L of paper 001, Eqs 19–21, written in full."""
     import sympy as sp  # a dependency of the package
-    R = lambda x: sp.Rational(str(x))                              # noqa: E731  exact decimals
+
+    R = lambda x: sp.Rational(str(x))  # noqa: E731  exact decimals
     EI, Kfp, Krot = R(200e9) * R("183.3e-8"), R(5.0e8), R(2.0e6)
     B, J0, g, z1, z2 = R(0.305), R(10), R("9.81"), R("0.005"), R("0.015")
     H1, H2, m1, m2 = R(H1), R(H2), R(m1), R(m2)
     L = H2 - H1
-    ke = EI / L**3 * sp.Matrix([[12, 6 * L, -12, 6 * L], [6 * L, 4 * L**2, -6 * L, 2 * L**2],
-                                [-12, -6 * L, 12, -6 * L], [6 * L, 2 * L**2, -6 * L, 4 * L**2]])
+    ke = (
+        EI
+        / L**3
+        * sp.Matrix(
+            [
+                [12, 6 * L, -12, 6 * L],
+                [6 * L, 4 * L**2, -6 * L, 2 * L**2],
+                [-12, -6 * L, 12, -6 * L],
+                [6 * L, 2 * L**2, -6 * L, 4 * L**2],
+            ]
+        )
+    )
     # element dofs [u1, Ω1, u2, Ω2] -> global [u1, u2, Ω1, Ω2]
     perm = [0, 2, 1, 3]
     Ks = sp.zeros(4, 4)
@@ -137,15 +156,20 @@ def _two_node_reference(H1, H2, m1, m2):
     M = sp.diag(m1, m2)
     w2 = sp.symbols("w2")
     o1, o2 = sorted(sp.solve((K - w2 * M).det(), w2), key=lambda e: float(e))
-    w1, wb = sp.sqrt(sp.N(o1, 60)), sp.sqrt(sp.N(o2, 60))          # 60 digits from here on
+    w1, wb = sp.sqrt(sp.N(o1, 60)), sp.sqrt(sp.N(o2, 60))  # 60 digits from here on
     a0, a1 = sp.symbols("a0 a1")
     sol = sp.solve([a0 / (2 * w1) + a1 * w1 / 2 - z1, a0 / (2 * wb) + a1 * wb / 2 - z2], [a0, a1])
     C = sol[a0] * M + sol[a1] * K
     Jp = m1 * (H1**2 + B**2) + m2 * (H2**2 + B**2) + J0
     ML = sp.Matrix([[m1, 0, m1 * H1], [0, m2, m2 * H2], [m1 * H1, m2 * H2, Jp]])
     CL = sp.Matrix([[C[0, 0], C[0, 1], 0], [C[1, 0], C[1, 1], 0], [0, 0, 0]])
-    KL = sp.Matrix([[K[0, 0], K[0, 1], -g * m1], [K[1, 0], K[1, 1], -g * m2],
-                    [-g * m1, -g * m2, -g * (m1 * H1 + m2 * H2)]])
+    KL = sp.Matrix(
+        [
+            [K[0, 0], K[0, 1], -g * m1],
+            [K[1, 0], K[1, 1], -g * m2],
+            [-g * m1, -g * m2, -g * (m1 * H1 + m2 * H2)],
+        ]
+    )
     lam = sp.symbols("lam")
     poly = sp.Poly(sp.expand((lam**2 * ML + lam * CL + KL).det()), lam)
     coeffs = [sp.N(c, 60) for c in poly.all_coeffs()]
@@ -155,6 +179,7 @@ def _two_node_reference(H1, H2, m1, m2):
 def test_two_node_rocking_eigenvalues_match_a_symbolic_derivation(tmp_path):
     from multimass import modal
     from tests.conftest import column_toml
+
     heights, masses = [0.5, 1.5], [100.0, 50.0]
     p = column_toml(tmp_path, heights, masses, name="two")
     ref = _two_node_reference(*heights, *masses)

@@ -22,13 +22,16 @@ def cantilever_flexibility(H, EI, K_fp, K_rot):
     return F
 
 
-@pytest.mark.parametrize("H", [
-    [0.06, 0.49, 0.93, 1.43, 1.93],      # paper 001, Table 1, S1
-    [0.5, 1.0],
-    [0.1, 0.7, 0.8, 2.5],
-])
+@pytest.mark.parametrize(
+    "H",
+    [
+        [0.06, 0.49, 0.93, 1.43, 1.93],  # paper 001, Table 1, S1
+        [0.5, 1.0],
+        [0.1, 0.7, 0.8, 2.5],
+    ],
+)
 def test_condensed_stiffness_inverts_the_flexibility_matrix(H):
-    EI, K_fp, K_rot = 200e9 * 183.3e-8, 5e8, 2e6   # paper 001, Table 1 footnote
+    EI, K_fp, K_rot = 200e9 * 183.3e-8, 5e8, 2e6  # paper 001, Table 1 footnote
     K = condense(column_stiffness(H, EI, K_fp, K_rot))
     F = cantilever_flexibility(H, EI, K_fp, K_rot)
     np.testing.assert_allclose(K @ F, np.eye(len(H)), atol=1e-9)
@@ -53,7 +56,7 @@ def test_element_stiffness_is_symmetric_with_two_rigid_body_modes():
     k = beam_element_stiffness(2.0, 0.7)
     np.testing.assert_allclose(k, k.T)
     translation = np.array([1.0, 0.0, 1.0, 0.0])
-    rotation = np.array([0.0, 1.0, 0.7, 1.0])      # small rigid rotation about end a
+    rotation = np.array([0.0, 1.0, 0.7, 1.0])  # small rigid rotation about end a
     np.testing.assert_allclose(k @ translation, 0.0, atol=1e-12)
     np.testing.assert_allclose(k @ rotation, 0.0, atol=1e-12)
 

@@ -14,8 +14,16 @@ from tests.conftest import RaisingExcitation
 def test_a_run_whose_ledger_does_not_close_says_so():
     # B6M released at 0.19 rad, Housner's η, solve_ivp at rtol 1e-3 without a step cap: the
     # ledger is off by ~4e-3 of the initial energy (docs/bench: "energy drift" at rtol 1e-3)
-    r = simulate("B6M", FreeRelease(0.19), "CIM", 2.5, restitution="housner", rtol=1e-3,
-                 atol=1e-5, max_step=np.inf)
+    r = simulate(
+        "B6M",
+        FreeRelease(0.19),
+        "CIM",
+        2.5,
+        restitution="housner",
+        rtol=1e-3,
+        atol=1e-5,
+        max_step=np.inf,
+    )
     assert r.energy_balance_error > 1e-3
     assert r.status == "inaccurate" and r.outcome == "completed"
     assert not r.checks["energy_balance"]["passed"]
@@ -33,8 +41,17 @@ def test_the_same_run_at_the_default_tolerance_passes():
 
 
 def test_the_tolerance_is_the_users():
-    loose = simulate("B6M", FreeRelease(0.19), "CIM", 2.5, restitution="housner", rtol=1e-3,
-                     atol=1e-5, max_step=np.inf, energy_tol=1e-2)
+    loose = simulate(
+        "B6M",
+        FreeRelease(0.19),
+        "CIM",
+        2.5,
+        restitution="housner",
+        rtol=1e-3,
+        atol=1e-5,
+        max_step=np.inf,
+        energy_tol=1e-2,
+    )
     assert loose.status == "completed" and loose.checks["energy_balance"]["limit"] == 1e-2
 
 
@@ -59,8 +76,16 @@ def test_outcome_checks_the_ledger_at_the_end():
     end = abs(r.series.balance_error.iloc[-1]) / r.energy_reference
     assert o.energy_balance_error == pytest.approx(end, rel=1e-3, abs=1e-12)
     assert o.status == "completed" and o.checks["energy_balance"]["passed"]
-    loose = simulate_outcome("B6M", FreeRelease(0.19), "CIM", 2.5, restitution="housner",
-                             rtol=1e-3, atol=1e-5, max_step=np.inf)
+    loose = simulate_outcome(
+        "B6M",
+        FreeRelease(0.19),
+        "CIM",
+        2.5,
+        restitution="housner",
+        rtol=1e-3,
+        atol=1e-5,
+        max_step=np.inf,
+    )
     assert loose.status == "inaccurate" and loose.outcome == "completed" and loose.warnings
 
 

@@ -6,8 +6,15 @@ from pathlib import Path
 from multimass.cli import main
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "scenes"
-KEYS = ("model", "reason", "answer", "verified_against", "difference", "tolerance",
-        "time_saved_s")        # the keys the issue asks for
+KEYS = (
+    "model",
+    "reason",
+    "answer",
+    "verified_against",
+    "difference",
+    "tolerance",
+    "time_saved_s",
+)  # the keys the issue asks for
 
 
 def test_json_keys_without_verify(capsys):
@@ -29,7 +36,10 @@ def test_json_with_verify(capsys):
 
 
 def test_several_scenes_give_an_array(capsys):
-    files = [str(EXAMPLES / "s1_uplifted_frequencies.toml"), str(EXAMPLES / "b3l_sine_overturning.toml")]
+    files = [
+        str(EXAMPLES / "s1_uplifted_frequencies.toml"),
+        str(EXAMPLES / "b3l_sine_overturning.toml"),
+    ]
     assert main(["choose", *files, "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert isinstance(out, list) and [o["model"] for o in out] == ["modal-2", "rigid-block"]
@@ -43,8 +53,10 @@ def test_text_output_says_not_adequate(capsys):
 
 def test_bad_scene_is_a_one_line_error(tmp_path, capsys):
     bad = tmp_path / "bad.toml"
-    bad.write_text('name = "x"\n[structure]\nspecimen = "S1"\n[excitation]\nkind = "quake"\n'
-                   '[question]\nkind = "peak_rotation"\n[tolerance]\nrelative = 0.05\n')
+    bad.write_text(
+        'name = "x"\n[structure]\nspecimen = "S1"\n[excitation]\nkind = "quake"\n'
+        '[question]\nkind = "peak_rotation"\n[tolerance]\nrelative = 0.05\n'
+    )
     assert main(["choose", str(bad)]) == 2
     err = capsys.readouterr().err.strip()
     assert "`excitation.kind`" in err and len(err.splitlines()) == 1

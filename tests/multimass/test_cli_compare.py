@@ -11,9 +11,9 @@ import multimass
 from multimass.cli import main
 from multimass.cli.compare_cmd import model_specs
 
-G = 9.81      # DESIGN.md: g = 9.81 m/s²
-DT = 1e-3     # simulate's default output_dt (s)
-T_END = 0.6   # s: one impact of S1 released from 0.05 rad (around 0.2 s), kept short
+G = 9.81  # DESIGN.md: g = 9.81 m/s²
+DT = 1e-3  # simulate's default output_dt (s)
+T_END = 0.6  # s: one impact of S1 released from 0.05 rad (around 0.2 s), kept short
 
 
 def write_trace(path, resp, t_shift=0.0):
@@ -27,8 +27,11 @@ def write_trace(path, resp, t_shift=0.0):
     df = df[np.abs(df.t / DT - np.round(df.t / DT)) < 1e-6]
     df = df[~df.t.round(9).duplicated(keep="last")]
     rows = np.column_stack([df.t + t_shift, df.theta, df.a3 / G, df.a5])
-    path.write_text("t [s],theta [rad],a_A2 [g],a_A4 [m/s2]\n"
-                    + "\n".join(",".join("%.17g" % x for x in row) for row in rows) + "\n")
+    path.write_text(
+        "t [s],theta [rad],a_A2 [g],a_A4 [m/s2]\n"
+        + "\n".join(",".join(f"{x:.17g}" for x in row) for row in rows)
+        + "\n"
+    )
     return path
 
 
@@ -45,8 +48,10 @@ def trace_file(tmp_path, dd2_release):
 
 def test_two_models_overlaid_files_and_json(tmp_path, trace_file, capsys):
     out = tmp_path / "report"
-    assert main(["compare", "S1", str(trace_file), "--impact", "CIM,DD2", "--out", str(out),
-                 "--json"]) == 0
+    assert (
+        main(["compare", "S1", str(trace_file), "--impact", "CIM,DD2", "--out", str(out), "--json"])
+        == 0
+    )
     data = json.loads(capsys.readouterr().out)
     assert set(data) == {"specimen", "trace", "excitation", "t_offset", "t_end", "models", "files"}
     assert data["specimen"] == "S1" and data["t_offset"] == 0.0
@@ -61,17 +66,31 @@ def test_two_models_overlaid_files_and_json(tmp_path, trace_file, capsys):
         assert model["summary"]["status"] == "completed"
         assert list(model["metrics"]) == ["theta", "a_A2", "a_A4"]
         for m in model["metrics"].values():
-            assert {"rms_error", "nrmse", "peak_error", "peak_error_rel",
-                    "peak_time_shift_s", "units", "n_samples"} <= set(m)
+            assert {
+                "rms_error",
+                "nrmse",
+                "peak_error",
+                "peak_error_rel",
+                "peak_time_shift_s",
+                "units",
+                "n_samples",
+            } <= set(m)
     dd2, cim = data["models"]["DD2"]["metrics"], data["models"]["CIM"]["metrics"]
     # the trace is the DD2 simulation itself: DD2 reproduces it, CIM does not
     for ch in ("theta", "a_A2", "a_A4"):
         assert dd2[ch]["nrmse"] < 1e-6
         assert cim[ch]["nrmse"] > 1e3 * dd2[ch]["nrmse"]
     names = sorted(p.name for p in out.iterdir())
-    assert names == sorted(["S1_free_test_theta.png", "S1_free_test_a_A2.png",
-                            "S1_free_test_a_A4.png", "S1_free_test_metrics.csv",
-                            "S1_free_test_metrics.md", "S1_free_test_compare.json"])
+    assert names == sorted(
+        [
+            "S1_free_test_theta.png",
+            "S1_free_test_a_A2.png",
+            "S1_free_test_a_A4.png",
+            "S1_free_test_metrics.csv",
+            "S1_free_test_metrics.md",
+            "S1_free_test_compare.json",
+        ]
+    )
     assert sorted(data["files"]) == sorted(str(out / n) for n in names)
     saved = json.loads((out / "S1_free_test_compare.json").read_text())
     assert saved["models"]["CIM"]["metrics"] == data["models"]["CIM"]["metrics"]
@@ -83,10 +102,10 @@ def test_two_models_overlaid_files_and_json(tmp_path, trace_file, capsys):
 
 def test_trace_starting_later_is_aligned_on_its_first_sample(tmp_path, dd2_release, capsys):
     trace = write_trace(tmp_path / "late.csv", dd2_release, t_shift=2.0)
-    assert main(["compare", "S1", str(trace), "--json"]) == 0       # default model: DD2
+    assert main(["compare", "S1", str(trace), "--json"]) == 0  # default model: DD2
     data = json.loads(capsys.readouterr().out)
     assert data["t_offset"] == 2.0 and data["t_end"] == pytest.approx(T_END, abs=1e-9)
-    assert data["files"] == []                                    # --json without --out
+    assert data["files"] == []  # --json without --out
     for m in data["models"]["DD2"]["metrics"].values():
         assert m["nrmse"] < 1e-6 and m["peak_time_shift_s"] == 0.0
         assert m["t_start"] == 2.0
@@ -94,10 +113,27 @@ def test_trace_starting_later_is_aligned_on_its_first_sample(tmp_path, dd2_relea
 
 def test_forced_test_with_a_pulse(tmp_path, capsys):
     # paper 001 Section 4.4 / Fig 9: S1, cosine pulse ω = 15 rad/s, A = 0.4 g, DD2
-    resp = multimass.simulate("S1", multimass.CosinePulse(omega=15.0, amplitude=0.4 * G), impact="DD2", t_end=0.5)
+    resp = multimass.simulate(
+        "S1", multimass.CosinePulse(omega=15.0, amplitude=0.4 * G), impact="DD2", t_end=0.5
+    )
     trace = write_trace(tmp_path / "pulse.csv", resp)
-    assert main(["compare", "S1", str(trace), "--pulse", "cosine", "--omega", "15",
-                 "--amp", "0.4g", "--json"]) == 0
+    assert (
+        main(
+            [
+                "compare",
+                "S1",
+                str(trace),
+                "--pulse",
+                "cosine",
+                "--omega",
+                "15",
+                "--amp",
+                "0.4g",
+                "--json",
+            ]
+        )
+        == 0
+    )
     data = json.loads(capsys.readouterr().out)
     assert data["excitation"]["kind"] == "cosine_pulse" and data["t_offset"] == 0.0
     assert all(m["nrmse"] < 1e-6 for m in data["models"]["DD2"]["metrics"].values())
@@ -120,23 +156,27 @@ def test_model_specs_repeated_comma_and_overrides():
     assert list(specs) == ["CIM", "DD2", "DD2:cp=3000"]
     assert specs["DD2"]["C_p"] == 1000.0 and specs["DD2:cp=3000"]["C_p"] == 3000.0
     assert model_specs(_ns(["CIM:r=0.9:seed=3"]))["CIM:r=0.9:seed=3"] == dict(
-        impact="CIM", restitution="0.9", k=None, C_p=None, seed=3)
+        impact="CIM", restitution="0.9", k=None, C_p=None, seed=3
+    )
     assert list(model_specs(_ns(None))) == ["DD2"]
 
 
-@pytest.mark.parametrize("extra, header, fragment", [
-    (["--impact", "XYZ"], None, "unknown impact model"),
-    (["--impact", "DD2:foo=1"], None, "cannot read option 'foo=1'"),
-    (["--impact", "DD2:cp=abc"], None, "cp must be a finite number > 0, got 'abc'"),
-    # the same mistake gets the same words whether it is written as a model option or a flag
-    (["--impact", "DD2:cp=-1"], None, "cp must be a finite number > 0, got '-1'"),
-    (["--cp", "-1"], None, "argument --cp: must be a finite number > 0, got '-1'"),
-    (["--impact", ","], None, "`--impact` is empty"),
-    ([], "t [s],a_A9 [g]", "column `a_A9`"),
-    ([], "t [s],a_A2 [g]", "no `theta` column"),
-    ([], "t [s],theta", "column `theta` has no unit"),
-    (["--t-end", "-1"], None, "argument --t-end: must be a finite number > 0, got '-1'"),
-])
+@pytest.mark.parametrize(
+    "extra, header, fragment",
+    [
+        (["--impact", "XYZ"], None, "unknown impact model"),
+        (["--impact", "DD2:foo=1"], None, "cannot read option 'foo=1'"),
+        (["--impact", "DD2:cp=abc"], None, "cp must be a finite number > 0, got 'abc'"),
+        # the same mistake gets the same words whether it is written as a model option or a flag
+        (["--impact", "DD2:cp=-1"], None, "cp must be a finite number > 0, got '-1'"),
+        (["--cp", "-1"], None, "argument --cp: must be a finite number > 0, got '-1'"),
+        (["--impact", ","], None, "`--impact` is empty"),
+        ([], "t [s],a_A9 [g]", "column `a_A9`"),
+        ([], "t [s],a_A2 [g]", "no `theta` column"),
+        ([], "t [s],theta", "column `theta` has no unit"),
+        (["--t-end", "-1"], None, "argument --t-end: must be a finite number > 0, got '-1'"),
+    ],
+)
 def test_bad_input_exits_2_with_one_line(tmp_path, trace_file, extra, header, fragment, capsys):
     path = trace_file
     if header is not None:

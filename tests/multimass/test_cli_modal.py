@@ -25,7 +25,7 @@ def test_modal_json_array(capsys):
     assert s1["full_contact"]["freq_hz"][0] == pytest.approx(7.47, abs=0.01)
     assert s1["rocking"]["freq_hz"][0] == pytest.approx(20.50, abs=0.01)
     assert len(s1["mac_full_vs_compound"]) == 5
-    assert s1["reference"]["rocking_freq_hz"] == [20.7, 46.9]   # paper 001, Section 4.2
+    assert s1["reference"]["rocking_freq_hz"] == [20.7, 46.9]  # paper 001, Section 4.2
 
 
 def test_modal_writes_report(tmp_path, capsys):
@@ -36,23 +36,32 @@ def test_modal_writes_report(tmp_path, capsys):
 
 def test_modal_user_file(tmp_path, capsys):
     from multimass import specimens
+
     path = tmp_path / "col.toml"
-    path.write_text(specimens.loader._bundled()["S1"].read_text().replace('name = "S1"', 'name = "Mine"'))
+    path.write_text(
+        specimens.loader._bundled()["S1"].read_text().replace('name = "S1"', 'name = "Mine"')
+    )
     assert main(["modal", str(path), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)[0]["specimen"] == "Mine"
 
 
-@pytest.mark.parametrize("argv, fragment", [
-    (["modal", "S7", "--json"], "no such bundled specimen"),
-    (["modal", "S1", "--shape-nodes", "a,b", "--json"], "--shape-nodes"),
-    (["modal", "S1", "--shape-nodes", "2.5", "--json"], "`--shape-nodes` = '2.5'"),
-    (["modal", "S1", "--shape-nodes", "2,,3", "--json"], "integer node numbers"),
-    (["modal", "S1", "--shape-nodes", "2,\u00b3", "--json"], "integer node numbers"),
-    (["modal", "nowhere/col.toml", "--json"], "nowhere/col.toml"),
-    (["modal", "S1", "--shape-nodes", "0,2", "--json"], "`--shape-nodes` = (0, 2): node(s) [0]"),
-    (["modal", "S1", "S2", "--measured", "x.csv", "--json"], "--measured"),
-    (["modal", "B6M", "--json"], "'B6M' is a rigid block"),
-])
+@pytest.mark.parametrize(
+    "argv, fragment",
+    [
+        (["modal", "S7", "--json"], "no such bundled specimen"),
+        (["modal", "S1", "--shape-nodes", "a,b", "--json"], "--shape-nodes"),
+        (["modal", "S1", "--shape-nodes", "2.5", "--json"], "`--shape-nodes` = '2.5'"),
+        (["modal", "S1", "--shape-nodes", "2,,3", "--json"], "integer node numbers"),
+        (["modal", "S1", "--shape-nodes", "2,\u00b3", "--json"], "integer node numbers"),
+        (["modal", "nowhere/col.toml", "--json"], "nowhere/col.toml"),
+        (
+            ["modal", "S1", "--shape-nodes", "0,2", "--json"],
+            "`--shape-nodes` = (0, 2): node(s) [0]",
+        ),
+        (["modal", "S1", "S2", "--measured", "x.csv", "--json"], "--measured"),
+        (["modal", "B6M", "--json"], "'B6M' is a rigid block"),
+    ],
+)
 def test_bad_input_exits_2_with_one_line(argv, fragment, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err
@@ -89,9 +98,13 @@ def test_forty_node_column_gets_its_full_report(tmp_path, capsys):
 
 
 def test_heavily_damped_column_lists_overdamped_uplifted_modes(tmp_path, capsys):
-    path = column_toml(tmp_path, [0.06, 0.49, 0.93, 1.43, 1.93], [77.3, 6.2, 88.2, 8.2, 46.2],
-                       name="z09",
-                       **{"zeta_1 = 0.005": "zeta_1 = 0.9", "zeta_2 = 0.015": "zeta_2 = 0.9"})
+    path = column_toml(
+        tmp_path,
+        [0.06, 0.49, 0.93, 1.43, 1.93],
+        [77.3, 6.2, 88.2, 8.2, 46.2],
+        name="z09",
+        **{"zeta_1 = 0.005": "zeta_1 = 0.9", "zeta_2 = 0.015": "zeta_2 = 0.9"},
+    )
     assert main(["modal", str(path), "--out", str(tmp_path), "--no-figures"]) == 0
     line = capsys.readouterr().out.splitlines()[0]
     assert "(overdamped)" in line and "uplifted 1, 3–5" in line

@@ -12,48 +12,159 @@ def _json(capsys):
 
 
 def test_simulate_release_writes_files_and_json(tmp_path, capsys):
-    assert main(["simulate", "S1", "--impact", "DD2", "--release", "0.05", "--t-end", "1.2",
-                 "--out", str(tmp_path), "--json"]) == 0
+    assert (
+        main(
+            [
+                "simulate",
+                "S1",
+                "--impact",
+                "DD2",
+                "--release",
+                "0.05",
+                "--t-end",
+                "1.2",
+                "--out",
+                str(tmp_path),
+                "--json",
+            ]
+        )
+        == 0
+    )
     info = _json(capsys)
-    for key in ("status", "n_impacts", "n_full_contact", "theta_max", "peaks",
-                "energy_balance_error", "wall_time_s"):
+    for key in (
+        "status",
+        "n_impacts",
+        "n_full_contact",
+        "theta_max",
+        "peaks",
+        "energy_balance_error",
+        "wall_time_s",
+    ):
         assert key in info
     assert info["status"] == "completed" and info["theta_max"] == pytest.approx(0.05)
-    for name in ("S1_series.csv", "S1_events.csv", "S1_summary.json", "S1_rocking.png",
-                 "S1_energy.png", "S1_accelerations.png"):
+    for name in (
+        "S1_series.csv",
+        "S1_events.csv",
+        "S1_summary.json",
+        "S1_rocking.png",
+        "S1_energy.png",
+        "S1_accelerations.png",
+    ):
         assert (tmp_path / name).is_file(), name
 
 
 def test_simulate_pulse_and_block(capsys):
-    assert main(["simulate", "S1", "--pulse", "cosine", "--omega", "15", "--amp", "0.4g",
-                 "--t-end", "1.0", "--json"]) == 0
+    assert (
+        main(
+            [
+                "simulate",
+                "S1",
+                "--pulse",
+                "cosine",
+                "--omega",
+                "15",
+                "--amp",
+                "0.4g",
+                "--t-end",
+                "1.0",
+                "--json",
+            ]
+        )
+        == 0
+    )
     assert _json(capsys)["options"]["excitation"]["kind"] == "cosine_pulse"
-    assert main(["simulate", "B6M", "--release", "0.19666", "--impact", "CIM", "--restitution",
-                 "housner", "--t-end", "1.0", "--json"]) == 0
+    assert (
+        main(
+            [
+                "simulate",
+                "B6M",
+                "--release",
+                "0.19666",
+                "--impact",
+                "CIM",
+                "--restitution",
+                "housner",
+                "--t-end",
+                "1.0",
+                "--json",
+            ]
+        )
+        == 0
+    )
     peaks = _json(capsys)["peaks"]
-    assert peaks[1] == pytest.approx(0.135551, abs=2e-6)   # exact energy solution, paper 004 Eq 9
+    assert peaks[1] == pytest.approx(0.135551, abs=2e-6)  # exact energy solution, paper 004 Eq 9
 
 
 def test_simulate_record(ground_motions, capsys):
-    assert main(["simulate", "S1", "--record", str(ground_motions / "elcentro_1940_NS.dat"),
-                 "--units", "g", "--scale", "1.1", "--t-end", "2", "--json"]) == 0
+    assert (
+        main(
+            [
+                "simulate",
+                "S1",
+                "--record",
+                str(ground_motions / "elcentro_1940_NS.dat"),
+                "--units",
+                "g",
+                "--scale",
+                "1.1",
+                "--t-end",
+                "2",
+                "--json",
+            ]
+        )
+        == 0
+    )
     assert _json(capsys)["status"] == "completed"
 
 
-@pytest.mark.parametrize("argv, fragment", [
-    (["simulate", "S1", "--release", "0.05", "--impact", "XYZ"], "unknown impact model"),
-    (["simulate", "S1", "--release", "0.05", "--t-end", "0"], "argument --t-end: must be a finite number > 0, got '0'"),
-    (["simulate", "S1", "--release", "0.5"], "α_cg"),
-    (["simulate", "S1"], "exactly one excitation"),
-    (["simulate", "S1", "--pulse", "sine", "--omega", "10", "--amp", "0.4parsecs"], "--amp"),
-    (["simulate", "S1", "--record", "x.dat", "--units", "furlongs"], "units"),
-    (["stability", "B6M", "--omega-p", "5:1:4", "--executor", "serial"], "inverted"),
-    (["stability", "B6M", "--amp", "1:2:0", "--executor", "serial"], "empty"),
-    (["stability", "B6M", "--k", "1.4", "--executor", "serial", "--omega-p", "1", "--amp", "1"], "argument --k: must be a number in [0, 1], got '1.4'"),
-    (["stability", "B99", "--executor", "serial"], "no such bundled specimen"),
-    (["stability", "S1", "--executor", "serial"], "column"),
-    (["spectrum", "S1", "--pulse", "cosine", "--omega", "-3", "--amp", "0.4g", "--executor", "serial"], "`--omega` = [-3]: every value must be > 0"),
-])
+@pytest.mark.parametrize(
+    "argv, fragment",
+    [
+        (["simulate", "S1", "--release", "0.05", "--impact", "XYZ"], "unknown impact model"),
+        (
+            ["simulate", "S1", "--release", "0.05", "--t-end", "0"],
+            "argument --t-end: must be a finite number > 0, got '0'",
+        ),
+        (["simulate", "S1", "--release", "0.5"], "α_cg"),
+        (["simulate", "S1"], "exactly one excitation"),
+        (["simulate", "S1", "--pulse", "sine", "--omega", "10", "--amp", "0.4parsecs"], "--amp"),
+        (["simulate", "S1", "--record", "x.dat", "--units", "furlongs"], "units"),
+        (["stability", "B6M", "--omega-p", "5:1:4", "--executor", "serial"], "inverted"),
+        (["stability", "B6M", "--amp", "1:2:0", "--executor", "serial"], "empty"),
+        (
+            [
+                "stability",
+                "B6M",
+                "--k",
+                "1.4",
+                "--executor",
+                "serial",
+                "--omega-p",
+                "1",
+                "--amp",
+                "1",
+            ],
+            "argument --k: must be a number in [0, 1], got '1.4'",
+        ),
+        (["stability", "B99", "--executor", "serial"], "no such bundled specimen"),
+        (["stability", "S1", "--executor", "serial"], "column"),
+        (
+            [
+                "spectrum",
+                "S1",
+                "--pulse",
+                "cosine",
+                "--omega",
+                "-3",
+                "--amp",
+                "0.4g",
+                "--executor",
+                "serial",
+            ],
+            "`--omega` = [-3]: every value must be > 0",
+        ),
+    ],
+)
 def test_bad_input_exits_2(argv, fragment, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err
@@ -61,20 +172,71 @@ def test_bad_input_exits_2(argv, fragment, capsys):
 
 
 def test_stability_json_and_files(tmp_path, capsys):
-    assert main(["stability", "B6M", "--pulse", "sine", "--restitution", "modified",
-                 "--omega-p", "2:6:3", "--amp", "0.5:4:4", "--refine", "1", "--integrator",
-                 "newmark", "--executor", "serial", "--out", str(tmp_path), "--json"]) == 0
+    assert (
+        main(
+            [
+                "stability",
+                "B6M",
+                "--pulse",
+                "sine",
+                "--restitution",
+                "modified",
+                "--omega-p",
+                "2:6:3",
+                "--amp",
+                "0.5:4:4",
+                "--refine",
+                "1",
+                "--integrator",
+                "newmark",
+                "--executor",
+                "serial",
+                "--out",
+                str(tmp_path),
+                "--json",
+            ]
+        )
+        == 0
+    )
     info = _json(capsys)
-    for key in ("block", "pulse", "restitution", "k", "omega_p", "min_overturn_amp",
-                "n_simulations", "wall_time_s"):
+    for key in (
+        "block",
+        "pulse",
+        "restitution",
+        "k",
+        "omega_p",
+        "min_overturn_amp",
+        "n_simulations",
+        "wall_time_s",
+    ):
         assert key in info
     assert info["k"] == 0.8241 and info["omega_p"] == [2.0, 4.0, 6.0]
     assert (tmp_path / "B6M_sine_modified_map.png").is_file()
 
 
 def test_spectrum_json(capsys, tmp_path):
-    assert main(["spectrum", "S1", "--pulse", "cosine", "--omega", "10:20:2", "--amp", "0.4g",
-                 "--t-free", "1", "--executor", "serial", "--out", str(tmp_path), "--json"]) == 0
+    assert (
+        main(
+            [
+                "spectrum",
+                "S1",
+                "--pulse",
+                "cosine",
+                "--omega",
+                "10:20:2",
+                "--amp",
+                "0.4g",
+                "--t-free",
+                "1",
+                "--executor",
+                "serial",
+                "--out",
+                str(tmp_path),
+                "--json",
+            ]
+        )
+        == 0
+    )
     info = _json(capsys)
     assert info["n_simulations"] == 2 and len(info["stats"]) == 2
     assert (tmp_path / "S1_spectrum_omega.png").is_file()
@@ -82,20 +244,60 @@ def test_spectrum_json(capsys, tmp_path):
 
 # --- issue 12: what a user sees ---------------------------------------------------------------
 
+
 def test_simulate_newmark_from_the_command_line(capsys):
     # README's table documents --integrator newmark; the CLI refused it
-    assert main(["simulate", "B6M", "--release", "0.19666", "--impact", "CIM", "--restitution",
-                 "housner", "--integrator", "newmark", "--dt", "1e-4", "--t-end", "1.0",
-                 "--json"]) == 0
+    assert (
+        main(
+            [
+                "simulate",
+                "B6M",
+                "--release",
+                "0.19666",
+                "--impact",
+                "CIM",
+                "--restitution",
+                "housner",
+                "--integrator",
+                "newmark",
+                "--dt",
+                "1e-4",
+                "--t-end",
+                "1.0",
+                "--json",
+            ]
+        )
+        == 0
+    )
     info = _json(capsys)
     assert info["options"]["integrator"] == "newmark" and info["status"] == "completed"
-    assert info["peaks"][1] == pytest.approx(0.135551, abs=2e-5)   # exact energy solution, Eq 9
+    assert info["peaks"][1] == pytest.approx(0.135551, abs=2e-5)  # exact energy solution, Eq 9
 
 
 def test_inaccurate_run_says_why_and_exits_1(capsys):
-    assert main(["simulate", "B6M", "--release", "0.19", "--impact", "CIM", "--restitution",
-                 "housner", "--rtol", "1e-3", "--atol", "1e-5", "--max-step", "inf",
-                 "--t-end", "2.5"]) == 1
+    assert (
+        main(
+            [
+                "simulate",
+                "B6M",
+                "--release",
+                "0.19",
+                "--impact",
+                "CIM",
+                "--restitution",
+                "housner",
+                "--rtol",
+                "1e-3",
+                "--atol",
+                "1e-5",
+                "--max-step",
+                "inf",
+                "--t-end",
+                "2.5",
+            ]
+        )
+        == 1
+    )
     out = capsys.readouterr().out
     assert "B6M: inaccurate;" in out and "the run completed, but an accuracy check failed" in out
     assert "warning: energy ledger does not close" in out
@@ -109,8 +311,14 @@ def test_failed_run_prints_its_reason(capsys, monkeypatch):
 
     def failing(*args, **kwargs):
         r = real(*args, **kwargs)
-        return Response(**{**r.__dict__, "status": "failed", "outcome": "failed",
-                           "message": "solve_ivp failed at t = 0.1 s: step size too small"})
+        return Response(
+            **{
+                **r.__dict__,
+                "status": "failed",
+                "outcome": "failed",
+                "message": "solve_ivp failed at t = 0.1 s: step size too small",
+            }
+        )
 
     monkeypatch.setattr(multimass, "simulate", failing)
     assert main(["simulate", "S1", "--release", "0.05", "--t-end", "0.2"]) == 1
@@ -128,18 +336,55 @@ def test_output_folder_is_checked_before_computing(tmp_path, capsys):
     assert "cannot write there" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("argv, fragment", [
-    (["stability", "B6M", "--omega-p", "-1:10:6", "--amp", "1:2:2"], "`--omega-p` = [-1, 1.2, 3.4"),
-    (["simulate", "S1", "--release", "0.1", "--seed", "-1", "--impact", "DD5"], "argument --seed"),
-    (["spectrum", "S1", "--pulse", "cosine", "--omega", "15", "--amp", "0.4g", "--t-free", "nan"],
-     "argument --t-free: must be a finite number > 0, got 'nan'"),
-    (["spectrum", "S1", "--record", "x.dat", "--units", "g", "--scale", "1", "--repeats", "0"],
-     "argument --repeats: must be a whole number ≥ 1, got '0'"),
-    (["stability", "B6M", "--integrator", "newmark", "--dt", "nan"], "argument --dt"),
-    (["simulate", "S1", "--release", "0.1", "--t-end", "1e9"], "over the budget of 1 h"),
-    (["simulate", "S1", "--pulse", "sine", "--omega", "1e-6", "--amp", "0.4g"],
-     "the excitation lasts 6.28e+06 s"),
-])
+@pytest.mark.parametrize(
+    "argv, fragment",
+    [
+        (
+            ["stability", "B6M", "--omega-p", "-1:10:6", "--amp", "1:2:2"],
+            "`--omega-p` = [-1, 1.2, 3.4",
+        ),
+        (
+            ["simulate", "S1", "--release", "0.1", "--seed", "-1", "--impact", "DD5"],
+            "argument --seed",
+        ),
+        (
+            [
+                "spectrum",
+                "S1",
+                "--pulse",
+                "cosine",
+                "--omega",
+                "15",
+                "--amp",
+                "0.4g",
+                "--t-free",
+                "nan",
+            ],
+            "argument --t-free: must be a finite number > 0, got 'nan'",
+        ),
+        (
+            [
+                "spectrum",
+                "S1",
+                "--record",
+                "x.dat",
+                "--units",
+                "g",
+                "--scale",
+                "1",
+                "--repeats",
+                "0",
+            ],
+            "argument --repeats: must be a whole number ≥ 1, got '0'",
+        ),
+        (["stability", "B6M", "--integrator", "newmark", "--dt", "nan"], "argument --dt"),
+        (["simulate", "S1", "--release", "0.1", "--t-end", "1e9"], "over the budget of 1 h"),
+        (
+            ["simulate", "S1", "--pulse", "sine", "--omega", "1e-6", "--amp", "0.4g"],
+            "the excitation lasts 6.28e+06 s",
+        ),
+    ],
+)
 def test_user_mistakes_are_one_line(argv, fragment, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err
@@ -153,7 +398,10 @@ def test_every_flag_has_a_help_text():
 
     parser = build_parser()
     sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
-    missing = [f"{name} {action.dest}" for name, p in sub.choices.items()
-               for action in p._actions
-               if not isinstance(action, argparse._HelpAction) and not action.help]
+    missing = [
+        f"{name} {action.dest}"
+        for name, p in sub.choices.items()
+        for action in p._actions
+        if not isinstance(action, argparse._HelpAction) and not action.help
+    ]
     assert not missing, missing

@@ -34,11 +34,11 @@ def test_long_source_wraps_inside_its_column(long_source_file, capsys, monkeypat
     starts = _columns(lines[0])
     assert all(len(line) <= 100 for line in lines)
     # every line of every row keeps the description in its column (no row is pushed right)
-    first = str(long_source_file)[:NAME_WIDTH]          # a long path wraps in its column too
+    first = str(long_source_file)[:NAME_WIDTH]  # a long path wraps in its column too
     row = [i for i, line in enumerate(lines) if line.startswith(first)][0]
-    assert lines[row][starts[3]:].startswith("Masses concentrated")
+    assert lines[row][starts[3] :].startswith("Masses concentrated")
     # the whole source is there, word for word, in the source column of consecutive lines
-    cells = [line[starts[2]:starts[3]].strip() for line in lines[row:]]
+    cells = [line[starts[2] : starts[3]].strip() for line in lines[row:]]
     assert " ".join(c for c in cells if c).startswith(LONG_SOURCE)
     # the bundled rows are unchanged in content: one line for S1
     s1 = [line for line in lines if line.startswith("S1 ")][0]
@@ -51,21 +51,26 @@ def test_every_line_fits_the_width_and_every_word_is_kept():
         lines = format_table(rows, width)
         fixed = 24 + len("column") + 28 + 3 * 2
         assert all(len(line) <= max(width, fixed + MIN_DESCRIPTION) for line in lines)
-        body = "".join(lines[1:])                          # below the header row
+        body = "".join(lines[1:])  # below the header row
         assert body.count("x") == 60 and body.count("d") == 300 and body.count("s") == 150
 
 
 def test_json_lists_user_files(long_source_file, capsys):
     assert main(["specimens", str(long_source_file), "--json"]) == 0
     rows = json.loads(capsys.readouterr().out)
-    assert rows[-1] == {"name": str(long_source_file), "kind": "column", "source": LONG_SOURCE,
-                        "description": "Masses concentrated at mid-height and top (mass "
-                                       "arrangement S1)."}
+    assert rows[-1] == {
+        "name": str(long_source_file),
+        "kind": "column",
+        "source": LONG_SOURCE,
+        "description": "Masses concentrated at mid-height and top (mass arrangement S1).",
+    }
     assert {"S1", "B6M", "beam_mudric2024"} <= {r["name"] for r in rows}
 
 
 def test_a_bad_user_file_is_one_clear_line(tmp_path, capsys):
     assert main(["specimens", str(tmp_path / "missing.toml")]) == 2
     err = capsys.readouterr().err.strip()
-    assert err.startswith("multimass specimens: error:") and "no such bundled specimen or file" in err
+    assert (
+        err.startswith("multimass specimens: error:") and "no such bundled specimen or file" in err
+    )
     assert "\n" not in err

@@ -25,13 +25,18 @@ from multimass.poisson_block import PoissonBlock, _BlockModel
 
 def block_run(block, q0, v0, t_end=0.2, eps=0.0, **kw):
     model = _BlockModel(block, kw.pop("ag", lambda t: 0.0), kw.pop("quiet", 0.0))
-    opts = dict(dt_out=1e-3, gap_tol=1e-9 * block.R, locked_dt=0.002,
-                zeno_velocity=1e-4 * math.sqrt(block.g * block.R))
+    opts = dict(
+        dt_out=1e-3,
+        gap_tol=1e-9 * block.R,
+        locked_dt=0.002,
+        zeno_velocity=1e-4 * math.sqrt(block.g * block.R),
+    )
     opts.update(kw)
     return simulate_contacts(model, q0, v0, t_end, eps, **opts)
 
 
 # -- the start: a sliding block whose corners stick at t0 trips over its leading corner
+
 
 @pytest.mark.parametrize("b, h", [(0.5, 0.25), (0.25, 0.5), (0.5, 3.5)])
 def test_slip_at_the_start_is_an_impact_that_trips_the_block(b, h):
@@ -82,18 +87,29 @@ def test_a_corner_separating_at_the_start_is_open(dphi):
 
 # -- validation
 
+
 def test_bad_input_names_the_field():
     block = PoissonBlock(b=0.2, h=0.5)
     model = _BlockModel(block, lambda t: 0.0)
     ok = dict(model=model, q0=[0.0, 0.5, 0.0], v0=[0.0, 0.0, 0.0], t_end=1.0, eps_p=0.0)
-    cases = [(dict(q0=[0.0, 0.5]), "q0"), (dict(v0=[0.0, np.nan, 0.0]), "v0"),
-             (dict(q0=[0.0, 0.49, 0.0]), "penetrates"), (dict(t_end=np.inf), "t_end"),
-             (dict(t_end=np.nan), "t_end"), (dict(dt_out=0.0), "dt_out"),
-             (dict(rtol=-1.0), "rtol"), (dict(max_events=0), "max_events"),
-             (dict(gap_tol=np.nan), "gap_tol"), (dict(zeno_velocity=-1.0), "zeno_velocity"),
-             (dict(breakpoints=[np.nan]), "breakpoints"), (dict(eps_p="hard"), "eps_p"),
-             (dict(eps_p=[0.1, 0.2, 0.3]), "eps_p"), (dict(eps_p=1.5), "eps_p"),
-             (dict(max_events=True), "max_events"), (dict(t_end=10**400), "t_end")]
+    cases = [
+        (dict(q0=[0.0, 0.5]), "q0"),
+        (dict(v0=[0.0, np.nan, 0.0]), "v0"),
+        (dict(q0=[0.0, 0.49, 0.0]), "penetrates"),
+        (dict(t_end=np.inf), "t_end"),
+        (dict(t_end=np.nan), "t_end"),
+        (dict(dt_out=0.0), "dt_out"),
+        (dict(rtol=-1.0), "rtol"),
+        (dict(max_events=0), "max_events"),
+        (dict(gap_tol=np.nan), "gap_tol"),
+        (dict(zeno_velocity=-1.0), "zeno_velocity"),
+        (dict(breakpoints=[np.nan]), "breakpoints"),
+        (dict(eps_p="hard"), "eps_p"),
+        (dict(eps_p=[0.1, 0.2, 0.3]), "eps_p"),
+        (dict(eps_p=1.5), "eps_p"),
+        (dict(max_events=True), "max_events"),
+        (dict(t_end=10**400), "t_end"),
+    ]
     cases += [(dict(mu=mu), "`mu`") for mu in (0.0, -0.5, np.nan, np.inf, "rough")]
     for kw, match in cases:
         with pytest.raises(InputError, match=match):
@@ -102,11 +118,12 @@ def test_bad_input_names_the_field():
 
 # -- friction demand of a Poisson impact: paper 000's closed-form states
 
+
 def block_impact(h_over_b, eps, b=0.4, m=3.0, phidot=-1.7):
     H = h_over_b * b
     M = np.diag([m, m, m * (b * b + H * H) / 3.0])
-    W_N = np.array([[0.0, 0.0], [1.0, 1.0], [-b, b]])          # paper 000, Eq 13
-    W_T = np.array([[1.0], [0.0], [H]])                        # paper 000, Eq 13
+    W_N = np.array([[0.0, 0.0], [1.0, 1.0], [-b, b]])  # paper 000, Eq 13
+    W_T = np.array([[1.0], [0.0], [H]])  # paper 000, Eq 13
     return poisson_impact(M, W_N, W_T, phidot * np.array([-H, b, 1.0]), eps), math.atan(b / H)
 
 
@@ -140,13 +157,15 @@ def test_friction_ratio_groups_and_limits():
 
 # -- the run-status contract
 
+
 def test_checks_turn_status_inaccurate_and_keep_the_outcome():
     E = np.array([1.0, 1.0, 1.0])
     W = np.zeros(3)
     ok, warn = run_checks(E, np.array([0.0, 1e-4, 0.0]), W, 0.0, FrictionDemand(), None)
     assert set(ok) == {"energy_balance", "projection"} and warn == ()
-    bad, warn = run_checks(E, np.array([0.0, 2e-3, 0.0]), W, 0.0,
-                           FrictionDemand(0.9, 0.3, 0.2, 0.5), 0.7)
+    bad, warn = run_checks(
+        E, np.array([0.0, 2e-3, 0.0]), W, 0.0, FrictionDemand(0.9, 0.3, 0.2, 0.5), 0.7
+    )
     assert bad["energy_balance"] == {"value": 2e-3, "limit": ENERGY_LIMIT, "passed": False}
     assert bad["friction_smooth"] == {"value": 0.9, "limit": 0.7, "passed": False}
     assert bad["friction_impact"]["passed"]
@@ -170,11 +189,16 @@ def test_a_contact_that_must_slide_ends_failed_with_its_history():
     # corner would penetrate (a real corner slides); the run returns, status "failed"
     block = PoissonBlock(b=0.5, h=0.25)
     a, w = 2.0 * block.g * math.tan(block.alpha), 2.0 * block.p
-    r = block_run(block, [0.0, 0.25, 0.0], np.zeros(3), t_end=3.0,
-                  ag=lambda t: a * math.sin(w * t) if t < 2 * math.pi / w else 0.0,
-                  quiet=2 * math.pi / w)
+    r = block_run(
+        block,
+        [0.0, 0.25, 0.0],
+        np.zeros(3),
+        t_end=3.0,
+        ag=lambda t: a * math.sin(w * t) if t < 2 * math.pi / w else 0.0,
+        quiet=2 * math.pi / w,
+    )
     assert r.status == r.outcome == "failed"
     assert "no consistent set of closed contacts" in r.message and "slides" in r.message
     assert 0.5 < r.t[-1] < 3.0
     assert np.all(np.isfinite(r.energy))
-    assert r.friction.smooth == math.inf            # the pivot unloaded while pushed sideways
+    assert r.friction.smooth == math.inf  # the pivot unloaded while pushed sideways

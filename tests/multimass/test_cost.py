@@ -13,8 +13,8 @@ from multimass.progress import Progress, RunCost, format_bytes, format_duration
 
 def test_spectral_radius_against_the_foss_eigenvalues():
     # an independent implementation of the same state matrix: modal's Foss solver (Eq 24)
-    from multimass.modal.state_space import foss
     from multimass.modal.linearisation import full_contact
+    from multimass.modal.state_space import foss
 
     for name in ("S1", "S2", "S3"):
         st = multimass.column(name)
@@ -38,8 +38,15 @@ def test_steps_follow_the_stiffest_mode(scale):
     # never below the real count, never more than 3× above (the spread of the calibration)
     st = multimass.column("S1", E_s=200e9 * scale)
     r = simulate(st, FreeRelease(0.1), "DD2", 1.0, backend="compiled", output_dt=None)
-    cost = simulation_cost(st, 1.0, method="DOP853", max_step=5e-3, output_dt=None,
-                           backend="compiled", integrator="solve_ivp")
+    cost = simulation_cost(
+        st,
+        1.0,
+        method="DOP853",
+        max_step=5e-3,
+        output_dt=None,
+        backend="compiled",
+        integrator="solve_ivp",
+    )
     ratio = cost.steps / (r.n_rhs / 12)
     assert 0.9 <= ratio <= 3.0, ratio
     assert "stiffest mode" in cost.basis
@@ -47,16 +54,31 @@ def test_steps_follow_the_stiffest_mode(scale):
 
 def test_memory_counts_the_output_grid():
     st = multimass.column("S1")
-    cost = simulation_cost(st, 10.0, method="DOP853", max_step=5e-3, output_dt=1e-3,
-                           backend="scipy", integrator="solve_ivp")
+    cost = simulation_cost(
+        st,
+        10.0,
+        method="DOP853",
+        max_step=5e-3,
+        output_dt=1e-3,
+        backend="scipy",
+        integrator="solve_ivp",
+    )
     assert cost.memory == pytest.approx(1e4 * 8 * (6 * 5 + 19))
     assert "1e+04 output samples" in cost.basis
 
 
 def test_newmark_cost_is_its_steps():
     st = multimass.rigid_block("B6M")
-    cost = simulation_cost(st, 2.0, method="DOP853", max_step=5e-3, output_dt=None,
-                           backend="scipy", integrator="newmark", dt=1e-3)
+    cost = simulation_cost(
+        st,
+        2.0,
+        method="DOP853",
+        max_step=5e-3,
+        output_dt=None,
+        backend="scipy",
+        integrator="newmark",
+        dt=1e-3,
+    )
     assert cost.steps == pytest.approx(2000.0)
 
 
@@ -83,7 +105,7 @@ def test_progress_is_automatic_from_the_estimate(capsys):
     with Progress(10.0, "slow", estimate=30.0) as bar:
         assert bar.shown
         bar.update(5.0)
-        bar.update(50.0)               # beyond the end: clipped
+        bar.update(50.0)  # beyond the end: clipped
         assert bar._bar.n == 10.0
     assert "slow: estimated 30 s" in capsys.readouterr().err
 

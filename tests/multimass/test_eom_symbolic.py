@@ -35,7 +35,7 @@ from multimass.eom import rocking_accelerations, rocking_system
 from multimass.structure import Structure
 from multimass.symbolic import derive_rocking, rocking_system_symbolic
 
-RTOL = 1e-10   # issue 3: "1e-10 relative"
+RTOL = 1e-10  # issue 3: "1e-10 relative"
 
 
 def random_structure(rng, n, h0):
@@ -48,17 +48,29 @@ def random_structure(rng, n, h0):
         S = Q @ np.diag(10.0 ** rng.uniform(lo, hi, n)) @ Q.T
         return 0.5 * (S + S.T)
 
-    return Structure(name="random", H=H, m=m, m0=rng.uniform(0.0, 50.0),
-                     J0=rng.uniform(0.0, 20.0), B=rng.uniform(0.1, 0.5), g=9.81,
-                     K=spd(3, 6) if n else np.zeros((0, 0)),
-                     C=spd(1, 3) if n else np.zeros((0, 0)), h0=h0)
+    return Structure(
+        name="random",
+        H=H,
+        m=m,
+        m0=rng.uniform(0.0, 50.0),
+        J0=rng.uniform(0.0, 20.0),
+        B=rng.uniform(0.1, 0.5),
+        g=9.81,
+        K=spd(3, 6) if n else np.zeros((0, 0)),
+        C=spd(1, 3) if n else np.zeros((0, 0)),
+        h0=h0,
+    )
 
 
 def random_state(rng, n, side, u_scale=0.05):
     """u, θ (sign of the side, |θ| in (1e-3, 1) rad), u̇, θ̇, ü_g."""
-    return dict(u=rng.normal(0.0, u_scale, n), theta=side * rng.uniform(1e-3, 1.0),
-                udot=rng.normal(0.0, 0.5, n), thetadot=rng.normal(0.0, 1.5),
-                ag=rng.normal(0.0, 5.0))
+    return dict(
+        u=rng.normal(0.0, u_scale, n),
+        theta=side * rng.uniform(1e-3, 1.0),
+        udot=rng.normal(0.0, 0.5, n),
+        thetadot=rng.normal(0.0, 1.5),
+        ag=rng.normal(0.0, 5.0),
+    )
 
 
 def assert_close(code, ref):
@@ -72,6 +84,7 @@ CASES = [(n, side, h0) for n in (1, 2, 3) for side in (1, -1) for h0 in (0.0, 0.
 
 # ---- kinematics: the convention the derivation rests on -----------------------------
 
+
 @pytest.mark.parametrize("side", [1, -1])
 def test_rotation_convention_node_moves_by_H_theta(side):
     # paper 001, Fig 1: θ > 0 rocks about the right pivot and the column leans to +x;
@@ -84,7 +97,7 @@ def test_rotation_convention_node_moves_by_H_theta(side):
     dx = float(x.subs(vals).subs(d.q[-1], th)) - float(x.subs(vals).subs(d.q[-1], 0.0))
     dy = float(y.subs(vals).subs(d.q[-1], th)) - float(y.subs(vals).subs(d.q[-1], 0.0))
     assert dx == pytest.approx(1.7 * th, rel=1e-6)
-    assert dy == pytest.approx(0.3 * abs(th), rel=1e-5)      # closed form: rises by B|θ|
+    assert dy == pytest.approx(0.3 * abs(th), rel=1e-5)  # closed form: rises by B|θ|
     # the pivot stays put and P' is the opposite corner, 2B away
     P, P2 = d.positions["P"], d.positions["P'"]
     assert [float(v) for v in P.subs(vals)] == [side * 0.3, 0.0]
@@ -93,12 +106,13 @@ def test_rotation_convention_node_moves_by_H_theta(side):
 
 # ---- mass matrix and forcing at random states ------------------------------------------
 
+
 @pytest.mark.parametrize("n, side, h0", CASES)
 def test_mass_matrix_and_forcing_equal_the_lagrangian(n, side, h0):
     rng = np.random.default_rng(1000 * n + 10 * (side + 1) + int(h0 > 0))
     for _ in range(5):
         st = random_structure(rng, n, h0)
-        for u_scale in (0.05, 0.3):           # exact in u too: no small-u approximation
+        for u_scale in (0.05, 0.3):  # exact in u too: no small-u approximation
             x = random_state(rng, n, side, u_scale)
             A, b = rocking_system(st, side, **x)
             A_ref, b_ref = rocking_system_symbolic(st, side, **x)
@@ -119,8 +133,7 @@ def test_accelerations_solve_the_symbolic_system(n, side):
         uddot, thetaddot = rocking_accelerations(st, side, **x)
         # a few ulps times cond(A): 1e-9 relative to the largest acceleration
         atol = 1e-9 * np.abs(ref).max()
-        np.testing.assert_allclose(np.append(uddot, thetaddot), ref, rtol=1e-9,
-                                   atol=atol)
+        np.testing.assert_allclose(np.append(uddot, thetaddot), ref, rtol=1e-9, atol=atol)
 
 
 def _variant(st, **fields):
@@ -139,8 +152,7 @@ def test_forcing_term_by_term(n, side, h0):
     groups = {
         "velocity (θ̇², θ̇u̇)": (_variant(st, g=0.0, K=zero, C=zero), dict(x, ag=0.0)),
         "gravity": (_variant(st, K=zero, C=zero), still),
-        "ground acceleration": (_variant(st, g=0.0, K=zero, C=zero),
-                                dict(still, ag=x["ag"])),
+        "ground acceleration": (_variant(st, g=0.0, K=zero, C=zero), dict(still, ag=x["ag"])),
         "stiffness": (_variant(st, g=0.0, C=zero), still),
         "damping": (_variant(st, g=0.0, K=zero), dict(still, udot=x["udot"])),
     }
@@ -152,6 +164,7 @@ def test_forcing_term_by_term(n, side, h0):
 
 
 # ---- impact force -------------------------------------------------------------------------
+
 
 @pytest.mark.parametrize("n, side", [(0, 1), (1, 1), (2, -1), (3, 1), (3, -1)])
 def test_impact_force_is_the_generalised_force_of_a_force_at_P_prime(n, side):
@@ -169,7 +182,7 @@ def test_impact_force_is_the_generalised_force_of_a_force_at_P_prime(n, side):
     _, r0 = rocking_system_symbolic(st, side, **x)
     _, r1 = rocking_system_symbolic(st, side, **x, F_i=F)
     Q = np.zeros(n + 1)
-    Q[-1] = -2.0 * st.B * F                      # closed form: lever arm 2B about P
+    Q[-1] = -2.0 * st.B * F  # closed form: lever arm 2B about P
     np.testing.assert_allclose(r1 - r0, Q, rtol=1e-12, atol=1e-9 * F)
     np.testing.assert_allclose(b1 - b0, Q, rtol=1e-12, atol=1e-9 * F)
 
@@ -182,15 +195,24 @@ def test_a_contact_force_pushing_P_prime_off_the_ground_is_minus_side_F_i(side):
     # for the right pivot, the force would instead pull P' towards the ground.)
     d = derive_rocking(0, side)
     p = d.params
-    vals = {p["B"]: 0.25, p["m0"]: 10.0, p["h0"]: 0.5, p["J0"]: 1.0, p["g"]: 0.0,
-            p["ag"]: 0.0, d.q[0]: side * 0.01, d.qdot[0]: -side * 0.8}
+    vals = {
+        p["B"]: 0.25,
+        p["m0"]: 10.0,
+        p["h0"]: 0.5,
+        p["J0"]: 1.0,
+        p["g"]: 0.0,
+        p["ag"]: 0.0,
+        d.q[0]: side * 0.01,
+        d.qdot[0]: -side * 0.8,
+    }
     mag = 300.0
-    Q_theta = float((d.forcing[0].subs(vals).subs(p["F_i"], -side * mag)))
-    assert Q_theta == pytest.approx(side * 2 * 0.25 * mag, rel=1e-14)   # closed form: 2sB|F|
+    Q_theta = float(d.forcing[0].subs(vals).subs(p["F_i"], -side * mag))
+    assert Q_theta == pytest.approx(side * 2 * 0.25 * mag, rel=1e-14)  # closed form: 2sB|F|
     assert Q_theta * (-side * 0.8) < 0.0
 
 
 # ---- rigid block: N = 0 against Housner ---------------------------------------------------
+
 
 @pytest.mark.parametrize("side", [1, -1])
 def test_rigid_block_is_housner(side):
@@ -200,9 +222,18 @@ def test_rigid_block_is_housner(side):
     rng = np.random.default_rng(4 + side)
     for _ in range(10):
         bw, h, mass = rng.uniform(0.05, 0.5), rng.uniform(0.2, 2.0), rng.uniform(0.5, 50.0)
-        st = Structure(name="block", H=np.zeros(0), m=np.zeros(0), m0=mass,
-                       J0=mass * (bw**2 + h**2) / 12.0, B=bw / 2, g=9.81,
-                       K=np.zeros((0, 0)), C=np.zeros((0, 0)), h0=h / 2)
+        st = Structure(
+            name="block",
+            H=np.zeros(0),
+            m=np.zeros(0),
+            m0=mass,
+            J0=mass * (bw**2 + h**2) / 12.0,
+            B=bw / 2,
+            g=9.81,
+            K=np.zeros((0, 0)),
+            C=np.zeros((0, 0)),
+            h0=h / 2,
+        )
         R, alpha = 0.5 * np.hypot(bw, h), np.arctan(bw / h)
         theta, thetadot, ag = side * rng.uniform(1e-3, 1.2), rng.normal(), rng.normal(0, 5)
         I_A = 4.0 / 3.0 * mass * R**2
@@ -213,13 +244,15 @@ def test_rigid_block_is_housner(side):
             assert A.shape == (1, 1) and b.shape == (1,)
             assert b[0] / A[0, 0] == pytest.approx(housner, rel=RTOL, abs=RTOL * abs(9.81 / R))
         A, b = rocking_system(st, side, np.zeros(0), theta, np.zeros(0), thetadot, ag)
-        A_ref, b_ref = rocking_system_symbolic(st, side, np.zeros(0), theta, np.zeros(0),
-                                               thetadot, ag)
+        A_ref, b_ref = rocking_system_symbolic(
+            st, side, np.zeros(0), theta, np.zeros(0), thetadot, ag
+        )
         assert_close(A, A_ref)
         assert_close(b, b_ref)
 
 
 # ---- the derivation itself ----------------------------------------------------------------
+
 
 @pytest.mark.parametrize("n", [0, 1, 2, 3])
 def test_symbolic_system_depends_on_the_ground_only_through_its_acceleration(n):
@@ -234,6 +267,7 @@ def test_symbolic_system_depends_on_the_ground_only_through_its_acceleration(n):
 
 def test_bad_side_or_n_is_an_input_error():
     from multimass import InputError
+
     with pytest.raises(InputError, match="`side`"):
         derive_rocking(1, 0)
     with pytest.raises(InputError, match="`n`"):

@@ -12,8 +12,8 @@ import multimass
 from multimass import CosinePulse, CosineWave, FreeRelease, InputError, Ricker, SineWave
 from multimass.excitations import Excitation
 
-A, W = 3.924, 15.0          # paper 001, Section 4.4: ω = 15 rad/s, A = 0.4 g
-T = 2 * math.pi / W         # one period
+A, W = 3.924, 15.0  # paper 001, Section 4.4: ω = 15 rad/s, A = 0.4 g
+T = 2 * math.pi / W  # one period
 
 
 def _times():
@@ -24,11 +24,17 @@ def _window(t, f):
     return f(t) if 0.0 <= t <= T else 0.0
 
 
-@pytest.mark.parametrize("exc, closed_form", [
-    (SineWave(amplitude=A, omega=W), lambda t: A * math.sin(W * t)),                   # paper 004, Fig 2
-    (CosineWave(amplitude=A, omega=W), lambda t: A * math.cos(W * t)),                 # paper 004, Fig 2
-    (CosinePulse(omega=W, amplitude=A), lambda t: A * math.cos(W * t)),    # paper 001, Sec 4.4 (decided: table displacement (A/ω²)(1 − cos ωt))
-])
+@pytest.mark.parametrize(
+    "exc, closed_form",
+    [
+        (SineWave(amplitude=A, omega=W), lambda t: A * math.sin(W * t)),  # paper 004, Fig 2
+        (CosineWave(amplitude=A, omega=W), lambda t: A * math.cos(W * t)),  # paper 004, Fig 2
+        (
+            CosinePulse(omega=W, amplitude=A),
+            lambda t: A * math.cos(W * t),
+        ),  # paper 001, Sec 4.4 (decided: table displacement (A/ω²)(1 − cos ωt))
+    ],
+)
 def test_harmonic_pulses_match_closed_forms(exc, closed_form):
     assert exc.duration == pytest.approx(T, rel=1e-15)
     for t in _times():
@@ -45,7 +51,9 @@ def test_special_values_of_the_waves():
     assert SineWave(amplitude=A, omega=W)(T / 4) == pytest.approx(A, rel=1e-14)
     assert SineWave(amplitude=A, omega=W)(T) == pytest.approx(0.0, abs=1e-12)
     assert CosineWave(amplitude=A, omega=W)(0.0) == A
-    assert CosineWave(amplitude=A, omega=W)(T) == pytest.approx(A, rel=1e-14)   # jumps to 0 just after T
+    assert CosineWave(amplitude=A, omega=W)(T) == pytest.approx(
+        A, rel=1e-14
+    )  # jumps to 0 just after T
     assert CosineWave(amplitude=A, omega=W)(T * (1 + 1e-12)) == 0.0
     assert CosinePulse(omega=W, amplitude=A)(T / 2) == pytest.approx(-A, rel=1e-14)
     assert CosinePulse(omega=W, amplitude=A)(0.0) == A
@@ -56,7 +64,7 @@ def test_special_values_of_the_waves():
 
 
 def test_ricker_closed_form_and_default_t0():
-    a_p, w_p = 0.16 * 9.81, 1.95 * 2.0   # paper 000, Fig 6: a_g/g = 0.16 (ω_g chosen here)
+    a_p, w_p = 0.16 * 9.81, 1.95 * 2.0  # paper 000, Fig 6: a_g/g = 0.16 (ω_g chosen here)
     r = Ricker(amplitude=a_p, omega=w_p)
 
     def closed(t):  # Vassiliou & Makris: a_p (1 − ω²τ²/2) exp(−ω²τ²/4), τ = t − t0
@@ -64,7 +72,7 @@ def test_ricker_closed_form_and_default_t0():
         return a_p * (1 - x2 / 2) * math.exp(-x2 / 4)
 
     assert r.duration == 2 * r.t0
-    assert abs(r(0.0)) < 1e-6 * a_p            # brief: default t0 makes |ü_g(0)| < 1e-6 a_p
+    assert abs(r(0.0)) < 1e-6 * a_p  # brief: default t0 makes |ü_g(0)| < 1e-6 a_p
     assert abs(r(r.duration)) < 1e-6 * a_p
     assert r(r.t0) == pytest.approx(a_p, rel=1e-15)
     # closed form: zero crossings at ω_p |t − t0| = √2, minima −2a_p e^{−3/2} at √6
@@ -74,8 +82,12 @@ def test_ricker_closed_form_and_default_t0():
         assert r(t) == pytest.approx(closed(t), rel=1e-12, abs=1e-15)
     assert r(-0.01) == 0.0 and r(r.duration + 1e-9) == 0.0
     ts = np.linspace(-1, r.duration + 1, 101)
-    np.testing.assert_allclose(r(ts), [closed(t) if 0 <= t <= r.duration else 0.0 for t in ts],
-                               atol=1e-15 * a_p, rtol=1e-12)
+    np.testing.assert_allclose(
+        r(ts),
+        [closed(t) if 0 <= t <= r.duration else 0.0 for t in ts],
+        atol=1e-15 * a_p,
+        rtol=1e-12,
+    )
 
 
 def test_ricker_default_t0_is_tight():
@@ -93,8 +105,15 @@ def test_ricker_explicit_t0():
     assert r(0.0) == pytest.approx(2.0 * (1 - x2 / 2) * math.exp(-x2 / 4), rel=1e-14)
 
 
-@pytest.mark.parametrize("exc", [SineWave(amplitude=A, omega=W), CosineWave(amplitude=A, omega=W), CosinePulse(omega=W, amplitude=A),
-                                 Ricker(amplitude=A, omega=W)])
+@pytest.mark.parametrize(
+    "exc",
+    [
+        SineWave(amplitude=A, omega=W),
+        CosineWave(amplitude=A, omega=W),
+        CosinePulse(omega=W, amplitude=A),
+        Ricker(amplitude=A, omega=W),
+    ],
+)
 def test_breakpoints_are_start_and_end(exc):
     assert exc.breakpoints == (0.0, exc.duration)
     assert all(0.0 <= b <= exc.duration for b in exc.breakpoints)
@@ -138,24 +157,27 @@ def test_free_release_on_rigid_block():
         FreeRelease(0.05, 0.01).initial_displacement(block)
 
 
-@pytest.mark.parametrize("make, field", [
-    (lambda: FreeRelease(float("nan")), "theta0"),
-    (lambda: FreeRelease(0.0, float("inf")), "u0"),
-    (lambda: FreeRelease(0.0, [0.0, float("nan")]), r"u0\[1\]"),
-    (lambda: FreeRelease(0.0, [[0.0]]), "u0"),
-    (lambda: SineWave(amplitude=-1.0, omega=W), "amplitude"),
-    (lambda: SineWave(amplitude=float("nan"), omega=W), "amplitude"),
-    (lambda: SineWave(amplitude=A, omega=0.0), "omega"),
-    (lambda: CosineWave(amplitude=A, omega=-2.0), "omega"),
-    (lambda: CosineWave(amplitude=float("inf"), omega=W), "amplitude"),
-    (lambda: CosinePulse(omega=W, amplitude=-A), "amplitude"),
-    (lambda: CosinePulse(omega=float("inf"), amplitude=A), "omega"),
-    (lambda: Ricker(amplitude=-A, omega=W), "amplitude"),
-    (lambda: Ricker(amplitude=A, omega=0.0), "omega"),
-    (lambda: Ricker(amplitude=A, omega=W, t0=0.0), "t0"),
-    (lambda: SineWave(amplitude="0.4g", omega=W), "amplitude"),
-    (lambda: SineWave(amplitude=True, omega=W), "amplitude"),
-])
+@pytest.mark.parametrize(
+    "make, field",
+    [
+        (lambda: FreeRelease(float("nan")), "theta0"),
+        (lambda: FreeRelease(0.0, float("inf")), "u0"),
+        (lambda: FreeRelease(0.0, [0.0, float("nan")]), r"u0\[1\]"),
+        (lambda: FreeRelease(0.0, [[0.0]]), "u0"),
+        (lambda: SineWave(amplitude=-1.0, omega=W), "amplitude"),
+        (lambda: SineWave(amplitude=float("nan"), omega=W), "amplitude"),
+        (lambda: SineWave(amplitude=A, omega=0.0), "omega"),
+        (lambda: CosineWave(amplitude=A, omega=-2.0), "omega"),
+        (lambda: CosineWave(amplitude=float("inf"), omega=W), "amplitude"),
+        (lambda: CosinePulse(omega=W, amplitude=-A), "amplitude"),
+        (lambda: CosinePulse(omega=float("inf"), amplitude=A), "omega"),
+        (lambda: Ricker(amplitude=-A, omega=W), "amplitude"),
+        (lambda: Ricker(amplitude=A, omega=0.0), "omega"),
+        (lambda: Ricker(amplitude=A, omega=W, t0=0.0), "t0"),
+        (lambda: SineWave(amplitude="0.4g", omega=W), "amplitude"),
+        (lambda: SineWave(amplitude=True, omega=W), "amplitude"),
+    ],
+)
 def test_bad_parameters_name_the_argument(make, field):
     with pytest.raises(InputError, match=rf"`{field}`"):
         make()
@@ -170,9 +192,18 @@ def test_zero_amplitude_is_allowed():
     assert SineWave(amplitude=0.0, omega=W)(T / 4) == 0.0
 
 
-@pytest.mark.parametrize("exc", [FreeRelease(0.1, 0.002), FreeRelease(-0.05, [0.001, 0.002]),
-                                 SineWave(amplitude=A, omega=W), CosineWave(amplitude=A, omega=W), CosinePulse(omega=W, amplitude=A),
-                                 Ricker(amplitude=A, omega=W), Ricker(amplitude=A, omega=W, t0=2.0)])
+@pytest.mark.parametrize(
+    "exc",
+    [
+        FreeRelease(0.1, 0.002),
+        FreeRelease(-0.05, [0.001, 0.002]),
+        SineWave(amplitude=A, omega=W),
+        CosineWave(amplitude=A, omega=W),
+        CosinePulse(omega=W, amplitude=A),
+        Ricker(amplitude=A, omega=W),
+        Ricker(amplitude=A, omega=W, t0=2.0),
+    ],
+)
 def test_pickle_round_trip_and_describe(exc):
     back = pickle.loads(pickle.dumps(exc))
     assert back == exc and hash(back) == hash(exc)
@@ -184,7 +215,12 @@ def test_pickle_round_trip_and_describe(exc):
 
 
 def test_describe_parameters_in_si():
-    assert SineWave(amplitude=A, omega=W).describe() == {"kind": "sine_wave", "amplitude": A, "omega": W, "duration": T}
+    assert SineWave(amplitude=A, omega=W).describe() == {
+        "kind": "sine_wave",
+        "amplitude": A,
+        "omega": W,
+        "duration": T,
+    }
     assert CosinePulse(omega=W, amplitude=A).describe()["amplitude"] == A
     assert Ricker(amplitude=1.0, omega=2.0, t0=3.0).describe()["t0"] == 3.0
 
@@ -206,7 +242,9 @@ def test_numpy_scalars_and_0d_arrays_return_floats():
 # instead of rocking to 0.025 rad); pulses now take keyword arguments only, named alike.
 @pytest.mark.parametrize("cls", [SineWave, CosineWave, CosinePulse, Ricker])
 def test_pulses_refuse_positional_arguments(cls):
-    with pytest.raises(InputError, match=rf"{cls.__name__}\(3.924, 15\).*by keyword.*amplitude=.*omega="):
+    with pytest.raises(
+        InputError, match=rf"{cls.__name__}\(3.924, 15\).*by keyword.*amplitude=.*omega="
+    ):
         cls(3.924, 15)
 
 
@@ -227,8 +265,14 @@ def test_pulses_share_their_keywords(cls):
 def test_cosine_pulse_by_keyword_rocks_s1_as_paper_001():
     # paper 001 Section 4.4, Fig 9: S1 under the 0.4 g cosine pulse of ω = 15 rad/s rocks to
     # ~0.025 rad (Fig 9a); the swapped pulse (ω = 3.9 rad/s, 15 m/s²) overturned it.
-    r = multimass.simulate("S1", CosinePulse(amplitude=0.4 * multimass.G, omega=15.0), "DD2",
-                           4.0, backend="compiled", output_dt=None)
+    r = multimass.simulate(
+        "S1",
+        CosinePulse(amplitude=0.4 * multimass.G, omega=15.0),
+        "DD2",
+        4.0,
+        backend="compiled",
+        output_dt=None,
+    )
     assert r.status == "completed" and 0.015 < r.theta_max < 0.035
 
 
@@ -237,7 +281,9 @@ def test_pulse_by_name():
 
     assert pulse("sine", amplitude=A, omega=W) == SineWave(amplitude=A, omega=W)
     assert pulse("cosine", amplitude=A, omega=W) == CosinePulse(amplitude=A, omega=W)
-    assert pulse("cosine", amplitude=A, omega=W, structure_kind="block") == CosineWave(amplitude=A, omega=W)
+    assert pulse("cosine", amplitude=A, omega=W, structure_kind="block") == CosineWave(
+        amplitude=A, omega=W
+    )
     assert pulse("ricker", amplitude=A, omega=W) == Ricker(amplitude=A, omega=W)
     with pytest.raises(InputError, match="`pulse` = 'square'"):
         pulse("square", amplitude=A, omega=W)

@@ -26,24 +26,32 @@ def osc():
 
 def test_mass_matrix_matches_the_legible_terms_of_eq_30():
     s = symbolic()
-    P, (u, x, y, ph) = s.params, s.q
+    P, (u, _x, _y, ph) = s.params, s.q
     m, mc, mb, h = P["m"], P["m_c"], P["m_b"], P["h"]
-    L = m + sp.Rational(3, 8) * mc          # m + (α3/4 + α2/3 + α1/2 + α0) m_c, Eq 30
-    assert sp.simplify(s.M[0, 0] - (m + sp.Rational(33, 140) * mc)) == 0    # m̃, Eq 27
-    assert sp.simplify(s.M[0, 1] - L * sp.cos(ph)) == 0                     # Eq 30, row 1
-    assert sp.simplify(s.M[0, 2] - L * sp.sin(ph)) == 0                     # Eq 30, row 1
-    assert sp.simplify(s.M[1, 1] - (m + mb + mc)) == 0                      # Eq 30, row 2
-    assert sp.simplify(s.M[2, 2] - (m + mb + mc)) == 0                      # Eq 30, row 3
+    L = m + sp.Rational(3, 8) * mc  # m + (α3/4 + α2/3 + α1/2 + α0) m_c, Eq 30
+    assert sp.simplify(s.M[0, 0] - (m + sp.Rational(33, 140) * mc)) == 0  # m̃, Eq 27
+    assert sp.simplify(s.M[0, 1] - L * sp.cos(ph)) == 0  # Eq 30, row 1
+    assert sp.simplify(s.M[0, 2] - L * sp.sin(ph)) == 0  # Eq 30, row 1
+    assert sp.simplify(s.M[1, 1] - (m + mb + mc)) == 0  # Eq 30, row 2
+    assert sp.simplify(s.M[2, 2] - (m + mb + mc)) == 0  # Eq 30, row 3
     # Eq 30 row 2: −(m h cos φ + m u sin φ + ½ m_c h cos φ + (3/8) m_c u sin φ) φ̈
-    assert sp.simplify(s.M[1, 3] + m * h * sp.cos(ph) + m * u * sp.sin(ph)
-                       + mc * h * sp.cos(ph) / 2 + sp.Rational(3, 8) * mc * u * sp.sin(ph)) == 0
+    assert (
+        sp.simplify(
+            s.M[1, 3]
+            + m * h * sp.cos(ph)
+            + m * u * sp.sin(ph)
+            + mc * h * sp.cos(ph) / 2
+            + sp.Rational(3, 8) * mc * u * sp.sin(ph)
+        )
+        == 0
+    )
     # the φ̈ coefficient of row 1 is −(m + (α3/5 + α2/4 + α1/3 + α0/2) m_c) h (printed garbled)
     assert sp.simplify(s.M[0, 3] + (m + sp.Rational(11, 40) * mc) * h) == 0
 
 
 def test_forcing_matches_the_legible_right_hand_sides_of_eq_30():
     s = symbolic()
-    P, (u, x, y, ph), (ud, xd, yd, phd) = s.params, s.q, s.qd
+    P, (u, _x, _y, ph), (ud, _xd, _yd, phd) = s.params, s.q, s.qd
     m, mc, mb, h, g, k, c = (P[n] for n in ("m", "m_c", "m_b", "h", "g", "k", "c"))
     L, mt = m + sp.Rational(3, 8) * mc, m + sp.Rational(33, 140) * mc
     # row 1: −c u̇ − k̃ u + m̃ u φ̇² − L cos φ ü_g − L sin φ g
@@ -51,24 +59,51 @@ def test_forcing_matches_the_legible_right_hand_sides_of_eq_30():
     assert sp.simplify(s.forcing[0] - row1) == 0
     # row 2: −(m h sin φ − m u cos φ + ½ m_c h sin φ − (3/8) m_c u cos φ) φ̇²
     #        + 2 L sin φ u̇ φ̇ − (m + m_b + m_c) ü_g
-    row2 = (-(m * h * sp.sin(ph) - m * u * sp.cos(ph) + mc * h * sp.sin(ph) / 2
-              - sp.Rational(3, 8) * mc * u * sp.cos(ph)) * phd**2
-            + 2 * L * sp.sin(ph) * ud * phd - (m + mb + mc) * s.ag)
+    row2 = (
+        -(
+            m * h * sp.sin(ph)
+            - m * u * sp.cos(ph)
+            + mc * h * sp.sin(ph) / 2
+            - sp.Rational(3, 8) * mc * u * sp.cos(ph)
+        )
+        * phd**2
+        + 2 * L * sp.sin(ph) * ud * phd
+        - (m + mb + mc) * s.ag
+    )
     assert sp.simplify(s.forcing[1] - row2) == 0
     # row 3 (printed garbled): ends with −(m + m_b + m_c) g
     assert sp.simplify(s.forcing[2].subs({phd: 0, ud: 0}) + (m + mb + mc) * g) == 0
 
 
-@pytest.mark.parametrize("shape", [(0, 0, sp.Rational(3, 2), -sp.Rational(1, 2)),
-                                   (0, 1, 0, 0), (sp.Rational(1, 5), sp.Rational(1, 2),
-                                                  sp.Rational(1, 2), -sp.Rational(1, 5))])
+@pytest.mark.parametrize(
+    "shape",
+    [
+        (0, 0, sp.Rational(3, 2), -sp.Rational(1, 2)),
+        (0, 1, 0, 0),
+        (sp.Rational(1, 5), sp.Rational(1, 2), sp.Rational(1, 2), -sp.Rational(1, 5)),
+    ],
+)
 def test_generalised_mass_and_stiffness_of_eq_27(shape):
     s = symbolic(shape)
     a0, a1, a2, a3 = shape
-    m, mc, h = s.params["m"], s.params["m_c"], s.params["h"]
+    m, mc, _h = s.params["m"], s.params["m_c"], s.params["h"]
     # Eq 27 with α3²/7 (the printed α3²/3 is a typo: ∫₀¹ s⁶ ds = 1/7)
-    m_tilde = m + (a3**2 / 7 + a3 * a2 / 3 + 2 * a3 * a1 / 5 + a3 * a0 / 2 + a2**2 / 5
-                   + a2 * a1 / 2 + 2 * a2 * a0 / 3 + a1**2 / 3 + a1 * a0 + a0**2) * mc
+    m_tilde = (
+        m
+        + (
+            a3**2 / 7
+            + a3 * a2 / 3
+            + 2 * a3 * a1 / 5
+            + a3 * a0 / 2
+            + a2**2 / 5
+            + a2 * a1 / 2
+            + 2 * a2 * a0 / 3
+            + a1**2 / 3
+            + a1 * a0
+            + a0**2
+        )
+        * mc
+    )
     assert sp.simplify(s.m_tilde - m_tilde) == 0
     assert sp.simplify(s.k_tilde_factor - 4 * (3 * a3**2 + a2**2 + 3 * a3 * a2)) == 0  # Eq 27
 
@@ -84,7 +119,7 @@ def test_uplift_condition_eq_28_is_the_sign_of_the_left_contact_force(osc):
     rng = np.random.default_rng(3)
     osc_damped = FlexibleOscillator.from_frequency(2.0, **dict(OSC, zeta=0.05))
     for o in (osc, osc_damped):
-        for trial in range(50):
+        for _trial in range(50):
             u, ud, ag = rng.normal(0, 0.02), rng.normal(0, 0.2), rng.normal(0, 4.0)
             model = _OscillatorModel(o, lambda t, ag=ag: ag, np.inf)
             q, v = np.array([u, 0, 0, 0.0]), np.array([ud, 0, 0, 0.0])
@@ -106,9 +141,11 @@ def test_u_cr_of_eq_29_is_where_eq_28_vanishes(osc):
         assert abs(lam[0]) < 1e-10 * o.m * o.g
     # the printed factor (1 + 31/140 γ) in Eq 28 is inconsistent with Eq 29:
     g_mc, o = osc.m_c / osc.m, osc
-    printed = (o.h / o.b * (1 + 11 / 40 * g_mc) / (1 + 31 / 140 * g_mc)
-               * o.k_tilde * o.u_cr / (o.m * o.g) - (1 + o.m_b / o.m + g_mc)
-               + (1 + 3 / 8 * g_mc) * o.u_cr / o.b)
+    printed = (
+        o.h / o.b * (1 + 11 / 40 * g_mc) / (1 + 31 / 140 * g_mc) * o.k_tilde * o.u_cr / (o.m * o.g)
+        - (1 + o.m_b / o.m + g_mc)
+        + (1 + 3 / 8 * g_mc) * o.u_cr / o.b
+    )
     assert abs(printed) > 1e-3
 
 
@@ -116,11 +153,15 @@ def test_u_cr_closed_form(osc):
     # paper 000, Eq 29 written out for the adopted shape
     g_mc, g_mb = osc.m_c / osc.m, osc.m_b / osc.m
     w2 = osc.k_tilde / (osc.m * (1 + 33 / 140 * g_mc))
-    expected = ((1 + g_mb + g_mc) * osc.b * osc.g
-                / ((1 + 11 / 40 * g_mc) * osc.h * w2 + (1 + 3 / 8 * g_mc) * osc.g))
+    expected = (
+        (1 + g_mb + g_mc)
+        * osc.b
+        * osc.g
+        / ((1 + 11 / 40 * g_mc) * osc.h * w2 + (1 + 3 / 8 * g_mc) * osc.g)
+    )
     assert osc.u_cr == pytest.approx(expected, rel=1e-14)
     assert osc.omega_n == pytest.approx(2 * math.pi * 2.0, rel=1e-14)
-    assert osc.k_tilde == pytest.approx(3 * osc.EI / osc.h**3, rel=1e-14)   # cantilever
+    assert osc.k_tilde == pytest.approx(3 * osc.EI / osc.h**3, rel=1e-14)  # cantilever
 
 
 @pytest.mark.parametrize("eps", [0.0, 0.5])
@@ -162,13 +203,21 @@ def test_ricker_pulse_response_and_ledger(osc):
     assert np.abs(r.raw.ledger_error).max() < 1e-7 * ref
 
 
-@pytest.mark.parametrize("kw, match", [
-    (dict(m=-1.0), "`m`"), (dict(h=0.0), "`h`"), (dict(zeta=-0.1), "`zeta`"),
-    (dict(shape=(0.0, 0.0, 1.0, 0.5)), "`shape`"),
-    (dict(shape=0.0), "`shape`"), (dict(shape=(0.0, 0.0, float("nan"), 1.0)), "`shape`"),
-    (dict(shape=(1.0, 0.0, 0.0, 0.0)), "no stiffness"),       # ψ'' ≡ 0: k̃ = 0 (Eq 27)
-    (dict(m=10**400), "`m`"), (dict(h=1e-300), "derived"), (dict(EI=1e308, h=1e-100), "k_tilde"),
-])
+@pytest.mark.parametrize(
+    "kw, match",
+    [
+        (dict(m=-1.0), "`m`"),
+        (dict(h=0.0), "`h`"),
+        (dict(zeta=-0.1), "`zeta`"),
+        (dict(shape=(0.0, 0.0, 1.0, 0.5)), "`shape`"),
+        (dict(shape=0.0), "`shape`"),
+        (dict(shape=(0.0, 0.0, float("nan"), 1.0)), "`shape`"),
+        (dict(shape=(1.0, 0.0, 0.0, 0.0)), "no stiffness"),  # ψ'' ≡ 0: k̃ = 0 (Eq 27)
+        (dict(m=10**400), "`m`"),
+        (dict(h=1e-300), "derived"),
+        (dict(EI=1e308, h=1e-100), "k_tilde"),
+    ],
+)
 def test_bad_oscillator(kw, match):
     args = dict(OSC, EI=1e5)
     args.update(kw)
@@ -185,6 +234,7 @@ def test_bad_simulation_input(osc):
 
 # -- runs that start on the ground (issue 12): the given state, its energy, friction
 
+
 @pytest.mark.parametrize("u0, udot0", [(0.0, 0.0), (0.5, 0.0), (0.5, -0.3), (2.5, 0.2)])
 def test_ledger_starts_from_the_given_state(osc, u0, udot0):
     # base flat and at rest: E(t0) = ½ k̃ u0² + ½ m̃ u̇0² (Eq 27), whatever happens at t0
@@ -193,7 +243,7 @@ def test_ledger_starts_from_the_given_state(osc, u0, udot0):
     E0 = 0.5 * osc.k_tilde * u0**2 + 0.5 * osc.m_tilde * udot0**2
     assert r.raw.t[0] == 0.0 and r.u[0] == u0
     assert r.raw.energy[0] == pytest.approx(E0, rel=1e-12, abs=1e-12)
-    weight_h = (osc.m + osc.m_c + osc.m_b) * osc.g * osc.h     # round-off of V ~ 1e-16 of it
+    weight_h = (osc.m + osc.m_c + osc.m_b) * osc.g * osc.h  # round-off of V ~ 1e-16 of it
     assert np.abs(r.raw.ledger_error).max() <= 1e-7 * E0 + 1e-12 * weight_h
     assert r.status == "completed" and r.checks["energy_balance"]["passed"]
 
@@ -208,20 +258,32 @@ def test_base_spinning_at_the_start_rocks_like_a_rigid_body(sign):
     from scipy.optimize import brentq
 
     from multimass.contact_dynamics import simulate_contacts
+
     o = FlexibleOscillator.from_frequency(20.0, **dict(OSC, zeta=0.0))
     m, mc, mb, h, b, g = o.m, o.m_c, o.m_b, o.h, o.b, o.g
     w = sign * 0.1
     T0 = 0.5 * w * w * (m * (h * h + b * b) + mb * b * b * 4 / 3 + mc * (h * h / 3 + b * b))
 
     def V(p):
-        return g * (m * (b * math.sin(p) + h * math.cos(p) - h) + mb * b * math.sin(p)
-                    + mc * (b * math.sin(p) + h / 2 * (math.cos(p) - 1)))
+        return g * (
+            m * (b * math.sin(p) + h * math.cos(p) - h)
+            + mb * b * math.sin(p)
+            + mc * (b * math.sin(p) + h / 2 * (math.cos(p) - 1))
+        )
 
     peak = brentq(lambda p: V(p) - T0, 0.0, o.alpha)
     model = _OscillatorModel(o, lambda t: 0.0, 0.0)
-    r = simulate_contacts(model, np.zeros(4), [0.0, 0.0, abs(w) * b, w], 0.12, 0.0,
-                          dt_out=1e-4, gap_tol=1e-9 * h, zeno_velocity=1e-4 * math.sqrt(g * b))
-    assert r.closed[0] == (1 if sign > 0 else 2)                  # on the pivot corner only
+    r = simulate_contacts(
+        model,
+        np.zeros(4),
+        [0.0, 0.0, abs(w) * b, w],
+        0.12,
+        0.0,
+        dt_out=1e-4,
+        gap_tol=1e-9 * h,
+        zeno_velocity=1e-4 * math.sqrt(g * b),
+    )
+    assert r.closed[0] == (1 if sign > 0 else 2)  # on the pivot corner only
     assert r.energy[0] == pytest.approx(T0, rel=1e-12)
     assert np.abs(r.q[:, 3]).max() == pytest.approx(peak, rel=1e-3)
     assert np.abs(r.ledger_error).max() < 1e-7 * T0
@@ -240,15 +302,22 @@ def test_full_contact_friction_demand_closed_form():
     assert set(r.phase) == {"full"}
     assert r.friction.smooth == pytest.approx(expected, rel=1e-7)
     assert r.status == "inaccurate" and r.outcome == "completed"
-    assert r.checks["friction_smooth"] == {"value": r.friction.smooth,
-                                           "limit": 0.5 * expected, "passed": False}
+    assert r.checks["friction_smooth"] == {
+        "value": r.friction.smooth,
+        "limit": 0.5 * expected,
+        "passed": False,
+    }
     ok = simulate_oscillator(o, 0.0, 1.0, u0=u0, mu=2.0 * expected)
     assert ok.status == "completed" and ok.warnings == ()
 
 
 def test_bad_new_simulation_input(osc):
-    for kw, match in [(dict(mu=0.0), "`mu`"), (dict(mu=-1.0), "`mu`"),
-                      (dict(u0=float("nan")), "`u0`"), (dict(udot0="fast"), "`udot0`")]:
+    for kw, match in [
+        (dict(mu=0.0), "`mu`"),
+        (dict(mu=-1.0), "`mu`"),
+        (dict(u0=float("nan")), "`u0`"),
+        (dict(udot0="fast"), "`udot0`"),
+    ]:
         with pytest.raises(InputError, match=match):
             simulate_oscillator(osc, 0.5, 1.0, **kw)
 

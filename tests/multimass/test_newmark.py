@@ -34,34 +34,45 @@ def _block(name):
     """Closed-form block data from the specimen's b, h, m (paper 004, after Eq 2)."""
     sp = specimens.load(name)
     R = 0.5 * math.hypot(sp.b, sp.h)
-    alpha = math.atan(sp.b / sp.h)                  # DESIGN.md: atan(b/h)
-    return sp, R, alpha, 4.0 / 3.0 * sp.mass * R * R, 3.0 * G / (4.0 * R)   # I_A, p²
+    alpha = math.atan(sp.b / sp.h)  # DESIGN.md: atan(b/h)
+    return sp, R, alpha, 4.0 / 3.0 * sp.mass * R * R, 3.0 * G / (4.0 * R)  # I_A, p²
 
 
 def _energy(name, theta, thetadot):
     sp, R, alpha, I_A, _ = _block(name)
-    return 0.5 * I_A * thetadot**2 + sp.mass * G * R * (np.cos(alpha - np.abs(theta)) - math.cos(alpha))
+    return 0.5 * I_A * thetadot**2 + sp.mass * G * R * (
+        np.cos(alpha - np.abs(theta)) - math.cos(alpha)
+    )
 
 
 def _free(name, dt, t_end=1.2, engine="auto", **kw):
     sp, _, alpha, _, _ = _block(name)
-    return newmark_block(multimass.rigid_block(name), lambda t: 0.0, t_end, dt=dt,
-                         restitution=housner_eta(alpha), engine=engine,
-                         theta0=math.radians(sp.reference.theta0_deg), **kw)
+    return newmark_block(
+        multimass.rigid_block(name),
+        lambda t: 0.0,
+        t_end,
+        dt=dt,
+        restitution=housner_eta(alpha),
+        engine=engine,
+        theta0=math.radians(sp.reference.theta0_deg),
+        **kw,
+    )
 
 
 def _exact_first_peak(name):
     sp, _, alpha, _, _ = _block(name)
-    eta = 1.0 - 1.5 * math.sin(alpha) ** 2                 # paper 004, Eq 9
+    eta = 1.0 - 1.5 * math.sin(alpha) ** 2  # paper 004, Eq 9
     th0 = math.radians(sp.reference.theta0_deg)
-    c = math.cos(alpha) + eta**2 * (math.cos(alpha - th0) - math.cos(alpha))   # closed form: energy
+    c = math.cos(alpha) + eta**2 * (math.cos(alpha - th0) - math.cos(alpha))  # closed form: energy
     return alpha - math.acos(c)
 
 
 def _sine(a0, omega):
     """ü_g = a0 sin(ω t) on [0, 2π/ω], zero elsewhere; scalar only (math, if)."""
+
     def ag(t):
         return a0 * math.sin(omega * t) if 0.0 <= t <= 2.0 * math.pi / omega else 0.0
+
     return ag
 
 
@@ -71,16 +82,25 @@ def _reference(name, ag, t0, side, t_end, r):
 
     def rhs(t, y, s):
         ph = alpha - s * y[0]
-        return [y[1], -p2 * (s * math.sin(ph) + ag(t) / G * math.cos(ph))]   # paper 004, Eqs 1–2
+        return [y[1], -p2 * (s * math.sin(ph) + ag(t) / G * math.cos(ph))]  # paper 004, Eqs 1–2
 
     impacts, peaks, t, y, s = [], [], t0, [0.0, 0.0], side
     for _ in range(20):
-        ev0 = lambda t, y, s: y[0]                                   # noqa: E731
+        ev0 = lambda t, y, s: y[0]  # noqa: E731
         ev0.terminal, ev0.direction = True, -s
-        ev1 = lambda t, y, s: abs(y[0]) - math.pi / 2               # noqa: E731
+        ev1 = lambda t, y, s: abs(y[0]) - math.pi / 2  # noqa: E731
         ev1.terminal, ev1.direction = True, 1
-        sol = solve_ivp(rhs, (t, t_end), y, method="DOP853", rtol=1e-12, atol=1e-14,
-                        args=(s,), events=(ev0, ev1), dense_output=True)
+        sol = solve_ivp(
+            rhs,
+            (t, t_end),
+            y,
+            method="DOP853",
+            rtol=1e-12,
+            atol=1e-14,
+            args=(s,),
+            events=(ev0, ev1),
+            dense_output=True,
+        )
         peaks.append(np.abs(sol.sol(np.linspace(sol.t[0], sol.t[-1], 20001))[0]).max())
         if sol.t_events[1].size:
             return impacts, peaks, sol.t_events[1][0]
@@ -92,11 +112,13 @@ def _reference(name, ag, t0, side, t_end, r):
 
 
 # ---------------------------------------------------------------------------- equation
-@pytest.mark.parametrize("theta, side, ag", [(0.1, 1, 0.0), (0.3, 1, -4.0), (-0.2, -1, 3.0),
-                                             (0.0, -1, -1.0), (1.2, 1, 7.5)])
+@pytest.mark.parametrize(
+    "theta, side, ag",
+    [(0.1, 1, 0.0), (0.3, 1, -4.0), (-0.2, -1, 3.0), (0.0, -1, -1.0), (1.2, 1, 7.5)],
+)
 def test_kernel_equation_is_housner_and_the_structure_equation(theta, side, ag):
     _, R, alpha, _, p2 = _block("B6M")
-    s = side                                          # paper 004, Eq 1 (s = +1) and Eq 2 (s = −1)
+    s = side  # paper 004, Eq 1 (s = +1) and Eq 2 (s = −1)
     housner = -p2 * (s * math.sin(alpha - s * theta) + ag / G * math.cos(alpha - s * theta))
     st = multimass.rigid_block("B6M")
     got = kern.rhs(theta, side, ag, st.p**2, st.alpha_cg, st.g)
@@ -112,14 +134,16 @@ def test_first_post_impact_peak_free_rocking(name):
     exact = _exact_first_peak(name)
     sp = specimens.load(name)
     assert res.peaks[0] == pytest.approx(math.radians(sp.reference.theta0_deg), abs=1e-15)
-    assert abs(res.peaks[1] - exact) < 1e-6                          # closed form: energy
-    assert abs(math.degrees(res.peaks[1]) - sp.reference.first_peak_deg) < 0.03   # paper 002, Sec 6.2
+    assert abs(res.peaks[1] - exact) < 1e-6  # closed form: energy
+    assert (
+        abs(math.degrees(res.peaks[1]) - sp.reference.first_peak_deg) < 0.03
+    )  # paper 002, Sec 6.2
     first = res.events[0]
     assert first.kind == "impact" and first.side == -1 and first.thetadot_minus < 0.0
 
 
 def test_first_peak_error_is_second_order_in_dt():
-    exact = _exact_first_peak("B4M")                      # B4M: the largest error of the three
+    exact = _exact_first_peak("B4M")  # B4M: the largest error of the three
     errs = [abs(_free("B4M", dt=dt, t_end=0.7).peaks[1] - exact) for dt in (2e-3, 1e-3, 5e-4)]
     orders = np.log2(np.array(errs[:-1]) / np.array(errs[1:]))
     assert np.all((orders > 1.8) & (orders < 2.2)), (errs, orders)
@@ -135,13 +159,15 @@ def test_energy_conserved_in_flight_and_scaled_by_r_squared_at_impacts():
         rows = np.searchsorted(res.t, [ev.time for ev in res.events if ev.kind == "impact"])
         assert rows.size == 4
         bounds = [0, *rows, res.t.size]
-        devs.append(max(np.max(np.abs(e[a:b] / e[a] - 1.0)) for a, b in zip(bounds[:-1], bounds[1:])))
-        for i in rows:                                  # post-impact row / last row before it
+        devs.append(
+            max(np.max(np.abs(e[a:b] / e[a] - 1.0)) for a, b in zip(bounds[:-1], bounds[1:]))
+        )
+        for i in rows:  # post-impact row / last row before it
             assert e[i] / e[i - 1] == pytest.approx(eta**2, abs=1e-8)
         for ev in res.events:
             assert ev.thetadot_plus == pytest.approx(eta * ev.thetadot_minus, rel=1e-15)
     assert devs[0] < 2e-7
-    assert 3.5 < devs[0] / devs[1] < 4.5                # O(dt²)
+    assert 3.5 < devs[0] / devs[1] < 4.5  # O(dt²)
 
 
 def test_small_impacts_end_in_full_contact():
@@ -149,7 +175,7 @@ def test_small_impacts_end_in_full_contact():
     kinds = [ev.kind for ev in res.events]
     assert kinds[-1] == "full_contact" and kinds.count("full_contact") == 1
     fc = res.events[-1]
-    assert abs(fc.thetadot_minus) <= 0.01 < abs(res.events[-2].thetadot_minus)   # paper 001, Eq 9
+    assert abs(fc.thetadot_minus) <= 0.01 < abs(res.events[-2].thetadot_minus)  # paper 001, Eq 9
     after = res.t >= fc.time
     assert np.all(res.theta[after] == 0.0) and np.all(res.thetadot[after] == 0.0)
     assert res.status == "completed" and res.t[-1] == 2.0
@@ -169,12 +195,21 @@ def test_time_grid_and_inserted_impact_rows():
 
 def test_trapezoidal_rule_is_time_reversible():
     st = multimass.rigid_block("B6M")
-    th0, thd0, n, dt = 0.05, 0.2, 100, 1e-3          # stays in θ > 0 over 0.1 s (no impact)
-    fwd = newmark_block(st, lambda t: 0.0, n * dt, dt=dt, restitution=0.9, theta0=th0,
-                        thetadot0=thd0, tol=1e-13)
+    th0, thd0, n, dt = 0.05, 0.2, 100, 1e-3  # stays in θ > 0 over 0.1 s (no impact)
+    fwd = newmark_block(
+        st, lambda t: 0.0, n * dt, dt=dt, restitution=0.9, theta0=th0, thetadot0=thd0, tol=1e-13
+    )
     assert not fwd.events and np.all(fwd.theta > 0.0)
-    back = newmark_block(st, lambda t: 0.0, n * dt, dt=dt, restitution=0.9, theta0=fwd.theta[-1],
-                         thetadot0=-fwd.thetadot[-1], tol=1e-13)
+    back = newmark_block(
+        st,
+        lambda t: 0.0,
+        n * dt,
+        dt=dt,
+        restitution=0.9,
+        theta0=fwd.theta[-1],
+        thetadot0=-fwd.thetadot[-1],
+        tol=1e-13,
+    )
     assert back.theta[-1] == pytest.approx(th0, abs=1e-12)
     assert back.thetadot[-1] == pytest.approx(-thd0, abs=1e-10)
     np.testing.assert_allclose(back.theta[::-1], fwd.theta, atol=1e-12)
@@ -183,9 +218,13 @@ def test_trapezoidal_rule_is_time_reversible():
 # ---------------------------------------------------------------------------- uplift
 def test_no_rocking_at_the_uplift_threshold():
     sp, _, alpha, _, p2 = _block("B6M")
-    a_up = G * sp.b / sp.h                              # paper 004, Eq 1 at θ = 0: g tan α
-    res = newmark_block(multimass.rigid_block("B6M"), SineWave(amplitude=(1 - 1e-9) * a_up, omega=2 * math.sqrt(p2)),
-                        2.0, restitution=housner_eta(alpha))
+    a_up = G * sp.b / sp.h  # paper 004, Eq 1 at θ = 0: g tan α
+    res = newmark_block(
+        multimass.rigid_block("B6M"),
+        SineWave(amplitude=(1 - 1e-9) * a_up, omega=2 * math.sqrt(p2)),
+        2.0,
+        restitution=housner_eta(alpha),
+    )
     assert res.events == () and res.status == "completed"
     assert np.all(res.theta == 0.0) and res.peaks.size == 0
 
@@ -194,27 +233,34 @@ def test_rocking_just_above_threshold_starts_at_the_exact_instant():
     sp, _, alpha, _, p2 = _block("B6M")
     a_up, omega = G * sp.b / sp.h, 2 * math.sqrt(p2)
     a0 = 1.001 * a_up
-    res = newmark_block(multimass.rigid_block("B6M"), _sine(a0, omega), 1.0,
-                        restitution=housner_eta(alpha))
+    res = newmark_block(
+        multimass.rigid_block("B6M"), _sine(a0, omega), 1.0, restitution=housner_eta(alpha)
+    )
     up = res.events[0]
-    assert up.kind == "uplift" and up.side == -1        # ü_g > 0 first: left pivot, θ < 0
-    assert up.time == pytest.approx(math.asin(a_up / a0) / omega, abs=1e-13)   # closed form
+    assert up.kind == "uplift" and up.side == -1  # ü_g > 0 first: left pivot, θ < 0
+    assert up.time == pytest.approx(math.asin(a_up / a0) / omega, abs=1e-13)  # closed form
     assert res.theta.min() < 0.0
-    assert sum(ev.kind == "uplift" for ev in res.events) == 2   # again on the right in the 2nd half
+    assert sum(ev.kind == "uplift" for ev in res.events) == 2  # again on the right in the 2nd half
     assert [ev.side for ev in res.events if ev.kind == "uplift"] == [-1, 1]
 
 
 # ---------------------------------------------------------------------------- forced response
 def test_large_sine_pulse_overturns_at_the_reference_time():
     _, _, alpha, _, p2 = _block("B6M")
-    a0, omega = 3 * alpha * G, math.sqrt(p2)          # a0/(α g) = 3, ω/p = 1
+    a0, omega = 3 * alpha * G, math.sqrt(p2)  # a0/(α g) = 3, ω/p = 1
     exc = SineWave(amplitude=a0, omega=omega)
     t_u = math.asin(G * 0.045 / 0.2025 / a0) / omega
     _, _, t_over = _reference("B6M", exc, t_u, -1, 2.0, housner_eta(alpha))
     errs = []
     for dt in (1e-3, 5e-4):
-        res = newmark_block(multimass.rigid_block("B6M"), exc, 2.0, dt=dt,
-                            restitution=housner_eta(alpha), rest_after=exc.duration)
+        res = newmark_block(
+            multimass.rigid_block("B6M"),
+            exc,
+            2.0,
+            dt=dt,
+            restitution=housner_eta(alpha),
+            rest_after=exc.duration,
+        )
         assert res.status == "overturned" and res.overturned
         assert res.events[-1].kind == "overturn" and res.events[-1].time == res.overturn_time
         assert res.theta[-1] == -math.pi / 2 and res.t[-1] == res.overturn_time
@@ -235,13 +281,13 @@ def test_impacts_and_peaks_agree_with_event_driven_reference():
     for ev, (t_ref, thd_ref) in zip(got, impacts):
         assert ev.time == pytest.approx(t_ref, abs=3e-5)
         assert ev.thetadot_minus == pytest.approx(thd_ref, abs=3e-5)
-    n = len(impacts) + 1                                # uplift half-cycle, then one per impact
+    n = len(impacts) + 1  # uplift half-cycle, then one per impact
     np.testing.assert_allclose(res.peaks[:n], peaks[:n], atol=2e-5)
 
 
 def test_mirrored_excitation_gives_mirrored_response():
     _, _, alpha, _, p2 = _block("B4M")
-    a0, omega = 3.0 * alpha * G, 6 * math.sqrt(p2)   # 8 impacts, no overturning
+    a0, omega = 3.0 * alpha * G, 6 * math.sqrt(p2)  # 8 impacts, no overturning
     st, eta = multimass.rigid_block("B4M"), housner_eta(alpha)
     pos = newmark_block(st, _sine(a0, omega), 1.5, restitution=eta)
     neg = newmark_block(st, _sine(-a0, omega), 1.5, restitution=eta)
@@ -255,14 +301,19 @@ def test_mirrored_excitation_gives_mirrored_response():
 
 def test_numba_kernel_matches_python_reference():
     _, _, alpha, _, p2 = _block("B6M")
-    exc = SineWave(amplitude=2.0 * alpha * G, omega=6 * math.sqrt(p2))   # 5 impacts, no overturning
-    runs = [newmark_block(multimass.rigid_block("B6M"), exc, 1.5, restitution=housner_eta(alpha),
-                          engine=e) for e in ("python", "numba")]
+    exc = SineWave(amplitude=2.0 * alpha * G, omega=6 * math.sqrt(p2))  # 5 impacts, no overturning
+    runs = [
+        newmark_block(
+            multimass.rigid_block("B6M"), exc, 1.5, restitution=housner_eta(alpha), engine=e
+        )
+        for e in ("python", "numba")
+    ]
     py, nb = runs
     assert [(e.kind, e.side) for e in nb.events] == [(e.kind, e.side) for e in py.events]
     assert len(py.events) > 3 and py.status == nb.status
-    np.testing.assert_allclose([e.time for e in nb.events], [e.time for e in py.events],
-                               rtol=0, atol=1e-12)
+    np.testing.assert_allclose(
+        [e.time for e in nb.events], [e.time for e in py.events], rtol=0, atol=1e-12
+    )
     for f in ("t", "theta", "thetadot", "thetaddot", "peaks"):
         np.testing.assert_allclose(getattr(nb, f), getattr(py, f), rtol=1e-10, atol=1e-12)
     assert py.n_steps == nb.n_steps
@@ -272,7 +323,9 @@ def test_scalar_only_callable_and_vectorised_excitation_agree():
     _, _, alpha, _, p2 = _block("B6M")
     a0, omega = 2.5 * alpha * G, 5 * math.sqrt(p2)
     a = newmark_block(multimass.rigid_block("B6M"), _sine(a0, omega), 1.0, restitution=0.93)
-    b = newmark_block(multimass.rigid_block("B6M"), SineWave(amplitude=a0, omega=omega), 1.0, restitution=0.93)
+    b = newmark_block(
+        multimass.rigid_block("B6M"), SineWave(amplitude=a0, omega=omega), 1.0, restitution=0.93
+    )
     np.testing.assert_allclose(a.theta, b.theta, atol=1e-13)
     assert [ev.kind for ev in a.events] == [ev.kind for ev in b.events]
 
@@ -283,8 +336,10 @@ def test_restitution_callable_gets_velocity_and_new_side():
     def r(thd_minus, new_side):
         calls.append((thd_minus, new_side))
         return 0.8
-    res = newmark_block(multimass.rigid_block("B6M"), lambda t: 0.0, 0.8, restitution=r,
-                        theta0=0.15)
+
+    res = newmark_block(
+        multimass.rigid_block("B6M"), lambda t: 0.0, 0.8, restitution=r, theta0=0.15
+    )
     impacts = [ev for ev in res.events if ev.kind == "impact"]
     assert len(calls) == len(impacts) >= 2
     for (thd, side), ev in zip(calls, impacts):
@@ -297,8 +352,13 @@ def test_rest_after_stops_early_and_matches_the_full_run():
     _, _, alpha, _, p2 = _block("B6M")
     exc = SineWave(amplitude=1.5 * alpha * G, omega=4 * math.sqrt(p2))
     full = newmark_block(multimass.rigid_block("B6M"), exc, 3.0, restitution=housner_eta(alpha))
-    early = newmark_block(multimass.rigid_block("B6M"), exc, 3.0, restitution=housner_eta(alpha),
-                          rest_after=exc.duration)
+    early = newmark_block(
+        multimass.rigid_block("B6M"),
+        exc,
+        3.0,
+        restitution=housner_eta(alpha),
+        rest_after=exc.duration,
+    )
     assert early.status == "rest" and early.events[-1].kind == "rest"
     assert exc.duration <= early.t[-1] < 3.0
     n = early.t.size
@@ -320,8 +380,13 @@ def test_block_beyond_alpha_at_pulse_end_is_not_declared_safe():
     # regression: past θ = α the energy test alone (E < mgR(1 − cos α)) would say "rest"
     _, _, alpha, _, p2 = _block("B6M")
     exc = SineWave(amplitude=1.5 * alpha * G, omega=math.sqrt(p2))
-    res = newmark_block(multimass.rigid_block("B6M"), exc, 3.0, restitution=housner_eta(alpha),
-                        rest_after=exc.duration)
+    res = newmark_block(
+        multimass.rigid_block("B6M"),
+        exc,
+        3.0,
+        restitution=housner_eta(alpha),
+        rest_after=exc.duration,
+    )
     assert res.status == "overturned" and res.overturn_time > exc.duration
 
 
@@ -332,18 +397,34 @@ def test_newton_failure_is_a_status_not_nan():
 
 
 # ---------------------------------------------------------------------------- bad input
-@pytest.mark.parametrize("kw, field", [
-    ({"dt": 0.0}, "`dt`"), ({"dt": -1e-3}, "`dt`"), ({"t_end": 0.0}, "`t_end`"),
-    ({"t_end": -1.0}, "`t_end`"), ({"restitution": 0.0}, "`restitution`"),
-    ({"restitution": 1.2}, "`restitution`"), ({"restitution": lambda *_: 1.5}, "`restitution`"),
-    ({"theta0": 2.0}, "`theta0`"), ({"overturn_angle": 2.0}, "`overturn_angle`"),
-    ({"max_iter": 0}, "`max_iter`"), ({"tol": 0.0}, "`tol`"), ({"engine": "c"}, "`engine`"),
-    ({"ag": 3.0}, "`ag`"), ({"ag": lambda t: float("nan")}, "`ag`"),
-    ({"rest_after": -1.0}, "`rest_after`"),
-])
+@pytest.mark.parametrize(
+    "kw, field",
+    [
+        ({"dt": 0.0}, "`dt`"),
+        ({"dt": -1e-3}, "`dt`"),
+        ({"t_end": 0.0}, "`t_end`"),
+        ({"t_end": -1.0}, "`t_end`"),
+        ({"restitution": 0.0}, "`restitution`"),
+        ({"restitution": 1.2}, "`restitution`"),
+        ({"restitution": lambda *_: 1.5}, "`restitution`"),
+        ({"theta0": 2.0}, "`theta0`"),
+        ({"overturn_angle": 2.0}, "`overturn_angle`"),
+        ({"max_iter": 0}, "`max_iter`"),
+        ({"tol": 0.0}, "`tol`"),
+        ({"engine": "c"}, "`engine`"),
+        ({"ag": 3.0}, "`ag`"),
+        ({"ag": lambda t: float("nan")}, "`ag`"),
+        ({"rest_after": -1.0}, "`rest_after`"),
+    ],
+)
 def test_bad_input_is_rejected_with_the_field_named(kw, field):
-    args = {"structure": multimass.rigid_block("B6M"), "ag": lambda t: 0.0, "t_end": 1.0,
-            "restitution": 0.9, "theta0": 0.1}
+    args = {
+        "structure": multimass.rigid_block("B6M"),
+        "ag": lambda t: 0.0,
+        "t_end": 1.0,
+        "restitution": 0.9,
+        "theta0": 0.1,
+    }
     args.update(kw)
     with pytest.raises(InputError, match=field):
         newmark_block(args.pop("structure"), args.pop("ag"), args.pop("t_end"), **args)

@@ -32,7 +32,7 @@ def test_free_rocking_with_plastic_impacts_is_housner(h_over_b, t_end):
     r = simulate_block(block, 0.0, t_end, phi0=phi0, dt_out=0.01)
     grid = np.round(np.arange(0.0, t_end, 0.01), 12)
     theta_h = housner_theta(block, lambda t: 0.0, 0.0, -phi0, grid, housner_eta(block.alpha))
-    err = np.abs(on_grid(r, grid) + theta_h).max() / block.alpha     # φ = −θ
+    err = np.abs(on_grid(r, grid) + theta_h).max() / block.alpha  # φ = −θ
     assert err < 1e-6
     assert "flight" not in set(r.phase)
     assert len(r.raw.impacts) >= 5
@@ -44,16 +44,16 @@ def test_sine_pulse_figure_5_agrees_with_housner():
     a_g, w_g = 0.45 * block.g, 5.75 * block.p
     ag = SineWave(amplitude=a_g, omega=w_g)
     r = simulate_block(block, 0.0, 15.0, ag=ag, dt_out=0.01)
-    t_up = math.asin(block.g * math.tan(block.alpha) / a_g) / w_g    # closed form: ag = g tan α
+    t_up = math.asin(block.g * math.tan(block.alpha) / a_g) / w_g  # closed form: ag = g tan α
     grid = np.round(np.arange(0.0, 15.0, 0.01), 12)
     theta_h = housner_theta(block, ag, t_up, 0.0, grid, housner_eta(block.alpha), side=-1)
     err = np.abs(on_grid(r, grid) + theta_h).max() / block.alpha
     assert err < 1e-6
-    assert np.abs(r.phi).max() / block.alpha > 0.5          # it does rock substantially
+    assert np.abs(r.phi).max() / block.alpha > 0.5  # it does rock substantially
     uplift = r.events[0]
-    assert uplift.kind == "liftoff" and uplift.closed_after == (0,)   # left corner: φ > 0
+    assert uplift.kind == "liftoff" and uplift.closed_after == (0,)  # left corner: φ > 0
     assert uplift.time == pytest.approx(t_up, abs=1e-9)
-    assert r.phi[np.searchsorted(r.t, t_up + 0.05)] > 0.0   # ag > 0 ⇒ φ > 0 ⇒ θ < 0
+    assert r.phi[np.searchsorted(r.t, t_up + 0.05)] > 0.0  # ag > 0 ⇒ φ > 0 ⇒ θ < 0
     assert r.theta[np.searchsorted(r.t, t_up + 0.05)] < 0.0
 
 
@@ -110,19 +110,21 @@ def test_slender_block_flies_after_impact_when_eps_positive():
     first = r.raw.impacts[0]
     s2 = math.sin(block.alpha) ** 2
     assert first.impact.u_plus[2] / first.impact.u_minus[2] == pytest.approx(
-        1 - 1.5 * s2 * 1.5, abs=1e-9)                                      # paper 000, Eq 24
+        1 - 1.5 * s2 * 1.5, abs=1e-9
+    )  # paper 000, Eq 24
     assert first.closed_after == ()
     assert "flight" in set(r.phase)
 
 
-@pytest.mark.parametrize("h_over_b, eps", [(0.7, 0.0), (0.7, 0.5), (0.7, 1.0),
-                                           (7.0, 0.0), (7.0, 0.5), (7.0, 1.0)])
+@pytest.mark.parametrize(
+    "h_over_b, eps", [(0.7, 0.0), (0.7, 0.5), (0.7, 1.0), (7.0, 0.0), (7.0, 0.5), (7.0, 1.0)]
+)
 def test_energy_ledger_closes(h_over_b, eps):
     block = PoissonBlock.from_slenderness(h_over_b)
     r = simulate_block(block, eps, 3.0, phi0=block.alpha / 3)
     E0 = r.raw.energy[0]
     assert np.abs(r.raw.ledger_error).max() < 1e-7 * E0
-    assert np.all(np.diff(r.raw.impact_loss) >= -1e-12 * E0)    # impacts never create energy
+    assert np.all(np.diff(r.raw.impact_loss) >= -1e-12 * E0)  # impacts never create energy
 
 
 def test_forced_ledger_closes_and_pulse_can_overturn():
@@ -140,12 +142,13 @@ def test_geometry():
     assert block.R == pytest.approx(math.sqrt(12.5), rel=1e-15)
     assert block.p == pytest.approx(math.sqrt(3 * 9.81 / (4 * math.sqrt(12.5))), rel=1e-15)
     M, W_N, W_T = block.impact_matrices()
-    np.testing.assert_array_equal(W_N, [[0, 0], [1, 1], [-0.5, 0.5]])     # paper 000, Eq 13
+    np.testing.assert_array_equal(W_N, [[0, 0], [1, 1], [-0.5, 0.5]])  # paper 000, Eq 13
     np.testing.assert_array_equal(W_T, [[1], [0], [3.5]])
     assert M[2, 2] == pytest.approx(2.0 * 12.5 / 3)
     # the simulation's contact kinematics reduce to Eq 13 at φ = 0 (both corners' W_T equal)
-    g, WN, WT, _, _ = _BlockModel(block, lambda t: 0.0).contacts(np.array([0.0, 3.5, 0.0]),
-                                                                 np.zeros(3))
+    g, WN, WT, _, _ = _BlockModel(block, lambda t: 0.0).contacts(
+        np.array([0.0, 3.5, 0.0]), np.zeros(3)
+    )
     np.testing.assert_allclose(g, 0.0, atol=1e-15)
     np.testing.assert_allclose(WN, W_N, atol=1e-15)
     np.testing.assert_allclose(WT, np.hstack([W_T, W_T]), atol=1e-15)
@@ -158,12 +161,15 @@ def test_geometry():
     np.testing.assert_allclose(vel, 0.0, atol=1e-15)
 
 
-@pytest.mark.parametrize("kw, match", [
-    (dict(eps_p=1.5), "eps_p"),
-    (dict(phi0=2.0), "phi0"),
-    (dict(ag=3.0), "ag"),
-    (dict(t_end=-1.0), "t_end"),
-])
+@pytest.mark.parametrize(
+    "kw, match",
+    [
+        (dict(eps_p=1.5), "eps_p"),
+        (dict(phi0=2.0), "phi0"),
+        (dict(ag=3.0), "ag"),
+        (dict(t_end=-1.0), "t_end"),
+    ],
+)
 def test_bad_input(kw, match):
     args = dict(block=PoissonBlock(0.5, 1.0), eps_p=0.5, t_end=1.0)
     args.update(kw)
@@ -171,10 +177,17 @@ def test_bad_input(kw, match):
         simulate_block(**args)
 
 
-@pytest.mark.parametrize("kw", [dict(b=-1.0, h=1.0), dict(b=1.0, h=0.0),
-                                dict(b=1.0, h=1.0, mass=float("nan")),
-                                dict(b=1.0, h=10**400), dict(b=1.0, h=1e308),
-                                dict(b=1e-300, h=1e-300, mass=1e-300)])
+@pytest.mark.parametrize(
+    "kw",
+    [
+        dict(b=-1.0, h=1.0),
+        dict(b=1.0, h=0.0),
+        dict(b=1.0, h=1.0, mass=float("nan")),
+        dict(b=1.0, h=10**400),
+        dict(b=1.0, h=1e308),
+        dict(b=1e-300, h=1e-300, mass=1e-300),
+    ],
+)
 def test_bad_block(kw):
     with pytest.raises(InputError):
         PoissonBlock(**kw)
@@ -186,12 +199,13 @@ def test_agrees_with_the_engine_classical_impact(case):
     st = multimass.rigid_block("B6M")
     block = PoissonBlock(b=st.B, h=st.h0, mass=st.m0)
     if case == "free":
-        exc, kw = multimass.FreeRelease(0.1), dict(phi0=-0.1)      # θ0 = 0.1 ⇒ φ0 = −0.1
+        exc, kw = multimass.FreeRelease(0.1), dict(phi0=-0.1)  # θ0 = 0.1 ⇒ φ0 = −0.1
     else:
         exc = multimass.SineWave(amplitude=0.3 * block.g, omega=3.0 * block.p)
         kw = dict(ag=exc)
-    eng = multimass.simulate(st, exc, impact="CIM", restitution="housner", t_end=2.0,
-                             rtol=1e-10, atol=1e-12)
+    eng = multimass.simulate(
+        st, exc, impact="CIM", restitution="housner", t_end=2.0, rtol=1e-10, atol=1e-12
+    )
     r = simulate_block(block, 0.0, 2.0, dt_out=0.001, **kw)
     df = eng.series
     keep = np.r_[np.diff(df.t) > 0, True]
@@ -216,8 +230,9 @@ def test_housner_reference_agrees_with_the_engine(case):
         exc = multimass.SineWave(amplitude=0.3 * block.g, omega=3.0 * block.p)
         t_up = math.asin(block.g * math.tan(block.alpha) / (0.3 * block.g)) / (3.0 * block.p)
         theta_h = housner_theta(block, exc.acceleration, t_up, 0.0, grid, side=-1)
-    eng = multimass.simulate(st, exc, impact="CIM", restitution="housner", t_end=2.0,
-                             rtol=1e-10, atol=1e-12)
+    eng = multimass.simulate(
+        st, exc, impact="CIM", restitution="housner", t_end=2.0, rtol=1e-10, atol=1e-12
+    )
     df = eng.series
     keep = np.r_[np.diff(df.t) > 0, True]
     theta_engine = np.interp(grid, df.t[keep], df.theta[keep])
@@ -226,6 +241,7 @@ def test_housner_reference_agrees_with_the_engine(case):
 
 
 # -- runs that start on the ground (issue 12): the given state, its energy, its first peak
+
 
 def b6m_block():
     st = multimass.rigid_block("B6M")
@@ -236,6 +252,7 @@ def first_peak(block, dphi):
     """Closed form: ½ I_O φ̇² = m g R (cos(α − φ_max) − cos α), I_O = 4/3 m R² (rotation
     about the pivot corner; the centre of mass sits at height R cos(α − |φ|))."""
     from scipy.optimize import brentq
+
     a, R, g = block.alpha, block.R, block.g
     e = 0.5 * (4.0 / 3.0) * R * R * dphi * dphi
     return brentq(lambda p: g * R * (math.cos(a - p) - math.cos(a)) - e, 0.0, a, xtol=1e-15)
@@ -273,8 +290,7 @@ def test_ledger_starts_from_the_given_state(phi0, dphi):
     block = b6m_block()
     r = simulate_block(block, 0.5, 0.3, phi0=phi0, dphi0=dphi)
     m, R, a = block.mass, block.R, block.alpha
-    E0 = 0.5 * (4 / 3) * m * R * R * dphi**2 + m * block.g * (R * math.cos(a - abs(phi0))
-                                                                - block.h)
+    E0 = 0.5 * (4 / 3) * m * R * R * dphi**2 + m * block.g * (R * math.cos(a - abs(phi0)) - block.h)
     assert r.raw.t[0] == 0.0 and r.phi[0] == phi0
     assert r.raw.energy[0] == pytest.approx(E0, rel=1e-13, abs=1e-18)
     assert np.abs(r.raw.ledger_error).max() <= 1e-7 * max(E0, 1e-300)
@@ -294,11 +310,11 @@ def test_spin_towards_the_other_corner_is_an_impact_at_t0(eps):
     I_O = 4.0 / 3.0 * block.mass * block.R**2
     E0 = r.raw.energy[0]
     assert E0 == pytest.approx(0.5 * I_O * w * w, rel=1e-9)
-    if eps == 0.0:                       # plastic: rocks on the right corner with ηφ̇
+    if eps == 0.0:  # plastic: rocks on the right corner with ηφ̇
         assert ev.closed_after == (1,)
         assert ev.impact.energy_loss == pytest.approx(0.5 * I_O * w * w * (1 - eta**2), rel=1e-9)
         assert np.abs(r.phi).max() == pytest.approx(first_peak(block, eta * w), rel=1e-6)
-    else:                                # paper 000, Eq 22: flight
+    else:  # paper 000, Eq 22: flight
         assert ev.closed_after == ()
     assert np.abs(r.raw.ledger_error).max() < 1e-7 * E0
     assert r.raw.impact_loss[-1] >= ev.impact.energy_loss > 0.0
@@ -306,8 +322,10 @@ def test_spin_towards_the_other_corner_is_an_impact_at_t0(eps):
 
 # -- friction demand of the sticking corners
 
-@pytest.mark.parametrize("amp, mu, flagged", [(0.5, 0.4, True), (0.5, 0.7, False),
-                                              (0.8, 0.7, True)])
+
+@pytest.mark.parametrize(
+    "amp, mu, flagged", [(0.5, 0.4, True), (0.5, 0.7, False), (0.8, 0.7, True)]
+)
 def test_full_contact_friction_demand_is_ag_over_g(amp, mu, flagged):
     # closed form: a rigid block that stays in full contact needs |T/N| = |a_g|/g (the
     # classical sliding condition); h/b = 1 keeps it down (rocking needs a_g > g tan α = g)
@@ -336,7 +354,7 @@ def pivot_demand(block, phi0, phi):
     Newton–Euler: r = G − O = (b cos φ − h sin φ, b sin φ + h cos φ), I_O φ̈ = −m g r_x,
     φ̇² from energy, T = m ẍ_G, N = m (ÿ_G + g)."""
     b, h, g = block.b, block.h, block.g
-    I_O = 4.0 / 3.0 * block.R**2                          # per unit mass
+    I_O = 4.0 / 3.0 * block.R**2  # per unit mass
     rx = b * math.cos(phi) - h * math.sin(phi)
     ry = b * math.sin(phi) + h * math.cos(phi)
     ry0 = b * math.sin(phi0) + h * math.cos(phi0)
@@ -389,10 +407,16 @@ def test_lift_off_into_flight_needs_unbounded_friction():
     assert r.status == "inaccurate" and any("unbounded" in s for s in r.warnings)
 
 
-@pytest.mark.parametrize("kw, match", [(dict(mu=0.0), "`mu`"), (dict(mu=float("nan")), "`mu`"),
-                                       (dict(mu="high"), "`mu`"),
-                                       (dict(dphi0=float("inf")), "`dphi0`"),
-                                       (dict(t_end=float("inf")), "`t_end`")])
+@pytest.mark.parametrize(
+    "kw, match",
+    [
+        (dict(mu=0.0), "`mu`"),
+        (dict(mu=float("nan")), "`mu`"),
+        (dict(mu="high"), "`mu`"),
+        (dict(dphi0=float("inf")), "`dphi0`"),
+        (dict(t_end=float("inf")), "`t_end`"),
+    ],
+)
 def test_bad_new_input(kw, match):
     args = dict(block=PoissonBlock(0.5, 1.0), eps_p=0.5, t_end=1.0)
     args.update(kw)
@@ -406,7 +430,8 @@ def test_a_ground_acceleration_that_is_not_finite_is_refused():
         simulate_block(block, 0.0, 1.0, ag=lambda t: float("nan"))
     # a record that turns NaN mid-run stops the run with the time, not with NaN results
     with pytest.raises(InputError, match=r"`ag` returned nan at t = 0\.2"):
-        simulate_block(block, 0.0, 1.0, ag=lambda t: float("nan") if t >= 0.2 else 1.0,
-                       locked_dt=0.05)
+        simulate_block(
+            block, 0.0, 1.0, ag=lambda t: float("nan") if t >= 0.2 else 1.0, locked_dt=0.05
+        )
     with pytest.raises(InputError, match="`ag`"):
         simulate_block(block, 0.0, 1.0, ag=lambda t: "1 g")

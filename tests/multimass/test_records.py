@@ -44,8 +44,9 @@ def test_at2_file(ground_motions):
     # the file's first two values: -1.65951E-03 -3.40541E-03 (g), at t = 0 and t = DT
     assert rec(0.0) == pytest.approx(-1.65951e-3 * G, rel=1e-12)
     assert rec(0.02) == pytest.approx(-3.40541e-3 * G, rel=1e-9)
-    assert read_at2(ground_motions / "RSN1044_DirRot2.AT2", scale=2.0).accel[1] == \
-        pytest.approx(2 * -3.40541e-3 * G, rel=1e-12)
+    assert read_at2(ground_motions / "RSN1044_DirRot2.AT2", scale=2.0).accel[1] == pytest.approx(
+        2 * -3.40541e-3 * G, rel=1e-12
+    )
 
 
 def test_at2_units_argument_must_agree_with_header(ground_motions):
@@ -55,11 +56,14 @@ def test_at2_units_argument_must_agree_with_header(ground_motions):
         read_record(path, units="m/s2")
 
 
-@pytest.mark.parametrize("name, npts, peak_pos, peak_neg", [
-    ("kobe_1995", 1250, 3.53, -6.80),          # ground_motions/README.md
-    ("northridge_1994", 1500, 8.48, -9.71),    # ground_motions/README.md
-    ("loma_prieta_1989", 1300, 4.80, -5.32),   # ground_motions/README.md
-])
+@pytest.mark.parametrize(
+    "name, npts, peak_pos, peak_neg",
+    [
+        ("kobe_1995", 1250, 3.53, -6.80),  # ground_motions/README.md
+        ("northridge_1994", 1500, 8.48, -9.71),  # ground_motions/README.md
+        ("loma_prieta_1989", 1300, 4.80, -5.32),  # ground_motions/README.md
+    ],
+)
 def test_two_column_records_in_mps2(ground_motions, name, npts, peak_pos, peak_neg):
     rec = read_record(ground_motions / f"{name}.dat", units="m/s2")
     assert rec.npts == npts
@@ -93,8 +97,18 @@ def _rec():
 def test_linear_interpolation_and_zero_outside():
     rec = _rec()
     # closed form: linear between samples, 0 before the first and after the last sample
-    cases = [(0.0, 0.0), (0.49, 0.0), (0.5, 1.0), (0.55, 2.0), (0.6, 3.0), (0.675, 0.0),
-             (0.8, 2.0), (0.8000001, 0.0), (5.0, 0.0), (-1.0, 0.0)]
+    cases = [
+        (0.0, 0.0),
+        (0.49, 0.0),
+        (0.5, 1.0),
+        (0.55, 2.0),
+        (0.6, 3.0),
+        (0.675, 0.0),
+        (0.8, 2.0),
+        (0.8000001, 0.0),
+        (5.0, 0.0),
+        (-1.0, 0.0),
+    ]
     for t, a in cases:
         assert rec(t) == pytest.approx(a, abs=1e-12), t
         assert isinstance(rec(t), float)
@@ -142,19 +156,22 @@ def test_comments_commas_and_blank_lines(tmp_path):
     assert rec.name == "mine" and rec.dt == pytest.approx(0.01)
 
 
-@pytest.mark.parametrize("text, match", [
-    ("0 0\n0.01 x\n", r"bad.txt, line 2: cannot read.*as two numbers"),
-    ("time acc\n0 0\n0.01 1\n", r"bad.txt, line 1: cannot read.*comment the line out with #"),
-    ("0 0\n0.01 1 2\n", r"bad.txt, line 2: expected two columns `t a`.*found 3"),
-    ("0 0\n0.01 nan\n0.02 1\n", r"bad.txt, line 2: acceleration = nan is not a finite"),
-    ("0 0\ninf 1\n", r"bad.txt, line 2: time = inf is not a finite"),
-    ("0 0\n0.02 1\n0.01 2\n", r"bad.txt, line 3: `time` = 0.01 s does not increase"),
-    ("0 0\n0.01 1\n0.01 2\n", r"bad.txt, line 3: `time` = 0.01 s does not increase"),
-    ("0 0\n0.01 1\n0.02 2\n0.035 3\n0.045 4\n", r"bad.txt, line 4: non-uniform time step"),
-    ("# only one\n0 0\n", r"bad.txt: 1 sample\(s\); a record needs at least 2"),
-    ("# comments only\n", r"bad.txt: 0 sample\(s\)"),
-    ("-0.01 0\n0 1\n", r"bad.txt, line 1: `time` starts at -0.01 s < 0; shift"),
-])
+@pytest.mark.parametrize(
+    "text, match",
+    [
+        ("0 0\n0.01 x\n", r"bad.txt, line 2: cannot read.*as two numbers"),
+        ("time acc\n0 0\n0.01 1\n", r"bad.txt, line 1: cannot read.*comment the line out with #"),
+        ("0 0\n0.01 1 2\n", r"bad.txt, line 2: expected two columns `t a`.*found 3"),
+        ("0 0\n0.01 nan\n0.02 1\n", r"bad.txt, line 2: acceleration = nan is not a finite"),
+        ("0 0\ninf 1\n", r"bad.txt, line 2: time = inf is not a finite"),
+        ("0 0\n0.02 1\n0.01 2\n", r"bad.txt, line 3: `time` = 0.01 s does not increase"),
+        ("0 0\n0.01 1\n0.01 2\n", r"bad.txt, line 3: `time` = 0.01 s does not increase"),
+        ("0 0\n0.01 1\n0.02 2\n0.035 3\n0.045 4\n", r"bad.txt, line 4: non-uniform time step"),
+        ("# only one\n0 0\n", r"bad.txt: 1 sample\(s\); a record needs at least 2"),
+        ("# comments only\n", r"bad.txt: 0 sample\(s\)"),
+        ("-0.01 0\n0 1\n", r"bad.txt, line 1: `time` starts at -0.01 s < 0; shift"),
+    ],
+)
 def test_bad_two_column_files(tmp_path, text, match):
     path = _write(tmp_path, "bad.txt", text)
     with pytest.raises(InputError, match=match):
@@ -184,17 +201,22 @@ def test_bad_scale(tmp_path, scale):
         read_two_column(path, units="g", scale=scale)
 
 
-AT2_HEAD = ("PEER NGA STRONG MOTION DATABASE RECORD\nTEST, COMPONENT\n"
-            "ACCELERATION TIME SERIES IN UNITS OF G\n")
+AT2_HEAD = (
+    "PEER NGA STRONG MOTION DATABASE RECORD\nTEST, COMPONENT\n"
+    "ACCELERATION TIME SERIES IN UNITS OF G\n"
+)
 
 
-@pytest.mark.parametrize("line4", [
-    "NPTS=  7, DT=   0.020 SEC",          # ground_motions/RSN1044_DirRot2.AT2 spelling
-    "NPTS= 7 DT= .0200 SEC",              # brief: NGA spelling without comma
-    "NPTS=7, DT=0.02 SEC,",
-    "npts = 7 , dt = 2.0E-02 sec",
-    "    7    0.0200    NPTS, DT",         # the old NGA format
-])
+@pytest.mark.parametrize(
+    "line4",
+    [
+        "NPTS=  7, DT=   0.020 SEC",  # ground_motions/RSN1044_DirRot2.AT2 spelling
+        "NPTS= 7 DT= .0200 SEC",  # brief: NGA spelling without comma
+        "NPTS=7, DT=0.02 SEC,",
+        "npts = 7 , dt = 2.0E-02 sec",
+        "    7    0.0200    NPTS, DT",  # the old NGA format
+    ],
+)
 def test_at2_header_spellings(tmp_path, line4):
     body = "1.0E-01 2.0E-01 3.0E-01 4.0E-01 5.0E-01\n-1.0E-01 -2.0E-01\n"
     rec = read_at2(_write(tmp_path, "x.AT2", AT2_HEAD + line4 + "\n" + body))
@@ -209,34 +231,47 @@ def test_at2_units_from_header(tmp_path):
     np.testing.assert_allclose(rec.accel, [1.0, -0.5], rtol=1e-15)  # 100 cm/s² = 1 m/s²
 
 
-@pytest.mark.parametrize("text, match", [
-    (AT2_HEAD + "NPTS= 3, DT= 0.02 SEC\n0.1 0.2\n", r"x.AT2: `NPTS` = 3.*but 2 values"),
-    (AT2_HEAD + "NPTS= 2, DT= 0.02 SEC\n0.1 0.2 0.3\n", r"`NPTS` = 2.*but 3 values"),
-    (AT2_HEAD + "NPTS= 2, DT= 0.02 SEC\n0.1 abc\n", r"x.AT2, line 5: cannot read 'abc'"),
-    (AT2_HEAD + "NPTS= 3, DT= 0.02 SEC\n0.1 0.2\nNaN\n", r"x.AT2, line 6: value 'NaN' is not"),
-    (AT2_HEAD + "2000 points at 0.02 s\n0.1 0.2\n", r"x.AT2, line 4: cannot read NPTS and DT"),
-    (AT2_HEAD + "NPTS= 2, DT= 0.0 SEC\n0.1 0.2\n", r"x.AT2, line 4: `DT` = 0.0"),
-    (AT2_HEAD + "NPTS= 1, DT= 0.02 SEC\n0.1\n", r"x.AT2, line 4: `NPTS` = 1"),
-    (AT2_HEAD.replace("UNITS OF G", "UNITS OF FT/S/S") + "NPTS= 2, DT= 0.02 SEC\n0.1 0.2\n",
-     r"x.AT2, line 3: unknown units 'FT/S/S'"),
-    (AT2_HEAD.replace(" IN UNITS OF G", "") + "NPTS= 2, DT= 0.02 SEC\n0.1 0.2\n",
-     r"x.AT2, line 3: cannot find the units"),
-    (AT2_HEAD.replace("ACCELERATION", "VELOCITY").replace("OF G", "OF CM/S")
-     + "NPTS= 2, DT= 0.02 SEC\n0.1 0.2\n", r"x.AT2, line 3: .*velocity record"),
-    (AT2_HEAD + "NPTS= 2, DT= 0.02 SEC\n", r"x.AT2: 4 line\(s\)"),
-])
+@pytest.mark.parametrize(
+    "text, match",
+    [
+        (AT2_HEAD + "NPTS= 3, DT= 0.02 SEC\n0.1 0.2\n", r"x.AT2: `NPTS` = 3.*but 2 values"),
+        (AT2_HEAD + "NPTS= 2, DT= 0.02 SEC\n0.1 0.2 0.3\n", r"`NPTS` = 2.*but 3 values"),
+        (AT2_HEAD + "NPTS= 2, DT= 0.02 SEC\n0.1 abc\n", r"x.AT2, line 5: cannot read 'abc'"),
+        (AT2_HEAD + "NPTS= 3, DT= 0.02 SEC\n0.1 0.2\nNaN\n", r"x.AT2, line 6: value 'NaN' is not"),
+        (AT2_HEAD + "2000 points at 0.02 s\n0.1 0.2\n", r"x.AT2, line 4: cannot read NPTS and DT"),
+        (AT2_HEAD + "NPTS= 2, DT= 0.0 SEC\n0.1 0.2\n", r"x.AT2, line 4: `DT` = 0.0"),
+        (AT2_HEAD + "NPTS= 1, DT= 0.02 SEC\n0.1\n", r"x.AT2, line 4: `NPTS` = 1"),
+        (
+            AT2_HEAD.replace("UNITS OF G", "UNITS OF FT/S/S") + "NPTS= 2, DT= 0.02 SEC\n0.1 0.2\n",
+            r"x.AT2, line 3: unknown units 'FT/S/S'",
+        ),
+        (
+            AT2_HEAD.replace(" IN UNITS OF G", "") + "NPTS= 2, DT= 0.02 SEC\n0.1 0.2\n",
+            r"x.AT2, line 3: cannot find the units",
+        ),
+        (
+            AT2_HEAD.replace("ACCELERATION", "VELOCITY").replace("OF G", "OF CM/S")
+            + "NPTS= 2, DT= 0.02 SEC\n0.1 0.2\n",
+            r"x.AT2, line 3: .*velocity record",
+        ),
+        (AT2_HEAD + "NPTS= 2, DT= 0.02 SEC\n", r"x.AT2: 4 line\(s\)"),
+    ],
+)
 def test_bad_at2_files(tmp_path, text, match):
     with pytest.raises(InputError, match=match):
         read_at2(_write(tmp_path, "x.AT2", text))
 
 
-@pytest.mark.parametrize("kwargs, match", [
-    ({"time": [0.0], "accel": [1.0]}, r"1 sample\(s\)"),
-    ({"time": [0.0, 0.1], "accel": [1.0]}, r"same length"),
-    ({"time": [0.0, 0.1, 0.3], "accel": [1, 2, 3]}, r"sample 2: non-uniform"),
-    ({"time": [0.0, 0.1], "accel": [1, 2], "dt": 0.2}, r"`dt` = 0.2 s disagrees"),
-    ({"time": [0.0, 0.1], "accel": [1, 2], "scale": -1.0}, r"`scale` = -1.0"),
-])
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"time": [0.0], "accel": [1.0]}, r"1 sample\(s\)"),
+        ({"time": [0.0, 0.1], "accel": [1.0]}, r"same length"),
+        ({"time": [0.0, 0.1, 0.3], "accel": [1, 2, 3]}, r"sample 2: non-uniform"),
+        ({"time": [0.0, 0.1], "accel": [1, 2], "dt": 0.2}, r"`dt` = 0.2 s disagrees"),
+        ({"time": [0.0, 0.1], "accel": [1, 2], "scale": -1.0}, r"`scale` = -1.0"),
+    ],
+)
 def test_record_constructor_validates(kwargs, match):
     with pytest.raises(InputError, match=match):
         Record(**kwargs)
@@ -254,22 +289,33 @@ def test_errors_are_value_errors():
 
 # ---------------------------------------------------------------------------- the file itself
 READERS = [
-    pytest.param(lambda p: read_two_column(p, units="g"), "two columns `t a`", id="read_two_column"),
+    pytest.param(
+        lambda p: read_two_column(p, units="g"), "two columns `t a`", id="read_two_column"
+    ),
     pytest.param(lambda p: read_at2(p), "PEER .AT2", id="read_at2"),
     pytest.param(lambda p: read_record(p, units="g"), "two columns `t a`", id="read_record"),
 ]
 
 
 @pytest.mark.parametrize("read, kind", READERS)
-@pytest.mark.parametrize("make, problem", [
-    (lambda d: d / "missing.txt", "no such file"),
-    (lambda d: d, "is a directory"),
-    (lambda d: _write(d, "empty.txt", ""), "the file is empty"),
-    (lambda d: _write(d, "blank.txt", "\n  \n"), "the file is empty"),
-    (lambda d: _write_bytes(d, "bin.txt", bytes(range(256))), r"a binary file \(NUL byte at offset 0\)"),
-    (lambda d: _write_bytes(d, "latin.txt", "0 0\n# Málaga\n".encode("latin-1")),
-     r"not UTF-8 text \(byte 0xe1 on line 2\); save it as UTF-8"),
-], ids=["missing", "directory", "empty", "blank", "binary", "latin-1"])
+@pytest.mark.parametrize(
+    "make, problem",
+    [
+        (lambda d: d / "missing.txt", "no such file"),
+        (lambda d: d, "is a directory"),
+        (lambda d: _write(d, "empty.txt", ""), "the file is empty"),
+        (lambda d: _write(d, "blank.txt", "\n  \n"), "the file is empty"),
+        (
+            lambda d: _write_bytes(d, "bin.txt", bytes(range(256))),
+            r"a binary file \(NUL byte at offset 0\)",
+        ),
+        (
+            lambda d: _write_bytes(d, "latin.txt", "0 0\n# Málaga\n".encode("latin-1")),
+            r"not UTF-8 text \(byte 0xe1 on line 2\); save it as UTF-8",
+        ),
+    ],
+    ids=["missing", "directory", "empty", "blank", "binary", "latin-1"],
+)
 def test_a_bad_file_is_named_with_what_to_give(tmp_path, read, kind, make, problem):
     path = make(tmp_path)
     with pytest.raises(InputError, match=problem) as info:
@@ -302,13 +348,16 @@ def test_name_must_be_a_string(tmp_path):
         read_two_column(path, units="g", name=5)
 
 
-@pytest.mark.parametrize("time, accel, match", [
-    (["0", "0.01"], [1.0, 2.0], r"`time` holds 'str"),         # no silent '10' -> 10.0
-    ([0.0, 0.01], [True, False], r"`accel` holds 'bool'"),
-    ([0.0, 0.01], [1.0, None], r"`accel` holds 'object'"),
-    ([0.0, 0.01], "12", r"`accel` = '12': expected an array of numbers"),
-    ([[0.0, 0.01], [0.02]], [1.0, 2.0], r"`time` is not a rectangular array"),
-])
+@pytest.mark.parametrize(
+    "time, accel, match",
+    [
+        (["0", "0.01"], [1.0, 2.0], r"`time` holds 'str"),  # no silent '10' -> 10.0
+        ([0.0, 0.01], [True, False], r"`accel` holds 'bool'"),
+        ([0.0, 0.01], [1.0, None], r"`accel` holds 'object'"),
+        ([0.0, 0.01], "12", r"`accel` = '12': expected an array of numbers"),
+        ([[0.0, 0.01], [0.02]], [1.0, 2.0], r"`time` is not a rectangular array"),
+    ],
+)
 def test_arrays_hold_numbers_only(time, accel, match):
     with pytest.raises(InputError, match=match):
         Record.from_arrays(time, accel, units="m/s2")

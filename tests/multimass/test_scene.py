@@ -36,8 +36,11 @@ def _value(v) -> str:
 def write_toml(path: Path, data: dict) -> Path:
     """A minimal TOML writer for flat tables (enough for scene files)."""
     top = [f"{k} = {_value(v)}" for k, v in data.items() if not isinstance(v, dict)]
-    tables = [f"\n[{k}]\n" + "\n".join(f"{kk} = {_value(vv)}" for kk, vv in v.items())
-              for k, v in data.items() if isinstance(v, dict)]
+    tables = [
+        f"\n[{k}]\n" + "\n".join(f"{kk} = {_value(vv)}" for kk, vv in v.items())
+        for k, v in data.items()
+        if isinstance(v, dict)
+    ]
     path.write_text("\n".join(top) + "\n" + "\n".join(tables) + "\n")
     return path
 
@@ -56,7 +59,7 @@ def scene_with(tmp_path, **changes) -> Path:
 # ---------------------------------------------------------------------------- good files
 def test_every_example_scene_parses():
     files = sorted(EXAMPLES.glob("*.toml"))
-    assert len(files) >= 8                       # the issue asks for at least 8 scenes
+    assert len(files) >= 8  # the issue asks for at least 8 scenes
     kinds = {Scene.from_toml(f).kind for f in files}
     assert kinds == {"column", "block", "block_on_beam"}
 
@@ -65,19 +68,21 @@ def test_base_scene_values(tmp_path):
     s = Scene.from_toml(scene_with(tmp_path))
     assert isinstance(s.excitation, multimass.CosinePulse)
     assert s.excitation.omega == 15.0
-    assert s.excitation.amplitude == pytest.approx(0.4 * G, rel=1e-12)   # "0.4g", g = 9.81
-    assert s.question.kind == "peak_rotation" and s.after_impacts == 0   # forced: all peaks
+    assert s.excitation.amplitude == pytest.approx(0.4 * G, rel=1e-12)  # "0.4g", g = 9.81
+    assert s.question.kind == "peak_rotation" and s.after_impacts == 0  # forced: all peaks
     assert s.tol.relative and s.tol.value == 0.05
     assert s.impact_model == "DD2" and s.restitution_value is None
     assert s.duration == pytest.approx(2 * math.pi / 15.0 + 3.0, rel=1e-12)  # pulse + 3 s
-    assert s.solver_max_step == 1e-3                                        # forced scenes
+    assert s.solver_max_step == 1e-3  # forced scenes
     json.dumps(s.describe())
 
 
 def test_release_defaults(tmp_path):
-    s = Scene.from_toml(scene_with(tmp_path, excitation={"kind": "free_release", "theta0_deg": 4.0}))
+    s = Scene.from_toml(
+        scene_with(tmp_path, excitation={"kind": "free_release", "theta0_deg": 4.0})
+    )
     assert s.excitation.theta0 == pytest.approx(math.radians(4.0), rel=1e-15)
-    assert s.after_impacts == 1          # the first peak of a release is the release angle
+    assert s.after_impacts == 1  # the first peak of a release is the release angle
     assert s.duration == 6.0 and s.solver_max_step == multimass.DEFAULTS["max_step"]
 
 
@@ -86,8 +91,9 @@ def test_record_path_resolves_against_the_scene_folder(tmp_path, ground_motions)
     shutil.copy(ground_motions / "elcentro_1940_NS.dat", tmp_path / "data" / "ec.dat")
     sub = tmp_path / "scenes"
     sub.mkdir()
-    path = scene_with(sub, excitation={"kind": "record", "path": "../data/ec.dat",
-                                       "units": "g", "scale": 1.1})
+    path = scene_with(
+        sub, excitation={"kind": "record", "path": "../data/ec.dat", "units": "g", "scale": 1.1}
+    )
     s = Scene.from_toml(path)
     # shared/data/ground_motions/README.md: El Centro NS, PGA +0.3487 g, dt 0.02 s
     assert max(abs(s.excitation.accel)) == pytest.approx(1.1 * 0.34873739 * G, rel=1e-6)
@@ -102,9 +108,11 @@ def test_example_record_is_in_examples():
 
 
 def test_E_over_Ebar_is_the_L_over_2500_modulus(tmp_path):
-    path = scene_with(tmp_path, structure={"specimen": "B4M", "beam": "beam_mudric2024",
-                                           "E_over_Ebar": 100.0},
-                      excitation={"kind": "free_release", "theta0_deg": 14.839})
+    path = scene_with(
+        tmp_path,
+        structure={"specimen": "B4M", "beam": "beam_mudric2024", "E_over_Ebar": 100.0},
+        excitation={"kind": "free_release", "theta0_deg": 14.839},
+    )
     s = Scene.from_toml(path)
     # closed form (paper 002 §6.3): δ = m g L³ / (48 Ē I) = L / 2500, B4M m = 0.7272 kg,
     # beam L = 0.30 m, I = 0.040 × 0.00171³ / 12 (paper 002, Section 6; Table 1)
@@ -116,8 +124,13 @@ def test_E_over_Ebar_is_the_L_over_2500_modulus(tmp_path):
 
 
 def test_python_construction_matches_toml(tmp_path):
-    s = Scene("py", "S1", multimass.CosinePulse(omega=15.0, amplitude=0.4 * G), Question("peak_rotation"),
-              Tolerance(0.05))
+    s = Scene(
+        "py",
+        "S1",
+        multimass.CosinePulse(omega=15.0, amplitude=0.4 * G),
+        Question("peak_rotation"),
+        Tolerance(0.05),
+    )
     t = Scene.from_toml(scene_with(tmp_path))
     assert s.describe()["excitation"] == t.describe()["excitation"]
     assert s.describe()["tolerance"] == t.describe()["tolerance"]
@@ -133,25 +146,54 @@ BAD = [
     ({"structure": {"specimen": "beam_mudric2024"}}, "`structure.specimen`"),
     ({"structure": {"specimen": "S1", "beam": "beam_mudric2024"}}, "`structure.beam`"),
     ({"structure": {"specimen": "S1", "E_Pa": 2e11}}, "`structure.E`"),
-    ({"structure": {"specimen": "B4M", "beam": "beam_mudric2024", "E_Pa": -1.0}}, "`structure.E_Pa`"),
-    ({"structure": {"specimen": "B4M", "beam": "beam_mudric2024", "E_Pa": 1e9,
-                    "E_over_Ebar": 1.0}}, "`structure.E_over_Ebar`"),
+    (
+        {"structure": {"specimen": "B4M", "beam": "beam_mudric2024", "E_Pa": -1.0}},
+        "`structure.E_Pa`",
+    ),
+    (
+        {
+            "structure": {
+                "specimen": "B4M",
+                "beam": "beam_mudric2024",
+                "E_Pa": 1e9,
+                "E_over_Ebar": 1.0,
+            }
+        },
+        "`structure.E_over_Ebar`",
+    ),
     ({"structure": {"specimen": "B4M", "E_over_Ebar": 1.0}}, "`structure.E_over_Ebar`"),
     ({"excitation": {"kind": "earthquake"}}, "`excitation.kind`"),
     ({"excitation": {"kind": "free_release"}}, "`excitation.theta0_rad`"),
-    ({"excitation": {"kind": "free_release", "theta0_rad": 0.1, "theta0_deg": 5.0}},
-     "`excitation.theta0_rad`"),
+    (
+        {"excitation": {"kind": "free_release", "theta0_rad": 0.1, "theta0_deg": 5.0}},
+        "`excitation.theta0_rad`",
+    ),
     ({"excitation": {"kind": "free_release", "theta0_rad": 0.5}}, "`excitation.theta0`"),
     ({"excitation": {"kind": "free_release", "theta0_rad": 0.0}}, "`excitation.theta0`"),
-    ({"excitation": {"kind": "cosine_pulse", "omega_rad_per_s": 15.0, "amplitude": 3.9}},
-     "excitation.amplitude"),
-    ({"excitation": {"kind": "cosine_pulse", "omega_rad_per_s": -15.0, "amplitude": "0.4g"}},
-     "`excitation.omega_rad_per_s`"),
-    ({"excitation": {"kind": "sine_wave", "omega_rad_per_s": 15.0, "amplitude": "0.4g",
-                     "phase": 1.0}}, "`excitation.phase`"),
+    (
+        {"excitation": {"kind": "cosine_pulse", "omega_rad_per_s": 15.0, "amplitude": 3.9}},
+        "excitation.amplitude",
+    ),
+    (
+        {"excitation": {"kind": "cosine_pulse", "omega_rad_per_s": -15.0, "amplitude": "0.4g"}},
+        "`excitation.omega_rad_per_s`",
+    ),
+    (
+        {
+            "excitation": {
+                "kind": "sine_wave",
+                "omega_rad_per_s": 15.0,
+                "amplitude": "0.4g",
+                "phase": 1.0,
+            }
+        },
+        "`excitation.phase`",
+    ),
     ({"excitation": {"kind": "record", "units": "g"}}, "`excitation.path`"),
-    ({"excitation": {"kind": "record", "path": "no_such_record.dat", "units": "g"}},
-     "no_such_record.dat"),
+    (
+        {"excitation": {"kind": "record", "path": "no_such_record.dat", "units": "g"}},
+        "no_such_record.dat",
+    ),
     ({"question": {"kind": "peak_velocity"}}, "`question.kind`"),
     ({"question": {"kind": "peak_acceleration"}}, "`question.node`"),
     ({"question": {"kind": "peak_acceleration", "node": 3, "sensor": "A2"}}, "`question.node`"),
@@ -159,8 +201,10 @@ BAD = [
     ({"question": {"kind": "peak_acceleration", "node": 0}}, "`question.node`"),
     ({"question": {"kind": "peak_acceleration", "sensor": "A9"}}, "`question.sensor`"),
     ({"question": {"kind": "peak_rotation", "node": 3}}, "`question.node`"),
-    ({"question": {"kind": "overturning", "after_impacts": 1}, "tolerance": None},
-     "`question.after_impacts`"),
+    (
+        {"question": {"kind": "overturning", "after_impacts": 1}, "tolerance": None},
+        "`question.after_impacts`",
+    ),
     ({"question": {"kind": "peak_rotation", "after_impacts": -1}}, "`question.after_impacts`"),
     ({"question": {"kind": "uplifted_frequencies", "n_modes": 6}}, "`question.n_modes`"),
     ({"tolerance": None}, "[tolerance]"),
@@ -205,8 +249,11 @@ def test_bad_block_scene(tmp_path, changes, field):
 
 
 def test_block_on_beam_release_beyond_alpha(tmp_path):
-    path = scene_with(tmp_path, structure={"specimen": "B6M", "beam": "beam_mudric2024"},
-                      excitation={"kind": "free_release", "theta0_deg": 30.0})
+    path = scene_with(
+        tmp_path,
+        structure={"specimen": "B6M", "beam": "beam_mudric2024"},
+        excitation={"kind": "free_release", "theta0_deg": 30.0},
+    )
     with pytest.raises(InputError, match="`excitation.theta0`"):
         Scene.from_toml(path)
 
@@ -236,8 +283,8 @@ def test_question_and_tolerance_checks():
 
 def test_tolerance_differences():
     rel, ab = Tolerance(0.05), Tolerance(0.01, relative=False, unit="rad")
-    assert rel.difference(1.02, 1.0) == pytest.approx(0.02, rel=1e-12)        # |a-b|/|b|
-    assert ab.difference(1.02, 1.0) == pytest.approx(0.02, rel=1e-12)         # |a-b|
+    assert rel.difference(1.02, 1.0) == pytest.approx(0.02, rel=1e-12)  # |a-b|/|b|
+    assert ab.difference(1.02, 1.0) == pytest.approx(0.02, rel=1e-12)  # |a-b|
     assert rel.difference((10.0, 21.0), (10.0, 20.0)) == pytest.approx(0.05, rel=1e-12)  # worst
     assert rel.difference(0.0, 0.0) == 0.0 and rel.difference(1.0, 0.0) == math.inf
     v = Tolerance.verdict()

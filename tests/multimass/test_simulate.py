@@ -19,10 +19,17 @@ from tests.conftest import RaisingExcitation, column_toml
 
 def stiff_column(tmp_path, scale):
     """A 2-node column whose bending stiffness is `scale` times S1's (K_fp 10×)."""
-    p = column_toml(tmp_path, [0.2, 1.0], [50.0, 100.0], name=f"stiff{scale:g}", **{
-        "youngs_modulus_Pa = 200e9": f"youngs_modulus_Pa = {200e9 * scale:g}",
-        "rotational_spring_Nm_per_rad = 2.0e6": f"rotational_spring_Nm_per_rad = {2e6 * scale:g}",
-        "horizontal_spring_N_per_m = 5.0e8": "horizontal_spring_N_per_m = 5e9"})
+    p = column_toml(
+        tmp_path,
+        [0.2, 1.0],
+        [50.0, 100.0],
+        name=f"stiff{scale:g}",
+        **{
+            "youngs_modulus_Pa = 200e9": f"youngs_modulus_Pa = {200e9 * scale:g}",
+            "rotational_spring_Nm_per_rad = 2.0e6": f"rotational_spring_Nm_per_rad = {2e6 * scale:g}",
+            "horizontal_spring_N_per_m = 5.0e8": "horizontal_spring_N_per_m = 5e9",
+        },
+    )
     return multimass.column(p)
 
 
@@ -44,23 +51,31 @@ def test_rigid_limit_reproduces_the_closed_form(tmp_path):
     for scale in (100.0, 1000.0):
         st = stiff_column(tmp_path, scale)
         resp = simulate(st, FreeRelease(0.15), "CIM", 1.0, restitution=0.9, output_dt=None)
-        done = resp.n_impacts              # half-cycles ended by an impact (the last is cut)
+        done = resp.n_impacts  # half-cycles ended by an impact (the last is cut)
         exact = rigid_peaks(st.alpha_cg, 0.15, 0.9, done)
         errors.append(np.max(np.abs(resp.peaks[:done] - exact)))
     assert errors[1] < 1e-5
-    assert errors[1] < 0.3 * errors[0]      # shrinking as the stiffness grows
+    assert errors[1] < 0.3 * errors[0]  # shrinking as the stiffness grows
 
 
 def test_rigid_block_free_rocking_matches_energy_solution():
     # paper 002, Section 6.2: B6M from 11.268°, Housner's restitution; exact first peak
     blk = multimass.rigid_block("B6M")
     theta0 = math.radians(11.268)
-    resp = simulate(blk, FreeRelease(theta0), "CIM", 1.5, restitution="housner", output_dt=None,
-                    rtol=1e-10, atol=1e-12)
-    eta = 1 - 1.5 * math.sin(blk.alpha_cg) ** 2                  # paper 004, Eq 9
+    resp = simulate(
+        blk,
+        FreeRelease(theta0),
+        "CIM",
+        1.5,
+        restitution="housner",
+        output_dt=None,
+        rtol=1e-10,
+        atol=1e-12,
+    )
+    eta = 1 - 1.5 * math.sin(blk.alpha_cg) ** 2  # paper 004, Eq 9
     exact = rigid_peaks(blk.alpha_cg, theta0, eta, 3)
     np.testing.assert_allclose(resp.peaks[:3], exact, atol=1e-7)
-    assert abs(math.degrees(resp.peaks[1]) - 7.76) < 0.03         # paper 002, Section 6.2
+    assert abs(math.degrees(resp.peaks[1]) - 7.76) < 0.03  # paper 002, Section 6.2
 
 
 def test_dirac_delta_dissipates_99_percent_of_the_target_on_a_rigid_block():
@@ -75,7 +90,9 @@ def test_dirac_delta_dissipates_99_percent_of_the_target_on_a_rigid_block():
     E = df.kinetic + df.gravitational
     E_ini = E[df.t <= act.time].iloc[-1]
     E_after = E[df.t >= hit.time + 1e-9].iloc[0]
-    assert (E_ini - E_after) / (E_ini * (1 - r * r)) == pytest.approx(math.erf(2.576 / math.sqrt(2)), rel=2e-3)
+    assert (E_ini - E_after) / (E_ini * (1 - r * r)) == pytest.approx(
+        math.erf(2.576 / math.sqrt(2)), rel=2e-3
+    )
 
 
 @pytest.mark.parametrize("name", ["S1", "S2", "S3"])
@@ -98,8 +115,12 @@ def test_energy_ledger_closes_forced(name, impact):
 
 
 def test_energy_error_falls_with_tolerance():
-    loose = simulate("S1", CosinePulse(omega=15.0, amplitude=0.6 * 9.81), "DD2", 1.5, rtol=1e-6, atol=1e-8)
-    tight = simulate("S1", CosinePulse(omega=15.0, amplitude=0.6 * 9.81), "DD2", 1.5, rtol=1e-10, atol=1e-12)
+    loose = simulate(
+        "S1", CosinePulse(omega=15.0, amplitude=0.6 * 9.81), "DD2", 1.5, rtol=1e-6, atol=1e-8
+    )
+    tight = simulate(
+        "S1", CosinePulse(omega=15.0, amplitude=0.6 * 9.81), "DD2", 1.5, rtol=1e-10, atol=1e-12
+    )
     assert tight.energy_balance_error <= 1e-8
     assert tight.energy_balance_error < loose.energy_balance_error
 
@@ -127,8 +148,10 @@ class TestPaper001Section43:
     @pytest.fixture(scope="class")
     @classmethod
     def runs(cls):
-        return {imp: simulate("S1", FreeRelease(-0.11), imp, 6.0, output_dt=None)
-                for imp in ("CIM", "DD1", "DD2")}
+        return {
+            imp: simulate("S1", FreeRelease(-0.11), imp, 6.0, output_dt=None)
+            for imp in ("CIM", "DD1", "DD2")
+        }
 
     def test_activation_near_0_01_rad_first_and_smaller_later(self, runs):
         for imp in ("DD1", "DD2"):
@@ -141,8 +164,10 @@ class TestPaper001Section43:
     def test_classical_model_chatters_late_and_dirac_delta_seldom(self, runs):
         counts = {imp: r.consecutive_transitions(window=0.02) for imp, r in runs.items()}
         early = {imp: r.consecutive_transitions(window=0.02, t_max=4.0) for imp, r in runs.items()}
-        print(f"\nconsecutive transitions within one impact (S1, 0.11 rad, 6 s): {counts}; "
-              f"before t = 4 s: {early}")
+        print(
+            f"\nconsecutive transitions within one impact (S1, 0.11 rad, 6 s): {counts}; "
+            f"before t = 4 s: {early}"
+        )
         assert counts["CIM"] > counts["DD2"]
         assert early["CIM"] >= 4 and early["DD2"] <= 1
 
@@ -168,7 +193,9 @@ def test_large_pulse_overturns():
 def test_positive_ground_acceleration_rocks_to_the_left_first():
     # paper 001, Eq 5: +ü_g H^T M 1 cos θ on the left-hand side drives θ̈ < 0 (paper 004, Eqs 1–2)
     blk = multimass.rigid_block("B6M")
-    resp = simulate(blk, SineWave(amplitude=2.0 * 9.81 * math.tan(blk.alpha_cg), omega=10.0), "CIM", 1.0)
+    resp = simulate(
+        blk, SineWave(amplitude=2.0 * 9.81 * math.tan(blk.alpha_cg), omega=10.0), "CIM", 1.0
+    )
     up = next(e for e in resp.events if e.kind == "uplift")
     assert up.phase_after == -1
 
@@ -192,11 +219,34 @@ def test_random_restitution_is_seeded():
 def test_series_columns_and_summary():
     resp = simulate("S1", FreeRelease(0.05), "DD2", 0.5)
     cols = set(resp.series.columns)
-    assert {"t", "theta", "thetadot", "u1", "u5", "udot5", "a1", "a5", "F_i", "kinetic",
-            "gravitational", "elastic", "damping", "impact", "ground_work", "balance_error"} <= cols
+    assert {
+        "t",
+        "theta",
+        "thetadot",
+        "u1",
+        "u5",
+        "udot5",
+        "a1",
+        "a5",
+        "F_i",
+        "kinetic",
+        "gravitational",
+        "elastic",
+        "damping",
+        "impact",
+        "ground_work",
+        "balance_error",
+    } <= cols
     info = resp.summary()
-    for key in ("status", "n_impacts", "n_full_contact", "theta_max", "peaks",
-                "energy_balance_error", "wall_time_s"):
+    for key in (
+        "status",
+        "n_impacts",
+        "n_full_contact",
+        "theta_max",
+        "peaks",
+        "energy_balance_error",
+        "wall_time_s",
+    ):
         assert key in info
     assert info["theta_max"] == pytest.approx(0.05)
     assert not resp.series.isna().any().any()
@@ -216,13 +266,16 @@ def test_node_accelerations_follow_eq_7():
     np.testing.assert_allclose(row[[f"a{i}" for i in range(1, 6)]].to_numpy(float), a, rtol=1e-9)
 
 
-@pytest.mark.parametrize("kwargs, fragment", [
-    (dict(impact="XYZ"), "unknown impact model"),
-    (dict(t_end=0.0), "`t_end`"),
-    (dict(t_end=-1.0), "`t_end`"),
-    (dict(rtol=-1e-3), "`rtol`"),
-    (dict(method="Euler"), "`method`"),
-])
+@pytest.mark.parametrize(
+    "kwargs, fragment",
+    [
+        (dict(impact="XYZ"), "unknown impact model"),
+        (dict(t_end=0.0), "`t_end`"),
+        (dict(t_end=-1.0), "`t_end`"),
+        (dict(rtol=-1e-3), "`rtol`"),
+        (dict(method="Euler"), "`method`"),
+    ],
+)
 def test_bad_arguments(kwargs, fragment):
     args = dict(impact="DD2", t_end=1.0) | kwargs
     with pytest.raises(ValueError, match=fragment):
@@ -239,7 +292,11 @@ def test_solver_failure_is_reported_not_returned_as_data():
         duration, breakpoints = 1.0, ()
 
         def __call__(self, t):
-            return np.where(np.asarray(t) > 0.1, np.nan, 0.0) if np.ndim(t) else (math.nan if t > 0.1 else 0.0)
+            return (
+                np.where(np.asarray(t) > 0.1, np.nan, 0.0)
+                if np.ndim(t)
+                else (math.nan if t > 0.1 else 0.0)
+            )
 
         acceleration = __call__
 

@@ -19,25 +19,28 @@ from multimass import (
 )
 
 
-@pytest.mark.parametrize("kwargs, fragment", [
-    (dict(t_end="10"), r"`t_end` = '10': expected a number"),
-    (dict(t_end=True), r"`t_end` = True: expected a number"),
-    (dict(t_end=math.nan), r"`t_end` = nan: expected a finite number"),
-    (dict(seed=-1), r"`seed` = -1: must be ≥ 0"),
-    (dict(seed=1.5), r"`seed` = 1.5: expected a whole number"),
-    (dict(chatter_count=2.5), r"`chatter_count` = 2.5: expected a whole number"),
-    (dict(rtol="1e-8"), r"`rtol` = '1e-8': expected a number"),
-    (dict(max_step=0.0), r"`max_step` = 0.0: must lie in \(0"),
-    (dict(output_dt=-1e-3), r"`output_dt` = -0.001"),
-    (dict(overturn_angle=2.0), r"`overturn_angle` = 2.0: must lie in \(0, 1.5708\]"),
-    (dict(stop_when_safe="yes"), r"`stop_when_safe` = 'yes': expected True or False"),
-    (dict(integrator="euler"), r"`integrator` = 'euler': use one of 'solve_ivp', 'newmark'"),
-    (dict(backend="gpu"), r"`backend` = 'gpu'"),
-    (dict(energy_tol=0), r"`energy_tol` = 0"),
-    (dict(max_hours=-1), r"`max_hours` = -1"),
-    (dict(progress="auto"), r"`progress` = 'auto'"),
-    (dict(dt=math.nan, integrator="newmark"), r"`dt` = nan"),
-])
+@pytest.mark.parametrize(
+    "kwargs, fragment",
+    [
+        (dict(t_end="10"), r"`t_end` = '10': expected a number"),
+        (dict(t_end=True), r"`t_end` = True: expected a number"),
+        (dict(t_end=math.nan), r"`t_end` = nan: expected a finite number"),
+        (dict(seed=-1), r"`seed` = -1: must be ≥ 0"),
+        (dict(seed=1.5), r"`seed` = 1.5: expected a whole number"),
+        (dict(chatter_count=2.5), r"`chatter_count` = 2.5: expected a whole number"),
+        (dict(rtol="1e-8"), r"`rtol` = '1e-8': expected a number"),
+        (dict(max_step=0.0), r"`max_step` = 0.0: must lie in \(0"),
+        (dict(output_dt=-1e-3), r"`output_dt` = -0.001"),
+        (dict(overturn_angle=2.0), r"`overturn_angle` = 2.0: must lie in \(0, 1.5708\]"),
+        (dict(stop_when_safe="yes"), r"`stop_when_safe` = 'yes': expected True or False"),
+        (dict(integrator="euler"), r"`integrator` = 'euler': use one of 'solve_ivp', 'newmark'"),
+        (dict(backend="gpu"), r"`backend` = 'gpu'"),
+        (dict(energy_tol=0), r"`energy_tol` = 0"),
+        (dict(max_hours=-1), r"`max_hours` = -1"),
+        (dict(progress="auto"), r"`progress` = 'auto'"),
+        (dict(dt=math.nan, integrator="newmark"), r"`dt` = nan"),
+    ],
+)
 def test_arguments_are_strict(kwargs, fragment):
     args = dict(t_end=1.0) | kwargs
     with pytest.raises(InputError, match=fragment):
@@ -58,7 +61,7 @@ def test_record_that_starts_after_t_end_is_refused():
     # issue 12: a record whose first sample is at t = 1e6 s with t_end = 2 s reported
     # "completed, θ = 0"; the structure never saw the motion
     t = 1e6 + np.arange(0.0, 2.0, 0.01)
-    with pytest.raises(InputError, match=r"later than a day"):          # the reader's check
+    with pytest.raises(InputError, match=r"later than a day"):  # the reader's check
         Record.from_arrays(t, 0.3 * np.sin(10.0 * t), units="g")
     t = 50.0 + np.arange(0.0, 2.0, 0.01)
     rec = Record.from_arrays(t, 0.3 * np.sin(10.0 * t), units="g")

@@ -11,16 +11,21 @@ import multimass
 from multimass import FreeRelease, InputError, Trace, compare_trace, read_trace
 from multimass.trace_metrics import align
 
-G = 9.81      # DESIGN.md: g = 9.81 m/s²
-DT = 1e-3     # simulate's default output_dt (s)
+G = 9.81  # DESIGN.md: g = 9.81 m/s²
+DT = 1e-3  # simulate's default output_dt (s)
 
 
 # ---------------------------------------------------------------------------- helpers
 def write_trace(path, header, columns):
     """A CSV trace: one header row, then the columns at full precision."""
     rows = np.column_stack(columns)
-    path.write_text("# synthetic trace\n" + header + "\n"
-                    + "\n".join(",".join("%.17g" % x for x in row) for row in rows) + "\n")
+    path.write_text(
+        "# synthetic trace\n"
+        + header
+        + "\n"
+        + "\n".join(",".join(f"{x:.17g}" for x in row) for row in rows)
+        + "\n"
+    )
     return path
 
 
@@ -51,14 +56,19 @@ def release(s1):
 @pytest.fixture(scope="module")
 def pulse(s1):
     # paper 001 Section 4.4, Fig 9: S1 under the cosine pulse ω = 15 rad/s, A = 0.4 g
-    return multimass.simulate(s1, multimass.CosinePulse(omega=15.0, amplitude=0.4 * G), impact="DD2", t_end=1.0)
+    return multimass.simulate(
+        s1, multimass.CosinePulse(omega=15.0, amplitude=0.4 * G), impact="DD2", t_end=1.0
+    )
 
 
 # ---------------------------------------------------------------------------- identical trace
 def test_trace_of_the_same_simulation_has_zero_error(tmp_path, s1, release):
     df = grid_samples(release)
-    path = write_trace(tmp_path / "free.csv", "t [s],theta [deg],a_A2 [g],a_A4 [m/s2]",
-                       [df.t, np.degrees(df.theta), df.a3 / G, df.a5])
+    path = write_trace(
+        tmp_path / "free.csv",
+        "t [s],theta [deg],a_A2 [g],a_A4 [m/s2]",
+        [df.t, np.degrees(df.theta), df.a3 / G, df.a5],
+    )
     trace = read_trace(path)
     metrics = compare_trace(trace, release, s1)
     assert list(metrics) == ["theta", "a_A2", "a_A4"]
@@ -84,14 +94,17 @@ def test_scaled_and_shifted_trace_is_recovered(tmp_path, s1, pulse, shift):
     keep = df.t <= 1.0 - shift + 1e-9
     d = df[keep]
     # measured(t) = 1.1 · simulated(t − shift), on the shifted grid
-    path = write_trace(tmp_path / "pulse.csv", "t [s],theta [rad],a_A2 [g],a_A4 [cm/s2]",
-                       [d.t + shift, 1.1 * d.theta, 1.1 * d.a3 / G, 110.0 * d.a5])
+    path = write_trace(
+        tmp_path / "pulse.csv",
+        "t [s],theta [rad],a_A2 [g],a_A4 [cm/s2]",
+        [d.t + shift, 1.1 * d.theta, 1.1 * d.a3 / G, 110.0 * d.a5],
+    )
     metrics = compare_trace(read_trace(path), pulse, s1)
     window = (df.t >= shift - 1e-9) & (df.t <= 1.0 - shift + 1e-9)
     for name, col in (("theta", "theta"), ("a_A2", "a3"), ("a_A4", "a5")):
         y = np.abs(df[col].to_numpy())
         peak, t_peak = y[window].max(), df.t.to_numpy()[window][np.argmax(y[window])]
-        assert y.max() == peak          # the global peak is inside both spans
+        assert y.max() == peak  # the global peak is inside both spans
         m = metrics[name]
         # closed form: max|sim| − max|meas| = P − 1.1 P, relative 1/1.1 − 1
         assert m.peak_simulated == pytest.approx(peak, rel=1e-9)
@@ -123,8 +136,9 @@ def test_rms_is_time_weighted_on_a_non_uniform_grid(s1):
 def test_jump_at_an_event_is_not_smeared(s1):
     # a series recording a jump 0 → 1 at t = 0.5 s as two samples at the same time
     resp = fake_response([0.0, 0.5, 0.5, 1.0], theta=[0.0, 0.0, 1.0, 1.0])
-    trace = Trace(time=[0.0, 0.499, 0.5, 0.501, 1.0], channels={"theta": np.zeros(5)},
-                  units={"theta": "rad"})
+    trace = Trace(
+        time=[0.0, 0.499, 0.5, 0.501, 1.0], channels={"theta": np.zeros(5)}, units={"theta": "rad"}
+    )
     t, meas, sim = align(trace, resp, s1, "theta")
     # closed form: 0 before the jump, the post-event value from it on
     np.testing.assert_array_equal(sim, [0.0, 0.0, 1.0, 1.0, 1.0])
@@ -132,9 +146,11 @@ def test_jump_at_an_event_is_not_smeared(s1):
 
 def test_units_are_converted_to_si(tmp_path):
     path = tmp_path / "units.csv"
-    path.write_text("time [ms],theta [deg],a_A2 [g],a3 [cm/s2],a_node5 [gal],a_A4 [m/s^2]\n"
-                    "0,180,1,100,-250,2\n"
-                    "500,-90,-0.5,0,0,0\n")
+    path.write_text(
+        "time [ms],theta [deg],a_A2 [g],a3 [cm/s2],a_node5 [gal],a_A4 [m/s^2]\n"
+        "0,180,1,100,-250,2\n"
+        "500,-90,-0.5,0,0,0\n"
+    )
     tr = read_trace(path)
     # closed form: 1 ms = 1e-3 s, 180° = π rad, 1 g = 9.81 m/s², 100 cm/s² = 1 m/s², 1 gal = 1 cm/s²
     np.testing.assert_allclose(tr.time, [0.0, 0.5], rtol=1e-15)
@@ -143,14 +159,19 @@ def test_units_are_converted_to_si(tmp_path):
     np.testing.assert_allclose(tr.channels["a3"], [1.0, 0.0], rtol=1e-15)
     np.testing.assert_allclose(tr.channels["a_node5"], [-2.5, 0.0], rtol=1e-15)
     np.testing.assert_allclose(tr.channels["a_A4"], [2.0, 0.0], rtol=1e-15)
-    assert dict(tr.units) == {"theta": "deg", "a_A2": "g", "a3": "cm/s2", "a_node5": "gal",
-                              "a_A4": "m/s^2"}
+    assert dict(tr.units) == {
+        "theta": "deg",
+        "a_A2": "g",
+        "a3": "cm/s2",
+        "a_node5": "gal",
+        "a_A4": "m/s^2",
+    }
     assert tr.time_units == "ms" and tr.source == str(path)
     np.testing.assert_allclose(tr.to_written_units("theta", tr.channels["theta"]), [180, -90])
     assert tr.si_units("theta") == "rad" and tr.si_units("a_A2") == "m/s2"
     assert read_trace(path, g=9.80665).channels["a_A2"][0] == 9.80665
     with pytest.raises(ValueError):
-        tr.channels["theta"][0] = 0.0       # read-only
+        tr.channels["theta"][0] = 0.0  # read-only
 
 
 def test_node_and_sensor_names_map_to_columns(tmp_path, s1):
@@ -159,7 +180,11 @@ def test_node_and_sensor_names_map_to_columns(tmp_path, s1):
     path = tmp_path / "names.csv"
     path.write_text("T [s],THETA [rad],A_a2 [g],a1 [g],a_node4 [g]\n0,0,0,0,0\n1,0,0,0,0\n")
     assert channel_columns(read_trace(path), s1) == {
-        "THETA": "theta", "A_a2": "a3", "a1": "a1", "a_node4": "a4"}
+        "THETA": "theta",
+        "A_a2": "a3",
+        "a1": "a1",
+        "a_node4": "a4",
+    }
 
 
 def test_free_release_from_first_sample(tmp_path):
@@ -178,10 +203,16 @@ BAD = [
     ("t [s],theta\n0,1\n1,2\n", r"line 1: column `theta` has no unit.*rad, deg"),
     ("t [s],a_A2\n0,1\n1,2\n", r"line 1: column `a_A2` has no unit.*g, m/s2, cm/s2"),
     ("t,theta [rad]\n0,1\n1,2\n", r"line 1: column `t` has no unit.*s, ms"),
-    ("t [s],theta [grad]\n0,1\n1,2\n", r"line 1: column `theta` has unit 'grad'; accepted: rad, deg"),
+    (
+        "t [s],theta [grad]\n0,1\n1,2\n",
+        r"line 1: column `theta` has unit 'grad'; accepted: rad, deg",
+    ),
     ("t [s],a_A2 [ft/s2]\n0,1\n1,2\n", r"line 1: column `a_A2` = 'ft/s2': unknown acceleration"),
-    ("t [s],theta [rad],u5 [m]\n0,1,0\n1,2,0\n", r"line 1: unknown column `u5` \(column 3\); "
-                                                   r"accepted columns: `t \[s\]`"),
+    (
+        "t [s],theta [rad],u5 [m]\n0,1,0\n1,2,0\n",
+        r"line 1: unknown column `u5` \(column 3\); "
+        r"accepted columns: `t \[s\]`",
+    ),
     ("theta [rad],a_A2 [g]\n0,1\n1,2\n", r"line 1: no time column"),
     ("t [s],time [s],theta [rad]\n0,0,1\n1,1,2\n", r"line 1: more than one time column"),
     ("t [s],theta [rad],Theta [deg]\n0,1,1\n1,2,2\n", r"line 1: column `Theta` appears twice"),
@@ -189,9 +220,14 @@ BAD = [
     ("t [s],,theta [rad]\n0,1,1\n", r"line 1: column 2 has no name"),
     ("t [s],theta [rad]\n0,1\n", r"1 sample\(s\); a trace needs at least 2 rows"),
     ("t [s],theta [rad]\n", r"0 sample\(s\); a trace needs at least 2 rows"),
-    ("# comment\n\nt [s],theta [rad]\n0,1\n0.1,2\n0.1,3\n",
-     r"line 6, column `time`: t = 0.1 s does not increase"),
-    ("t [s],theta [rad],a_A2 [g]\n0,1,0\n0.1,2,nan\n", r"line 3, column `a_A2`: value nan is not a finite"),
+    (
+        "# comment\n\nt [s],theta [rad]\n0,1\n0.1,2\n0.1,3\n",
+        r"line 6, column `time`: t = 0.1 s does not increase",
+    ),
+    (
+        "t [s],theta [rad],a_A2 [g]\n0,1,0\n0.1,2,nan\n",
+        r"line 3, column `a_A2`: value nan is not a finite",
+    ),
     ("t [s],theta [rad]\n0,1\ninf,2\n", r"line 3, column `time`: value inf is not a finite"),
     ("t [s],theta [rad]\n0,1\n0.1,abc\n", r"line 3, column `theta`: cannot read 'abc' as a number"),
     ("t [s],theta [rad]\n0,1\n0.1,\n", r"line 3, column `theta`: cannot read '' as a number"),
@@ -220,11 +256,17 @@ def test_bad_trace_arrays():
         Trace(time=[0, 1], channels={"theta": [0, 1, 2]}, units={"theta": "rad"})
 
 
-@pytest.mark.parametrize("header, message", [
-    ("t [s],a_A9 [g]", r"column `a_A9`: specimen 'S1' has no sensor 'A9'; known sensors: A1, A2"),
-    ("t [s],a7 [g]", r"column `a7`: node 7 does not exist; 'S1' has nodes 1..5"),
-    ("t [s],a_node0 [g]", r"column `a_node0`: node 0 does not exist"),
-])
+@pytest.mark.parametrize(
+    "header, message",
+    [
+        (
+            "t [s],a_A9 [g]",
+            r"column `a_A9`: specimen 'S1' has no sensor 'A9'; known sensors: A1, A2",
+        ),
+        ("t [s],a7 [g]", r"column `a7`: node 7 does not exist; 'S1' has nodes 1..5"),
+        ("t [s],a_node0 [g]", r"column `a_node0`: node 0 does not exist"),
+    ],
+)
 def test_unknown_sensor_or_node(tmp_path, s1, header, message):
     path = tmp_path / "n.csv"
     path.write_text(header + "\n0,0\n1,0\n")
@@ -266,19 +308,30 @@ def test_metrics_never_nan_for_a_zero_signal(s1):
 
 
 # ---------------------------------------------------------------------------- the file itself
-@pytest.mark.parametrize("make, problem", [
-    (lambda d: d / "missing.csv", "no such file"),
-    (lambda d: d, "is a directory"),
-    (lambda d: _bytes(d, "empty.csv", b""), "the file is empty"),
-    (lambda d: _bytes(d, "bin.csv", b"t [s],theta [rad]\n\x00\x01"), r"a binary file \(NUL byte at offset 18\)"),
-    (lambda d: _bytes(d, "latin.csv", "# Málaga\nt [s],theta [rad]\n".encode("latin-1")),
-     r"not UTF-8 text \(byte 0xe1 on line 1\)"),
-], ids=["missing", "directory", "empty", "binary", "latin-1"])
+@pytest.mark.parametrize(
+    "make, problem",
+    [
+        (lambda d: d / "missing.csv", "no such file"),
+        (lambda d: d, "is a directory"),
+        (lambda d: _bytes(d, "empty.csv", b""), "the file is empty"),
+        (
+            lambda d: _bytes(d, "bin.csv", b"t [s],theta [rad]\n\x00\x01"),
+            r"a binary file \(NUL byte at offset 18\)",
+        ),
+        (
+            lambda d: _bytes(d, "latin.csv", "# Málaga\nt [s],theta [rad]\n".encode("latin-1")),
+            r"not UTF-8 text \(byte 0xe1 on line 1\)",
+        ),
+    ],
+    ids=["missing", "directory", "empty", "binary", "latin-1"],
+)
 def test_a_bad_trace_file_is_named_with_what_to_give(tmp_path, make, problem):
     path = make(tmp_path)
     with pytest.raises(InputError, match=problem) as info:
         read_trace(path)
-    assert str(path) in str(info.value) and "a trace CSV file with units in its header" in str(info.value)
+    assert str(path) in str(info.value) and "a trace CSV file with units in its header" in str(
+        info.value
+    )
 
 
 def test_a_directory_lists_its_csv_files(tmp_path):
@@ -307,12 +360,21 @@ def test_trace_gravity_is_a_positive_number(tmp_path, g):
         read_trace(path, g=g)
 
 
-@pytest.mark.parametrize("kwargs, match", [
-    (dict(channels={"theta": ["0", "1"]}), r"`channels\['theta'\]` holds 'str"),     # no '1' -> 1.0
-    (dict(channels={"theta": [0, 1]}, units={"theta": 1}), r"`units\['theta'\]` = 1: give the unit"),
-    (dict(channels=[("theta", [0, 1])]), r"`channels` = .*give a mapping"),
-    (dict(time_units=1), r"`time_units` = 1"),
-])
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (
+            dict(channels={"theta": ["0", "1"]}),
+            r"`channels\['theta'\]` holds 'str",
+        ),  # no '1' -> 1.0
+        (
+            dict(channels={"theta": [0, 1]}, units={"theta": 1}),
+            r"`units\['theta'\]` = 1: give the unit",
+        ),
+        (dict(channels=[("theta", [0, 1])]), r"`channels` = .*give a mapping"),
+        (dict(time_units=1), r"`time_units` = 1"),
+    ],
+)
 def test_trace_arrays_are_checked_before_use(kwargs, match):
     args = dict(time=[0.0, 1.0], channels={"theta": [0, 1]}, units={"theta": "rad"}) | kwargs
     with pytest.raises(InputError, match=match):
@@ -322,7 +384,9 @@ def test_trace_arrays_are_checked_before_use(kwargs, match):
 def test_compare_trace_arguments(s1):
     trace = Trace(time=[0.0, 1.0], channels={"theta": [0.0, 1.0]}, units={"theta": "rad"})
     resp = fake_response([0.0, 1.0], theta=[0.0, 1.0])
-    with pytest.raises(InputError, match=r"`response` = None: give the result of multimass.simulate"):
+    with pytest.raises(
+        InputError, match=r"`response` = None: give the result of multimass.simulate"
+    ):
         compare_trace(trace, None, s1)
     with pytest.raises(InputError, match=r"`trace` = 'x.csv': give a Trace.*read_trace"):
         compare_trace("x.csv", resp, s1)

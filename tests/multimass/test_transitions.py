@@ -24,8 +24,17 @@ G = 9.81
 
 def one_node(c: float = 0.0) -> Structure:
     """m = 100 kg at H = 1 m, K = 1e4 N/m, C = c; base m0 = 10 kg, J0 = 5 kg m², B = 0.3 m."""
-    return Structure(name="one", H=np.array([1.0]), m=np.array([100.0]), m0=10.0, J0=5.0,
-                     B=0.3, g=G, K=np.array([[1.0e4]]), C=np.array([[c]]))
+    return Structure(
+        name="one",
+        H=np.array([1.0]),
+        m=np.array([100.0]),
+        m0=10.0,
+        J0=5.0,
+        B=0.3,
+        g=G,
+        K=np.array([[1.0e4]]),
+        C=np.array([[c]]),
+    )
 
 
 def test_eq8_moments_by_hand():
@@ -44,26 +53,36 @@ def test_eq8_moments_by_hand():
 def _uplift_values(st, u, ud, ag, theta_dot_min=0.01):
     """The uplift event functions of both pivots at a full-contact state (solve_ivp path)."""
     n = st.n
-    run = types.SimpleNamespace(st=st, mdl=Model.of(st), t=0.0, phase=0, hold_until=0.0,
-                                theta_dot_min=theta_dot_min, ag=lambda t: ag)
+    run = types.SimpleNamespace(
+        st=st,
+        mdl=Model.of(st),
+        t=0.0,
+        phase=0,
+        hold_until=0.0,
+        theta_dot_min=theta_dot_min,
+        ag=lambda t: ag,
+    )
     names, events = phase_events(run, 1e-9)
     y = np.zeros(2 * n + 5)
-    y[:n], y[n + 1:2 * n + 1] = u, ud
+    y[:n], y[n + 1 : 2 * n + 1] = u, ud
     return {name: ev(1.0, y) for name, ev in zip(names, events)}
 
 
-@pytest.mark.parametrize("u, ud, uplifts", [
-    # −M_o = K u H = 1e4 u (C = 0, h0 = 0); right uplift needs 1e4 u > 9.81 (33 − 100 u) and
-    # Hᵀ M u̇ > 0. u = 0.03: 300 > 294.3, so it uplifts. With the 1ᵀMu term's sign flipped
-    # (9.81 (33 + 100 u) = 353.16) it would not: this state pins the sign.
-    (0.03, 0.5, True),
-    (0.029, 0.5, False),       # 290 < 9.81·30.1 = 295.281
-    (0.03, -0.5, False),       # moment enough, angular momentum towards the wrong pivot
-])
+@pytest.mark.parametrize(
+    "u, ud, uplifts",
+    [
+        # −M_o = K u H = 1e4 u (C = 0, h0 = 0); right uplift needs 1e4 u > 9.81 (33 − 100 u) and
+        # Hᵀ M u̇ > 0. u = 0.03: 300 > 294.3, so it uplifts. With the 1ᵀMu term's sign flipped
+        # (9.81 (33 + 100 u) = 353.16) it would not: this state pins the sign.
+        (0.03, 0.5, True),
+        (0.029, 0.5, False),  # 290 < 9.81·30.1 = 295.281
+        (0.03, -0.5, False),  # moment enough, angular momentum towards the wrong pivot
+    ],
+)
 def test_eq8_uplift_about_the_right_pivot(u, ud, uplifts):
     st = one_node()
     v = _uplift_values(st, np.array([u]), np.array([ud]), 0.0)
-    m_ref = st.m_t * G * st.B                          # 110 · 9.81 · 0.3 = 323.73 N m
+    m_ref = st.m_t * G * st.B  # 110 · 9.81 · 0.3 = 323.73 N m
     moment = (1.0e4 * u - G * (33.0 - 100.0 * u)) / m_ref
     assert m_ref == pytest.approx(323.73)
     assert v["uplift_right"] == pytest.approx(min(moment, 100.0 * ud / (st.J_p * 0.01)), rel=1e-12)
@@ -86,8 +105,23 @@ def test_eq8_the_compiled_path_computes_the_same_condition():
     ep = np.zeros(mx.EP_SIZE)
     ep[mx.EP_TDMIN], ep[mx.EP_OVERTURN] = 0.01, math.pi / 2
     ep[mx.EP_MREF], ep[mx.EP_LREF] = st.m_t * G * st.B, st.J_p * 0.01
-    got = mx.event_value(mx.EV_UPLIFT_RIGHT, 1.0, y, -math.inf, 0.0, 0, fast.m, fast.H, fast.K,
-                         fast.C, fast.mp, ep, fast.kind, fast.par, fast.samples)
+    got = mx.event_value(
+        mx.EV_UPLIFT_RIGHT,
+        1.0,
+        y,
+        -math.inf,
+        0.0,
+        0,
+        fast.m,
+        fast.H,
+        fast.K,
+        fast.C,
+        fast.mp,
+        ep,
+        fast.kind,
+        fast.par,
+        fast.samples,
+    )
     assert got == pytest.approx((300.0 - 294.3) / 323.73, rel=1e-12)
 
 
@@ -112,7 +146,8 @@ def test_eq15_width_by_hand():
     assert model.threshold(n) == pytest.approx(2.576 * 0.0241578 / math.sqrt(2), rel=1e-5)
     # the structure's static support force bounds the force when θ̇_i → 0 (C_p term vanishes)
     assert model.width(50.0, 0.9, 0.3, 110.0, G, 0.0) == pytest.approx(
-        9.5 / (0.3 * math.sqrt(math.pi) * 539.55), rel=1e-14)
+        9.5 / (0.3 * math.sqrt(math.pi) * 539.55), rel=1e-14
+    )
 
 
 def test_eq15_and_eq16_in_a_run():
@@ -130,6 +165,9 @@ def test_eq15_and_eq16_in_a_run():
         # before it, where only damping acts, ~1e-8 of E); after it F_i does work at once
         before = df[df.t < e.time].iloc[-1]
         E_ini = before.kinetic + before.gravitational + before.elastic
-        n = E_ini * (1 - e.restitution**2) / (st.B * math.sqrt(math.pi)
-                                              * (st.m_t * st.g / 2 + 1750.0 * abs(e.thetadot_minus)))
+        n = (
+            E_ini
+            * (1 - e.restitution**2)
+            / (st.B * math.sqrt(math.pi) * (st.m_t * st.g / 2 + 1750.0 * abs(e.thetadot_minus)))
+        )
         assert abs(e.theta) == pytest.approx(2.576 * n / math.sqrt(2), rel=1e-6)

@@ -11,13 +11,25 @@ def test_g_is_the_design_value():
     assert G == 9.81  # DESIGN.md, Conventions: g = 9.81 m/s²
 
 
-@pytest.mark.parametrize("units, factor", [
-    ("g", 9.81),                                            # DESIGN.md: g = 9.81 m/s²
-    ("G", 9.81),
-    ("m/s2", 1.0), ("m/s^2", 1.0), ("mps2", 1.0), ("M/S2", 1.0), ("m/s²", 1.0),
-    ("cm/s2", 0.01), ("gal", 0.01), ("Gal", 0.01), ("cm/s^2", 0.01), ("CM/S/S", 0.01),
-    ("mm/s2", 0.001), ("mm/s^2", 0.001),
-])
+@pytest.mark.parametrize(
+    "units, factor",
+    [
+        ("g", 9.81),  # DESIGN.md: g = 9.81 m/s²
+        ("G", 9.81),
+        ("m/s2", 1.0),
+        ("m/s^2", 1.0),
+        ("mps2", 1.0),
+        ("M/S2", 1.0),
+        ("m/s²", 1.0),
+        ("cm/s2", 0.01),
+        ("gal", 0.01),
+        ("Gal", 0.01),
+        ("cm/s^2", 0.01),
+        ("CM/S/S", 0.01),
+        ("mm/s2", 0.001),
+        ("mm/s^2", 0.001),
+    ],
+)
 def test_to_mps2_factors(units, factor):
     # closed form: 1 cm = 0.01 m, 1 mm = 0.001 m
     assert to_mps2(2.0, units) == pytest.approx(2.0 * factor, rel=1e-15)
@@ -42,16 +54,19 @@ def test_canonical_units():
     assert canonical_units("GAL") == "cm/s2"
 
 
-@pytest.mark.parametrize("text, expected", [
-    ("0.4g", 0.4 * 9.81),          # closed form: 0.4 × 9.81
-    ("0.4 g", 0.4 * 9.81),
-    ("3.5m/s2", 3.5),
-    ("3.5 m/s^2", 3.5),
-    ("350gal", 3.5),               # 350 cm/s² = 3.5 m/s²
-    ("350 cm/s2", 3.5),
-    ("-0.2g", -0.2 * 9.81),        # the sign is kept; excitations reject it
-    (".5e1mm/s2", 0.005),          # 5 mm/s²
-])
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("0.4g", 0.4 * 9.81),  # closed form: 0.4 × 9.81
+        ("0.4 g", 0.4 * 9.81),
+        ("3.5m/s2", 3.5),
+        ("3.5 m/s^2", 3.5),
+        ("350gal", 3.5),  # 350 cm/s² = 3.5 m/s²
+        ("350 cm/s2", 3.5),
+        ("-0.2g", -0.2 * 9.81),  # the sign is kept; excitations reject it
+        (".5e1mm/s2", 0.005),  # 5 mm/s²
+    ],
+)
 def test_parse_acceleration(text, expected):
     assert parse_acceleration(text) == pytest.approx(expected, rel=1e-14)
 
@@ -63,15 +78,18 @@ def test_parse_bare_number_needs_explicit_default():
         parse_acceleration("0.4", argument="--amp")
 
 
-@pytest.mark.parametrize("junk, match", [
-    ("abc", "expected a number followed by a unit"),
-    ("", "expected a number followed by a unit"),
-    ("g0.4", "expected a number followed by a unit"),
-    ("0.4 furlongs", "unknown unit 'furlongs'"),
-    ("0.4gg", "unknown unit"),
-    ("1e400g", "finite"),
-    ("nan g", "expected a number followed by a unit"),
-])
+@pytest.mark.parametrize(
+    "junk, match",
+    [
+        ("abc", "expected a number followed by a unit"),
+        ("", "expected a number followed by a unit"),
+        ("g0.4", "expected a number followed by a unit"),
+        ("0.4 furlongs", "unknown unit 'furlongs'"),
+        ("0.4gg", "unknown unit"),
+        ("1e400g", "finite"),
+        ("nan g", "expected a number followed by a unit"),
+    ],
+)
 def test_parse_junk(junk, match):
     with pytest.raises(InputError, match=match):
         parse_acceleration(junk, default_units="g")

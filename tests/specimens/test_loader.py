@@ -30,7 +30,7 @@ def test_s1_holds_table_1_inputs():
     assert (s1.m0, s1.J0, s1.B) == (0.0, 10.0, 0.305)
     assert s1.E_s == 200e9 and s1.I_s == pytest.approx(183.3e-8)
     assert s1.K_rot == 2.0e6 and s1.K_fp == 5.0e8
-    assert (s1.zeta_1, s1.zeta_2) == (0.005, 0.015)          # fractions (DESIGN.md)
+    assert (s1.zeta_1, s1.zeta_2) == (0.005, 0.015)  # fractions (DESIGN.md)
     assert (s1.r_right, s1.r_left, s1.sigma_r) == (0.93, 0.87, 0.025)
     ref = s1.reference
     assert (ref.J_p, ref.H_cg, ref.alpha_cg, ref.p_l) == (298, 0.84, 0.35, 2.51)

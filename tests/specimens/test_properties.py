@@ -31,16 +31,28 @@ from multimass.specimens import (
 )
 
 OWN_ERRORS = (SpecimenError, InputError, ModalError)
-BASES = {name: tomllib.loads(specimens.loader._bundled()[name].read_text())
-         for name in ("S1", "B6M", "beam_mudric2024")}
-SETTINGS = dict(derandomize=True, database=None, deadline=None,
-                suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+BASES = {
+    name: tomllib.loads(specimens.loader._bundled()[name].read_text())
+    for name in ("S1", "B6M", "beam_mudric2024")
+}
+SETTINGS = dict(
+    derandomize=True,
+    database=None,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
+)
 
 
 # ---------------------------------------------------------------------------- strategies
 def leaf_paths(node, prefix=()):
     """Every path to a value (table keys and list indices) of a parsed TOML document."""
-    items = node.items() if isinstance(node, dict) else enumerate(node) if isinstance(node, list) else ()
+    items = (
+        node.items()
+        if isinstance(node, dict)
+        else enumerate(node)
+        if isinstance(node, list)
+        else ()
+    )
     out = []
     for key, value in items:
         out.append(prefix + (key,))
@@ -48,13 +60,42 @@ def leaf_paths(node, prefix=()):
     return out
 
 
-EXTREMES = [1e300, -1e300, 1e-300, -1e-300, 5e-324, -5e-324, 0, 0.0, -0.0, 10**400, -(10**400),
-            2**63, 10**20, float("inf"), float("-inf"), float("nan"), True, False, "", "10",
-            "abc", [], [1.0], [[1.0]], {}, {"a": 1}, None, 2.5, -1, 1]
+EXTREMES = [
+    1e300,
+    -1e300,
+    1e-300,
+    -1e-300,
+    5e-324,
+    -5e-324,
+    0,
+    0.0,
+    -0.0,
+    10**400,
+    -(10**400),
+    2**63,
+    10**20,
+    float("inf"),
+    float("-inf"),
+    float("nan"),
+    True,
+    False,
+    "",
+    "10",
+    "abc",
+    [],
+    [1.0],
+    [[1.0]],
+    {},
+    {"a": 1},
+    None,
+    2.5,
+    -1,
+    1,
+]
 
 replacement = st.one_of(
     st.sampled_from(EXTREMES),
-    st.floats(width=64),                                    # any float, NaN and inf included
+    st.floats(width=64),  # any float, NaN and inf included
     st.integers(min_value=-(10**30), max_value=10**30),
     st.text(max_size=5),
     st.lists(st.floats(allow_nan=False), max_size=3),
@@ -82,13 +123,13 @@ def mutated(draw, base_name=None, actions=ACTIONS):
         key, old = path[-1], parent[path[-1]]
         action = draw(actions)
         number = isinstance(old, (int, float)) and not isinstance(old, bool)
-        if action == "vary":                                  # a plausible other structure
+        if action == "vary":  # a plausible other structure
             if isinstance(old, float):
                 parent[key] = old * draw(st.floats(0.2, 5.0))
         elif action == "scale" and number:
             try:
                 parent[key] = old * draw(scaling)
-            except OverflowError:                   # an int times 1e300 is beyond float
+            except OverflowError:  # an int times 1e300 is beyond float
                 parent[key] = draw(replacement)
         elif action == "remove" and isinstance(parent, dict):
             del parent[key]
@@ -100,15 +141,37 @@ def mutated(draw, base_name=None, actions=ACTIONS):
 
 
 scalar = st.one_of(st.none(), st.booleans(), st.integers(), st.floats(), st.text(max_size=8))
-keys = st.one_of(st.sampled_from(["kind", "name", "geometry", "mass", "stiffness", "damping",
-                                  "restitution", "heights_m", "width_m", "material", "mesh"]),
-                 st.text(max_size=6), st.integers(-3, 3))
-arbitrary = st.recursive(scalar, lambda children: st.one_of(
-    st.lists(children, max_size=4), st.dictionaries(keys, children, max_size=5)), max_leaves=12)
+keys = st.one_of(
+    st.sampled_from(
+        [
+            "kind",
+            "name",
+            "geometry",
+            "mass",
+            "stiffness",
+            "damping",
+            "restitution",
+            "heights_m",
+            "width_m",
+            "material",
+            "mesh",
+        ]
+    ),
+    st.text(max_size=6),
+    st.integers(-3, 3),
+)
+arbitrary = st.recursive(
+    scalar,
+    lambda children: st.one_of(
+        st.lists(children, max_size=4), st.dictionaries(keys, children, max_size=5)
+    ),
+    max_leaves=12,
+)
 arbitrary_mapping = st.builds(
     lambda kind, rest: {**rest, "kind": kind} if kind is not None else rest,
     st.one_of(st.none(), st.sampled_from(["column", "block", "beam"]), arbitrary),
-    st.dictionaries(keys, arbitrary, max_size=8))
+    st.dictionaries(keys, arbitrary, max_size=8),
+)
 
 
 # ---------------------------------------------------------------------------- checks of results
@@ -165,7 +228,7 @@ def load_and_build(data):
 @given(mutated())
 def test_mutated_bundled_specimens_load_build_or_say_why(data):
     spec, struct = load_and_build(data)
-    if isinstance(spec, BeamSpecimen):           # a beam is a base for nscd, not a structure
+    if isinstance(spec, BeamSpecimen):  # a beam is a base for nscd, not a structure
         assert isinstance(struct, InputError) and "is a beam" in str(struct)
 
 

@@ -13,12 +13,12 @@ import pytest
 from multimass.bench.failures import KINDS
 from multimass.cli import main
 
-HEADLINE = ("speedup_single", "speedup_map", "scaling_2_workers", "peak_error_rad")   # issue 7
+HEADLINE = ("speedup_single", "speedup_map", "scaling_2_workers", "peak_error_rad")  # issue 7
 ROW_KEYS = ("model", "method", "tolerance", "error", "wall_time_s", "n_rhs", "failure")  # issue 7
 MODELS = {"rigid_block", "S1_CIM", "S1_DD2", "lcp_block", "nscd", "S1 stiffness"}
 
 
-@pytest.mark.slow       # ~15 s (91 s with a cold numba cache); tests/test_readme.py runs the smoke
+@pytest.mark.slow  # ~15 s (91 s with a cold numba cache); tests/test_readme.py runs the smoke
 def test_bench_json_structure(tmp_path, capsys):
     out = tmp_path / "bench"
     assert main(["bench", "--smoke", "--out", str(out), "--json"]) == 0
@@ -36,13 +36,33 @@ def test_bench_json_structure(tmp_path, capsys):
         assert isinstance(r["failure"], list) and set(r["failure"]) <= set(KINDS)
         assert r["wall_time_s"] >= 0 and r["n_rhs"] >= 0
     methods = {r["method"] for r in rows}
-    for m in ("RK45", "DOP853", "Radau", "BDF", "LSODA", "compiled DOP853", "Newmark + NR",
-              "Moreau–Jean, rigid base", "paper-000 driver (DOP853)"):
+    for m in (
+        "RK45",
+        "DOP853",
+        "Radau",
+        "BDF",
+        "LSODA",
+        "compiled DOP853",
+        "Newmark + NR",
+        "Moreau–Jean, rigid base",
+        "paper-000 driver (DOP853)",
+    ):
         assert m in methods
     # the files the README section points to
-    for name in ("bench.json", "rows.csv", "failures.csv", "failures.md", "summary.md",
-                 "failure_map.png", "stiffness.png", "wp_rigid_block.png", "wp_S1_CIM.png",
-                 "wp_S1_DD2.png", "wp_lcp_block.png", "wp_nscd.png"):
+    for name in (
+        "bench.json",
+        "rows.csv",
+        "failures.csv",
+        "failures.md",
+        "summary.md",
+        "failure_map.png",
+        "stiffness.png",
+        "wp_rigid_block.png",
+        "wp_S1_CIM.png",
+        "wp_S1_DD2.png",
+        "wp_lcp_block.png",
+        "wp_nscd.png",
+    ):
         assert (out / name).is_file(), name
     assert json.loads((out / "bench.json").read_text())["charts"] == res["charts"]
     # the map's ratios, ABBA-timed, and the machine's own scaling beside them

@@ -14,12 +14,27 @@ KINDS = ("uplift", "impact", "full_contact", "overturn")
 
 
 def _run(events, peaks, peak_times, status="completed", energy=1.0, chatter=0):
-    return RunResult(status, "", tuple(events), tuple(peaks), tuple(peak_times), energy, 10.0,
-                     1e-9, chatter, 100, 0.1)
+    return RunResult(
+        status,
+        "",
+        tuple(events),
+        tuple(peaks),
+        tuple(peak_times),
+        energy,
+        10.0,
+        1e-9,
+        chatter,
+        100,
+        0.1,
+    )
 
 
-REF = _run([("uplift", 0.1), ("impact", 0.5), ("impact", 0.9), ("impact", 1.2)],
-           [0.2, 0.1, 0.05, 0.02], [0.3, 0.7, 1.05, 1.4], energy=2.0)
+REF = _run(
+    [("uplift", 0.1), ("impact", 0.5), ("impact", 0.9), ("impact", 1.2)],
+    [0.2, 0.1, 0.05, 0.02],
+    [0.3, 0.7, 1.05, 1.4],
+    energy=2.0,
+)
 
 
 def test_window_moves_to_the_middle_of_the_gap():
@@ -30,13 +45,17 @@ def test_window_moves_to_the_middle_of_the_gap():
 
 
 def test_matched_events_give_the_largest_differences():
-    run = _run([("uplift", 0.1), ("impact", 0.5003), ("impact", 0.8999), ("impact", 1.3)],
-               [0.2, 0.1001, 0.0498, 0.5], [0.3, 0.7, 1.05, 1.4], energy=2.5)
-    e = compare(run, REF, KINDS, 1.0)     # up to t = 1.0: 3 events, the 2 peaks at 0.3 and 0.7 s
+    run = _run(
+        [("uplift", 0.1), ("impact", 0.5003), ("impact", 0.8999), ("impact", 1.3)],
+        [0.2, 0.1001, 0.0498, 0.5],
+        [0.3, 0.7, 1.05, 1.4],
+        energy=2.5,
+    )
+    e = compare(run, REF, KINDS, 1.0)  # up to t = 1.0: 3 events, the 2 peaks at 0.3 and 0.7 s
     assert e["events_match"] and e["n_events"] == e["n_events_ref"] == 3
-    assert e["event_time_error_s"] == pytest.approx(3e-4)       # |0.5003 − 0.5|
-    assert e["peak_error_rad"] == pytest.approx(1e-4)           # |0.1001 − 0.1|
-    assert e["energy_error"] == pytest.approx(0.5 / 10.0)       # |2.5 − 2.0| / scale 10
+    assert e["event_time_error_s"] == pytest.approx(3e-4)  # |0.5003 − 0.5|
+    assert e["peak_error_rad"] == pytest.approx(1e-4)  # |0.1001 − 0.1|
+    assert e["energy_error"] == pytest.approx(0.5 / 10.0)  # |2.5 − 2.0| / scale 10
 
 
 def test_a_missed_impact_makes_the_errors_infinite_and_is_detected():
@@ -49,8 +68,16 @@ def test_a_missed_impact_makes_the_errors_infinite_and_is_detected():
 
 
 def test_detectors():
-    base = dict(status="completed", events_match=True, chatter=0, chatter_ref=0,
-                balance_error=1e-9, t_compare=1.0, n_events=3, n_events_ref=3)
+    base = dict(
+        status="completed",
+        events_match=True,
+        chatter=0,
+        chatter_ref=0,
+        balance_error=1e-9,
+        t_compare=1.0,
+        n_events=3,
+        n_events_ref=3,
+    )
     assert detect(base) == []
     assert [k for k, _ in detect(base | {"chatter": 3, "chatter_ref": 1})] == ["chattering"]
     assert [k for k, _ in detect(base | {"balance_error": 2e-3})] == ["energy_drift"]

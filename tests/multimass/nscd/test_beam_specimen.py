@@ -24,15 +24,22 @@ def test_listed_with_its_kind():
     assert "beam_mudric2024" in specimens.available()
 
 
-@pytest.mark.parametrize("old, new, fragment", [
-    ("n_elements = 6", "n_elements = 2", "`mesh.n_elements`"),
-    ("modes = [1, 3]", "modes = [3, 1]", "`damping.modes`"),
-    ("ratios = [0.05, 0.2]", "ratios = [0.05, -0.2]", "`damping.ratios[1]`"),
-    ("span_m = 0.30", "span_m = 0.0", "`geometry.span_m`"),
-    ("poisson_ratio = 0.334", "poisson_ratio = 0.7", "`material.poisson_ratio`"),
-    ("friction_coefficient = 0.364", "friction_coefficient = -1", "`contact.friction_coefficient`"),
-    ("[mesh]", "[mesh]\nsupports = 2", "unknown key `mesh.supports`"),
-])
+@pytest.mark.parametrize(
+    "old, new, fragment",
+    [
+        ("n_elements = 6", "n_elements = 2", "`mesh.n_elements`"),
+        ("modes = [1, 3]", "modes = [3, 1]", "`damping.modes`"),
+        ("ratios = [0.05, 0.2]", "ratios = [0.05, -0.2]", "`damping.ratios[1]`"),
+        ("span_m = 0.30", "span_m = 0.0", "`geometry.span_m`"),
+        ("poisson_ratio = 0.334", "poisson_ratio = 0.7", "`material.poisson_ratio`"),
+        (
+            "friction_coefficient = 0.364",
+            "friction_coefficient = -1",
+            "`contact.friction_coefficient`",
+        ),
+        ("[mesh]", "[mesh]\nsupports = 2", "unknown key `mesh.supports`"),
+    ],
+)
 def test_bad_beam_files(tmp_path, old, new, fragment):
     text = specimens.loader._bundled()["beam_mudric2024"].read_text()
     assert old in text

@@ -36,7 +36,11 @@ def test_sliding():
     mu = 0.2
     pn, pt, sl = solve_single(W[0, 0], W[0, 1], W[1, 0], W[1, 1], U[0], U[1], mu)
     # closed form: U_t stays > 0, P_t = -mu P_n, U_n+ = 0 -> P_n = -U_n / (W_nn - mu W_nt)
-    assert sl and pn == pytest.approx(1.0 / (2.0 - 0.2 * 0.3), rel=1e-14) and pt == pytest.approx(-mu * pn)
+    assert (
+        sl
+        and pn == pytest.approx(1.0 / (2.0 - 0.2 * 0.3), rel=1e-14)
+        and pt == pytest.approx(-mu * pn)
+    )
     _check_law(W, U, np.array([pn, pt]), mu, sl)
 
 
@@ -55,12 +59,13 @@ def test_gauss_seidel_two_sticking_contacts_solve_the_linear_system():
     rng = np.random.default_rng(44)
     G = rng.normal(size=(4, 4))
     Wfull = G @ G.T + 0.5 * np.eye(4)
-    U = -Wfull @ np.array([1.0, 0.1, 2.0, -0.2])     # exact stick impulses inside the cone
+    U = -Wfull @ np.array([1.0, 0.1, 2.0, -0.2])  # exact stick impulses inside the cone
     W = Wfull.reshape(2, 2, 2, 2).transpose(0, 2, 1, 3).copy()
     P = np.zeros((2, 2))
     sliding = np.zeros(2, dtype=np.bool_)
-    it, ok, residual = gauss_seidel(W, U.reshape(2, 2).copy(), P, sliding, 2, 10.0, 1e-13, 10000,
-                                    1.0)
+    it, ok, residual = gauss_seidel(
+        W, U.reshape(2, 2).copy(), P, sliding, 2, 10.0, 1e-13, 10000, 1.0
+    )
     assert ok and it > 1 and residual <= 1e-13
     # closed form: P = -W^-1 U
     assert P.ravel() == pytest.approx([1.0, 0.1, 2.0, -0.2], abs=1e-9)
@@ -69,10 +74,11 @@ def test_gauss_seidel_two_sticking_contacts_solve_the_linear_system():
 def test_gauss_seidel_reports_the_cap():
     rng = np.random.default_rng(45)
     G = rng.normal(size=(4, 4))
-    Wfull = G @ G.T + 1e-6 * np.eye(4)              # badly conditioned: slow convergence
+    Wfull = G @ G.T + 1e-6 * np.eye(4)  # badly conditioned: slow convergence
     U = -Wfull @ np.array([1.0, 0.1, 2.0, -0.2])
     W = Wfull.reshape(2, 2, 2, 2).transpose(0, 2, 1, 3).copy()
     P = np.zeros((2, 2))
-    it, ok, residual = gauss_seidel(W, U.reshape(2, 2).copy(), P, np.zeros(2, dtype=np.bool_), 2,
-                                    10.0, 1e-14, 3, 1.0)
+    it, ok, residual = gauss_seidel(
+        W, U.reshape(2, 2).copy(), P, np.zeros(2, dtype=np.bool_), 2, 10.0, 1e-14, 3, 1.0
+    )
     assert (it, ok) == (3, False) and residual > 1e-14

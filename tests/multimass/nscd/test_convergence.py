@@ -19,16 +19,19 @@ from multimass.nscd.convergence import (
 )
 
 
-@pytest.mark.parametrize("diffs, ratio, status", [
-    ([0.5, 0.05, 0.005], 10, "converged"),       # last one within tolerance 0.01
-    ([1.0, 0.3], 10, "converging"),              # shrinks faster than 10^-0.5 = 0.32
-    ([1.0, 0.5], 10, "not converged"),           # shrinks too slowly for a decade
-    ([1.0, 0.6], 2, "converging"),               # halving: 0.6 <= 2^-0.5
-    ([0.1, 0.4], 2, "not converged"),            # grows
-    ([0.5], 10, "not converged"),                # one refinement above tolerance
-    ([0.001], 10, "converged"),
-    ([1.0, math.inf], 10, "not converged"),      # e.g. one run at rest, the next still rocking
-])
+@pytest.mark.parametrize(
+    "diffs, ratio, status",
+    [
+        ([0.5, 0.05, 0.005], 10, "converged"),  # last one within tolerance 0.01
+        ([1.0, 0.3], 10, "converging"),  # shrinks faster than 10^-0.5 = 0.32
+        ([1.0, 0.5], 10, "not converged"),  # shrinks too slowly for a decade
+        ([1.0, 0.6], 2, "converging"),  # halving: 0.6 <= 2^-0.5
+        ([0.1, 0.4], 2, "not converged"),  # grows
+        ([0.5], 10, "not converged"),  # one refinement above tolerance
+        ([0.001], 10, "converged"),
+        ([1.0, math.inf], 10, "not converged"),  # e.g. one run at rest, the next still rocking
+    ],
+)
 def test_judge(diffs, ratio, status):
     v = judge("x", list(range(len(diffs) + 1)), [None] * (len(diffs) + 1), diffs, 0.01, ratio)
     assert v.status == status and v.reason
@@ -42,7 +45,9 @@ def test_observed_order():
 
 def test_housner_first_peak_closed_form():
     # paper 002, Section 6.2: 7.76 deg for B6M from 11.268 deg (rigid block, Housner's eta)
-    assert math.degrees(housner_first_peak("B6M", math.radians(11.268))) == pytest.approx(7.766, abs=1e-3)
+    assert math.degrees(housner_first_peak("B6M", math.radians(11.268))) == pytest.approx(
+        7.766, abs=1e-3
+    )
 
 
 def test_mesh_does_not_matter_on_the_rigid_base():
@@ -55,7 +60,7 @@ def test_mesh_does_not_matter_on_the_rigid_base():
 def test_same_refinement_converges_on_rigid_base_but_not_on_a_flexible_beam():
     dts = (4e-4, 2e-4, 1e-4)
     rigid = dt_study("B6M", dts, t_end=4.0)
-    flexible = dt_study("B6M", dts, t_end=4.0, E=nscd.flexible_modulus("B6M"))   # E = Ebar
+    flexible = dt_study("B6M", dts, t_end=4.0, E=nscd.flexible_modulus("B6M"))  # E = Ebar
     # rigid base: every measure converges at least as an order-1/2 method (paper 002, Fig 10)
     assert rigid.status in ("converging", "converged")
     # L/2500 beam: the differences between successive dt do not decrease (paper 002, Fig 19)
@@ -67,24 +72,28 @@ def test_same_refinement_converges_on_rigid_base_but_not_on_a_flexible_beam():
 
 
 def test_rest_time_undetermined_when_still_rocking():
-    st = mesh_study("B6M", (3, 6), dt=1e-4, t_end=1.0)     # rests only after ~3.5 s
+    st = mesh_study("B6M", (3, 6), dt=1e-4, t_end=1.0)  # rests only after ~3.5 s
     rest = next(v for v in st.verdicts if v.measure == "rest_time_s")
     assert rest.status == "undetermined" and "t_end" in rest.reason
-    assert st.status == "converged"          # the undetermined measure is left out
+    assert st.status == "converged"  # the undetermined measure is left out
 
 
 # --- levels, budget and progress of a study --------------------------------------------
 
-@pytest.mark.parametrize("values, kind, kw, fragment", [
-    ((1e-3, 0), "dt", {}, "`dts[1]` = 0"),
-    ((1e-3,), "dt", {}, "at least 2 levels"),
-    ((1e-3, 1e-3), "dt", {}, "repeated"),
-    ((1e-3, 1e-4, 5e-5), "dt", {}, "ratios 10, 2 differ"),
-    ("1e-3 1e-4", "dt", {}, "give a list of levels"),
-    ((3, 6.0), "mesh", {}, "`meshes[1]` = 6.0: expected a whole number"),
-    ((3, 5, 12), "mesh", {}, "ratios"),
-    ((3, 1001), "mesh", {"geometric": False}, "at most 1000 elements"),
-])
+
+@pytest.mark.parametrize(
+    "values, kind, kw, fragment",
+    [
+        ((1e-3, 0), "dt", {}, "`dts[1]` = 0"),
+        ((1e-3,), "dt", {}, "at least 2 levels"),
+        ((1e-3, 1e-3), "dt", {}, "repeated"),
+        ((1e-3, 1e-4, 5e-5), "dt", {}, "ratios 10, 2 differ"),
+        ("1e-3 1e-4", "dt", {}, "give a list of levels"),
+        ((3, 6.0), "mesh", {}, "`meshes[1]` = 6.0: expected a whole number"),
+        ((3, 5, 12), "mesh", {}, "ratios"),
+        ((3, 1001), "mesh", {"geometric": False}, "at most 1000 elements"),
+    ],
+)
 def test_bad_levels(values, kind, kw, fragment):
     with pytest.raises(InputError) as err:
         check_levels("dts" if kind == "dt" else "meshes", values, kind=kind, **kw)
@@ -126,7 +135,7 @@ def test_a_failed_run_fails_the_study():
 
 
 def test_first_peak_study_takes_one_block_name():
-    fps = first_peak_study("B6M", (1e-3, 5e-4), t_end=0.8)      # not the letters B, 6, M
+    fps = first_peak_study("B6M", (1e-3, 5e-4), t_end=0.8)  # not the letters B, 6, M
     assert fps.blocks == ("B6M",) and fps.warnings == ()
 
 

@@ -24,7 +24,7 @@ def test_assembly_memory_covers_the_measured_peak():
 def test_time_estimate_is_within_an_order_of_magnitude():
     # loose on purpose: the cores are shared; the estimate guards against slips of orders
     kw = dict(theta0=math.radians(11.268), dt=1e-5, t_end=0.2, progress=False)
-    nscd.simulate("B6M", n_elements=6, **kw)                      # load the compiled kernel
+    nscd.simulate("B6M", n_elements=6, **kw)  # load the compiled kernel
     for n_el in (6, 48):
         res = nscd.simulate("B6M", n_elements=n_el, **kw)
         per_step = res.kernel_time_s / res.n_steps
@@ -32,10 +32,11 @@ def test_time_estimate_is_within_an_order_of_magnitude():
 
 
 def test_chunks_are_about_a_quarter_second():
-    assert cost.chunk_steps(6, 10) == 10                          # short runs: one call
+    assert cost.chunk_steps(6, 10) == 10  # short runs: one call
     n = cost.chunk_steps(6, 10**9)
-    assert 1 <= n < 10**9 and n * cost.step_seconds(6) == pytest.approx(cost.CHUNK_SECONDS,
-                                                                          rel=1e-3)
+    assert 1 <= n < 10**9 and n * cost.step_seconds(6) == pytest.approx(
+        cost.CHUNK_SECONDS, rel=1e-3
+    )
     assert cost.chunk_steps(1000, 10**9) >= 1
 
 

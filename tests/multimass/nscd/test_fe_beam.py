@@ -8,7 +8,7 @@ import pytest
 from multimass.errors import InputError
 from multimass.nscd.fe_beam import build_beam, static_deflection
 
-L, W, H, RHO = 0.30, 0.040, 0.00171, 2795.0          # paper 002, Section 6
+L, W, H, RHO = 0.30, 0.040, 0.00171, 2795.0  # paper 002, Section 6
 A, I = W * H, W * H**3 / 12
 E = 70e9
 
@@ -55,15 +55,20 @@ def test_rayleigh_ratios_at_modes_1_and_3():
 
 
 def test_rigid_base_matrices_are_usable():
-    beam = build_beam(L, 1e24, A, I, RHO, 6)      # paper 002, Section 6.1: rigid base
-    assert np.all(np.isfinite(beam.omega)) and np.all(np.linalg.eigvalsh(beam.C) > -1e-6 * np.abs(beam.C).max())
+    beam = build_beam(L, 1e24, A, I, RHO, 6)  # paper 002, Section 6.1: rigid base
+    assert np.all(np.isfinite(beam.omega)) and np.all(
+        np.linalg.eigvalsh(beam.C) > -1e-6 * np.abs(beam.C).max()
+    )
 
 
-@pytest.mark.parametrize("kw, fragment", [
-    ({"n_elements": 2}, "`n_elements`"),
-    ({"E": -1.0}, "`E`"),
-    ({"damping_modes": (1, 40)}, "`damping_modes`"),
-])
+@pytest.mark.parametrize(
+    "kw, fragment",
+    [
+        ({"n_elements": 2}, "`n_elements`"),
+        ({"E": -1.0}, "`E`"),
+        ({"damping_modes": (1, 40)}, "`damping_modes`"),
+    ],
+)
 def test_bad_beam_input(kw, fragment):
     args = {"L": L, "E": E, "A": A, "I": I, "rho": RHO, "n_elements": 6, **kw}
     with pytest.raises(InputError, match=fragment):

@@ -18,8 +18,9 @@ def system():
 
 def _distance(sys, qe, e, s, d):
     N = np.zeros(6)
-    cpsi, spsi, gap = contact_frame(N, qe, sys.beam.edof, sys.beam.x_nodes, sys.beam.Le, e, s,
-                                    d[0], d[1])
+    cpsi, spsi, gap = contact_frame(
+        N, qe, sys.beam.edof, sys.beam.x_nodes, sys.beam.Le, e, s, d[0], d[1]
+    )
     return abs(gap), (cpsi, spsi, gap)
 
 
@@ -51,7 +52,7 @@ def test_search_moves_to_the_neighbouring_element(system):
     # closed form: foot of the perpendicular to the line y = k x
     x_foot = (d[0] + k * d[1]) / (1 + k * k)
     assert e == 2 and bm.x_nodes[e] + s == pytest.approx(x_foot, abs=1e-12)
-    d = (0.149, 0.1)      # foot at 0.1673..., one element to the right
+    d = (0.149, 0.1)  # foot at 0.1673..., one element to the right
     e, s = closest_point(qe, bm.edof, bm.x_nodes, bm.Le, *d)
     assert e == 3 and bm.x_nodes[e] + s == pytest.approx((d[0] + k * d[1]) / (1 + k * k), abs=1e-12)
 
@@ -63,7 +64,12 @@ def test_compiled_search_matches_numpy_roots(system, amplitude):
     for _ in range(60):
         qe = np.zeros(bm.n_dof)
         for e in range(bm.n_elements):
-            for a, scale in ((1, amplitude), (2, amplitude / bm.Le), (4, amplitude), (5, amplitude / bm.Le)):
+            for a, scale in (
+                (1, amplitude),
+                (2, amplitude / bm.Le),
+                (4, amplitude),
+                (5, amplitude / bm.Le),
+            ):
                 if bm.edof[e, a] >= 0:
                     qe[bm.edof[e, a]] = rng.uniform(-scale, scale)
         d = np.array([rng.uniform(0.0, bm.L), rng.uniform(-2 * amplitude, 2 * amplitude)])
@@ -82,10 +88,11 @@ def test_gap_sign_and_normal_on_a_slope(system):
         for a, val in ((1, k * bm.x_nodes[e]), (2, k), (4, k * bm.x_nodes[e + 1]), (5, k)):
             if bm.edof[e, a] >= 0:
                 qe[bm.edof[e, a]] = val
-    d = (0.12, k * 0.12 - 1e-3)               # 1 mm below the line: overlap
+    d = (0.12, k * 0.12 - 1e-3)  # 1 mm below the line: overlap
     e, s = closest_point(qe, bm.edof, bm.x_nodes, bm.Le, *d)
     _, (cpsi, spsi, gap) = _distance(system, qe, e, s, d)
     # closed form: psi = atan(k) + pi/2 (Eq 63); distance to the line = 1e-3 cos(atan k)
-    assert (cpsi, spsi) == pytest.approx((math.cos(math.atan(k) + math.pi / 2),
-                                          math.sin(math.atan(k) + math.pi / 2)), abs=1e-14)
+    assert (cpsi, spsi) == pytest.approx(
+        (math.cos(math.atan(k) + math.pi / 2), math.sin(math.atan(k) + math.pi / 2)), abs=1e-14
+    )
     assert gap == pytest.approx(-1e-3 / math.sqrt(1 + k * k), rel=1e-10)

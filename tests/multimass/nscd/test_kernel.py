@@ -17,16 +17,25 @@ def _run(monkeypatch, chunk, **kw):
     return nscd.simulate("B6M", progress=False, **kw)
 
 
-@pytest.mark.parametrize("kw", [
-    # flexible beam, low friction: two-contact steps, sliding, Gauss–Seidel warm starts and cap
-    # hits carried across chunk boundaries; a record stride of 7 that chunks of 997 cut anywhere
-    dict(theta0=math.radians(11.268), dt=1e-4, t_end=1.0, mu=0.02, record_every=7,
-         E=10 * nscd.flexible_modulus("B6M")),
-    # rigid base, left corner, Newton restitution
-    dict(theta0=-0.15, dt=1e-4, t_end=1.5, restitution=0.3),
-    # diverges (explicit theta-method on a stiff beam): the stop is found in whichever chunk
-    dict(theta0=0.1, dt=1e-4, t_end=0.05, theta_method=0.0),
-])
+@pytest.mark.parametrize(
+    "kw",
+    [
+        # flexible beam, low friction: two-contact steps, sliding, Gauss–Seidel warm starts and cap
+        # hits carried across chunk boundaries; a record stride of 7 that chunks of 997 cut anywhere
+        dict(
+            theta0=math.radians(11.268),
+            dt=1e-4,
+            t_end=1.0,
+            mu=0.02,
+            record_every=7,
+            E=10 * nscd.flexible_modulus("B6M"),
+        ),
+        # rigid base, left corner, Newton restitution
+        dict(theta0=-0.15, dt=1e-4, t_end=1.5, restitution=0.3),
+        # diverges (explicit theta-method on a stiff beam): the stop is found in whichever chunk
+        dict(theta0=0.1, dt=1e-4, t_end=0.05, theta_method=0.0),
+    ],
+)
 def test_chunked_run_equals_one_call_bit_for_bit(monkeypatch, kw):
     one = _run(monkeypatch, None, **kw)
     for chunk in (1, 7, 997):
@@ -35,10 +44,24 @@ def test_chunked_run_equals_one_call_bit_for_bit(monkeypatch, kw):
             assert np.array_equal(getattr(one, f), getattr(many, f)), (chunk, f)
         for a, b in zip(one.final_state, many.final_state):
             assert np.array_equal(a, b)
-        for f in ("peaks_deg", "peak_times_s", "impact_times_s", "rest_time_s", "n_steps",
-                  "status", "outcome", "max_gs_iterations", "n_gs_cap_hits", "max_gs_residual",
-                  "n_multi_contact_steps", "n_slip_steps", "max_slip_speed",
-                  "max_energy_increase_J", "energy_scale_J", "max_penetration_m"):
+        for f in (
+            "peaks_deg",
+            "peak_times_s",
+            "impact_times_s",
+            "rest_time_s",
+            "n_steps",
+            "status",
+            "outcome",
+            "max_gs_iterations",
+            "n_gs_cap_hits",
+            "max_gs_residual",
+            "n_multi_contact_steps",
+            "n_slip_steps",
+            "max_slip_speed",
+            "max_energy_increase_J",
+            "energy_scale_J",
+            "max_penetration_m",
+        ):
             assert getattr(one, f) == getattr(many, f), (chunk, f)
-    if kw.get("mu") == 0.02:            # the case exercises what it claims to
+    if kw.get("mu") == 0.02:  # the case exercises what it claims to
         assert one.n_multi_contact_steps > 0 and one.n_slip_steps > 0 and one.n_gs_cap_hits > 0

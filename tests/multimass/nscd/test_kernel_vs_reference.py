@@ -1,7 +1,6 @@
 """The compiled time loop against the readable NumPy reference step (same maths,
 independent code: whole-system matrices, numpy.roots, explicit W = Q B Q^T)."""
 
-
 import numpy as np
 import pytest
 
@@ -11,13 +10,16 @@ from multimass.nscd.reference import reference_run
 from multimass.nscd.run import run_system
 
 
-@pytest.mark.parametrize("theta0, flex, theta_method, mu", [
-    (0.003, None, 1.0, 0.364),       # rigid base, one impact at ~0.02 s
-    (-0.003, None, 1.0, 0.364),      # on the left corner
-    (0.003, 10.0, 1.0, 0.364),       # flexible beam E = 10 Ebar: bouncing contacts
-    (0.003, 10.0, 0.5, 0.364),       # trapezoidal theta-method
-    (0.003, 10.0, 1.0, 0.02),        # sliding
-])
+@pytest.mark.parametrize(
+    "theta0, flex, theta_method, mu",
+    [
+        (0.003, None, 1.0, 0.364),  # rigid base, one impact at ~0.02 s
+        (-0.003, None, 1.0, 0.364),  # on the left corner
+        (0.003, 10.0, 1.0, 0.364),  # flexible beam E = 10 Ebar: bouncing contacts
+        (0.003, 10.0, 0.5, 0.364),  # trapezoidal theta-method
+        (0.003, 10.0, 1.0, 0.02),  # sliding
+    ],
+)
 def test_kernel_matches_reference(theta0, flex, theta_method, mu):
     E = None if flex is None else flex * nscd.flexible_modulus("B6M")
     sys = build_system("B6M", theta0=theta0, dt=1e-4, E=E, theta_method=theta_method, mu=mu)
@@ -26,7 +28,7 @@ def test_kernel_matches_reference(theta0, flex, theta_method, mu):
     res = run_system(sys, n * sys.dt)
     qk, vk, qe, ve = res.final_state
     assert res.n_steps == n and len(res.impact_times_s) >= 1
-    assert res.n_multi_contact_steps >= 1                # Gauss-Seidel over two contacts ran
+    assert res.n_multi_contact_steps >= 1  # Gauss-Seidel over two contacts ran
     if mu < 0.1:
         assert res.n_slip_steps > 0
     assert qk == pytest.approx(q[:3], rel=1e-9, abs=1e-13)

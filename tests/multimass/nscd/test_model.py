@@ -67,8 +67,11 @@ def test_element_cap_gives_the_cost():
 
 def test_names_are_the_callers():
     names = {"dt": "--dt", "n_elements": "--elements", "x_centre": "--x-centre"}
-    for kw, flag in (({"dt": 0.0}, "--dt"), ({"n_elements": 2}, "--elements"),
-                     ({"x_centre": 0.29}, "--x-centre")):
+    for kw, flag in (
+        ({"dt": 0.0}, "--dt"),
+        ({"n_elements": 2}, "--elements"),
+        ({"x_centre": 0.29}, "--x-centre"),
+    ):
         with pytest.raises(InputError, match=f"`{flag}`"):
             check_inputs("B6M", **{"theta0": 0.1, "dt": 1e-4, **kw}, names=names)
 
@@ -82,17 +85,35 @@ def test_beam_file_modulus_is_checked_too(tmp_path):
 
 
 @settings(max_examples=300, deadline=None)
-@given(field=st.sampled_from(["theta0", "dt", "E", "n_elements", "theta_method", "mu",
-                              "restitution", "x_centre"]),
-       value=st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.integers(-10**9, 10**9),
-                       st.booleans(), st.text(max_size=4), st.none()))
+@given(
+    field=st.sampled_from(
+        ["theta0", "dt", "E", "n_elements", "theta_method", "mu", "restitution", "x_centre"]
+    ),
+    value=st.one_of(
+        st.floats(allow_nan=True, allow_infinity=True),
+        st.integers(-(10**9), 10**9),
+        st.booleans(),
+        st.text(max_size=4),
+        st.none(),
+    ),
+)
 def test_any_value_is_accepted_or_refused_with_its_name(field, value):
     kw = {"theta0": 0.1, "dt": 1e-4, field: value}
     try:
         inp = check_inputs("B6M", **kw)
     except InputError as err:
         assert f"`{field}`" in str(err)
-    else:                                      # accepted: finite, in range, of the right type
-        assert all(math.isfinite(x) for x in (inp.theta0, inp.dt, inp.E, inp.theta_method, inp.mu,
-                                                inp.restitution, inp.x_centre))
+    else:  # accepted: finite, in range, of the right type
+        assert all(
+            math.isfinite(x)
+            for x in (
+                inp.theta0,
+                inp.dt,
+                inp.E,
+                inp.theta_method,
+                inp.mu,
+                inp.restitution,
+                inp.x_centre,
+            )
+        )
         assert 3 <= inp.n_elements <= 1000 and inp.dt > 0 and abs(inp.theta0) < inp.block.alpha

@@ -27,32 +27,40 @@ def exact_first_peak_deg(name, theta0_deg):
 @pytest.fixture(scope="module")
 def paper_runs():
     """The three blocks on the rigid base at the paper's dt = 1e-5 s and 6 elements."""
-    return {name: nscd.simulate(name, theta0=math.radians(th0), dt=1e-5, t_end=1.2, n_elements=6)
-            for name, (th0, _) in PAPER.items()}
+    return {
+        name: nscd.simulate(name, theta0=math.radians(th0), dt=1e-5, t_end=1.2, n_elements=6)
+        for name, (th0, _) in PAPER.items()
+    }
 
 
 @pytest.mark.parametrize("name", list(PAPER))
 def test_first_peak_reproduces_paper_002(paper_runs, name):
     res = paper_runs[name]
     assert res.status == "completed" and len(res.peaks_deg) >= 2
-    assert abs(res.first_peak_deg - PAPER[name][1]) <= 0.03          # paper 002, Section 6.2
-    assert res.n_slip_steps == 0                 # paper 002, Section 6.2: no slip with mu = 0.364
+    assert abs(res.first_peak_deg - PAPER[name][1]) <= 0.03  # paper 002, Section 6.2
+    assert res.n_slip_steps == 0  # paper 002, Section 6.2: no slip with mu = 0.364
 
 
 @pytest.mark.parametrize("name", list(PAPER))
 def test_first_peak_is_the_plastic_impact_limit(paper_runs, name):
     # closed form (Housner's restitution): 8.2808, 7.7665, 6.2026 deg
-    assert paper_runs[name].first_peak_deg == pytest.approx(exact_first_peak_deg(name, PAPER[name][0]),
-                                                           abs=0.01)
+    assert paper_runs[name].first_peak_deg == pytest.approx(
+        exact_first_peak_deg(name, PAPER[name][0]), abs=0.01
+    )
 
 
 def test_first_peak_converges_as_dt_decreases():
     exact = exact_first_peak_deg("B6M", 11.268)
-    err = [abs(nscd.simulate("B6M", theta0=math.radians(11.268), dt=dt, t_end=0.8).first_peak_deg - exact)
-           for dt in (1e-3, 1e-4, 1e-5, 1e-6)]
+    err = [
+        abs(
+            nscd.simulate("B6M", theta0=math.radians(11.268), dt=dt, t_end=0.8).first_peak_deg
+            - exact
+        )
+        for dt in (1e-3, 1e-4, 1e-5, 1e-6)
+    ]
     assert err[0] > err[1] > err[2] > err[3] and err[3] < 1e-3
     slope = np.polyfit(np.log([1e-3, 1e-4, 1e-5, 1e-6]), np.log(err), 1)[0]
-    assert slope > 0.7          # first order in dt, with scatter from where the impact falls in a step
+    assert slope > 0.7  # first order in dt, with scatter from where the impact falls in a step
 
 
 def test_b6m_comes_to_rest_near_3_5_s():
@@ -84,9 +92,11 @@ def test_energy_never_increases_with_plastic_impacts(E_factor, mu):
     # theta = 1, e = 0: Delta E = -|dv|_M^2/2 - |dq|_K^2/2 - dt v.Cv + U.P <= 0 per step
     assert res.max_energy_increase_J <= 1e-13 * res.energy_scale_J
     assert res.energy[-1] < res.energy[0]
-    assert res.checks["energy_gain_per_step"] == {"value": res.max_energy_increase_J
-                                                  / res.energy_scale_J, "limit": 1e-9,
-                                                  "passed": True}
+    assert res.checks["energy_gain_per_step"] == {
+        "value": res.max_energy_increase_J / res.energy_scale_J,
+        "limit": 1e-9,
+        "passed": True,
+    }
     assert res.status == res.outcome == "completed" and res.warnings == ()
 
 
@@ -103,8 +113,9 @@ def test_sign_convention_and_initial_state():
     # toolkit convention (paper 001, Fig 1): theta > 0 rests on the right corner, whose
     # abscissa is L/2 + b/2; closed form for the centre of gravity of the tilted block
     x_pivot = 0.15 + blk.b / 2
-    assert res.X[0] == pytest.approx(x_pivot - blk.b / 2 * math.cos(0.15) + blk.h / 2 * math.sin(0.15),
-                                     abs=1e-12)
+    assert res.X[0] == pytest.approx(
+        x_pivot - blk.b / 2 * math.cos(0.15) + blk.h / 2 * math.sin(0.15), abs=1e-12
+    )
     assert res.theta[0] == 0.15 and res.theta[-1] < 0.15 and res.theta_dot[-1] < 0
 
 
@@ -131,8 +142,9 @@ def test_explicit_theta_method_on_a_stiff_beam_fails_cleanly():
 
 def test_gauss_seidel_cap_makes_the_run_inaccurate():
     E = 1e2 * nscd.flexible_modulus("B6M")
-    res = nscd.simulate("B6M", theta0=math.radians(11.268), dt=1e-4, t_end=4.0, E=E,
-                        gs_max_iter=3, gs_tol=1e-14)
+    res = nscd.simulate(
+        "B6M", theta0=math.radians(11.268), dt=1e-4, t_end=4.0, E=E, gs_max_iter=3, gs_tol=1e-14
+    )
     assert res.n_gs_cap_hits > 0 and res.max_gs_iterations == 3
     # run-status contract: the physical end stays available, the status says the check failed
     assert res.status == "inaccurate" and res.outcome == "completed"
@@ -141,16 +153,23 @@ def test_gauss_seidel_cap_makes_the_run_inaccurate():
     # theta = 1, e = 0 dissipates at every step once the impulses are solved (module docstring
     # of nscd.result): unconverged impulses show as an energy gain above round-off
     assert res.checks["energy_gain_per_step"]["passed"] is False
-    assert any(w.startswith("Gauss–Seidel stopped at its cap of 3 iterations") for w in res.warnings)
+    assert any(
+        w.startswith("Gauss–Seidel stopped at its cap of 3 iterations") for w in res.warnings
+    )
     assert "accuracy check failed" in res.message
-    assert res.peaks_deg                                   # the raw answer is still there
+    assert res.peaks_deg  # the raw answer is still there
 
 
 def test_settled_gauss_seidel_at_the_cap_is_accepted():
     # E = 10 Ebar with mu = 0.02: some steps stop at the default cap of 5000 sweeps with the
     # impulses settled to ~1e-7; the answer equals a run converged to 1e-12 within 1e-8 deg
-    kw = dict(theta0=math.radians(11.268), dt=1e-4, t_end=1.0, mu=0.02,
-              E=10 * nscd.flexible_modulus("B6M"))
+    kw = dict(
+        theta0=math.radians(11.268),
+        dt=1e-4,
+        t_end=1.0,
+        mu=0.02,
+        E=10 * nscd.flexible_modulus("B6M"),
+    )
     res = nscd.simulate("B6M", **kw)
     ref = nscd.simulate("B6M", gs_max_iter=1_000_000, gs_tol=1e-12, **kw)
     assert res.n_gs_cap_hits > 0 and 0 < res.max_gs_residual < 1e-4
@@ -162,8 +181,14 @@ def test_settled_gauss_seidel_at_the_cap_is_accepted():
 def test_a_check_that_is_not_judged_on_round_off():
     # e = 0.5 (Newton): the scheme may gain a little energy at an impact; the limit is then
     # the bench's 1e-3 of the energy scale, not the 1e-9 of the dissipative theta = 1, e = 0
-    res = nscd.simulate("B6M", theta0=math.radians(11.268), dt=1e-4, t_end=1.0, restitution=0.5,
-                        E=1e2 * nscd.flexible_modulus("B6M"))
+    res = nscd.simulate(
+        "B6M",
+        theta0=math.radians(11.268),
+        dt=1e-4,
+        t_end=1.0,
+        restitution=0.5,
+        E=1e2 * nscd.flexible_modulus("B6M"),
+    )
     chk = res.checks["energy_gain_per_step"]
     assert chk["limit"] == 1e-3 and 0 < chk["value"] < 1e-3 and res.status == "completed"
 
@@ -171,14 +196,21 @@ def test_a_check_that_is_not_judged_on_round_off():
 def test_summary_is_strict_json_for_a_failed_run():
     res = nscd.simulate("B6M", theta0=0.1, dt=1e-4, t_end=0.05, theta_method=0.0)
     assert res.status == res.outcome == "failed"
-    data = json.loads(json.dumps(res.summary(), allow_nan=False))    # no NaN, no Infinity
+    data = json.loads(json.dumps(res.summary(), allow_nan=False))  # no NaN, no Infinity
     assert data["status"] == "failed" and "diverged" in data["message"]
 
 
 def test_summary_holds_the_cli_fields():
     res = nscd.simulate("B6M", theta0=0.1, dt=1e-4, t_end=0.2)
     s = res.summary()
-    for key in ("status", "peaks_deg", "rest_time_s", "n_steps", "max_gs_iterations", "wall_time_s"):
+    for key in (
+        "status",
+        "peaks_deg",
+        "rest_time_s",
+        "n_steps",
+        "max_gs_iterations",
+        "wall_time_s",
+    ):
         assert key in s
     assert s["n_steps"] == 2000 and s["rest_time_s"] is None
 
@@ -188,34 +220,37 @@ def test_summary_holds_the_cli_fields():
 GOOD = dict(theta0=0.1, dt=1e-4, t_end=0.01)
 
 
-@pytest.mark.parametrize("override, fragment", [
-    ({"dt": True}, "`dt` = True: expected a number"),
-    ({"dt": "1e-4"}, "`dt` = '1e-4': expected a number"),
-    ({"dt": math.nan}, "`dt` = nan"),
-    ({"dt": 0.0}, "`dt`"),
-    ({"t_end": math.inf}, "`t_end` = inf"),
-    ({"t_end": 1e-6}, "longer than `t_end`"),
-    ({"theta0": math.nan}, "`theta0`"),
-    ({"theta0": 0.3}, "`theta0` = 0.3 rad: the block does not rest on its corner"),
-    ({"E": math.nan}, "`E`"),
-    ({"E": 1e9}, "`E` = 1e+09 Pa: too soft"),
-    ({"E": 1e31}, "`E` = 1e+31 Pa: above 1e+30 Pa"),
-    ({"n_elements": 6.0}, "`n_elements` = 6.0: expected a whole number"),
-    ({"n_elements": True}, "`n_elements` = True"),
-    ({"n_elements": 1001}, "`n_elements` = 1001: at most 1000 elements"),
-    ({"theta_method": -0.1}, "`theta_method`"),
-    ({"mu": math.inf}, "`mu`"),
-    ({"restitution": math.nan}, "`restitution`"),
-    ({"x_centre": "0.15"}, "`x_centre`"),
-    ({"gs_tol": 0.0}, "`gs_tol`"),
-    ({"gs_tol": 1e-16}, "`gs_tol`"),
-    ({"gs_max_iter": 2.5}, "`gs_max_iter`"),
-    ({"gs_max_iter": 10**7}, "`gs_max_iter`"),
-    ({"record_every": 0}, "`record_every`"),
-    ({"rest_fraction": 0.0}, "`rest_fraction`"),
-    ({"max_hours": 0.0}, "`max_hours`"),
-    ({"progress": "yes"}, "`progress` = 'yes'"),
-])
+@pytest.mark.parametrize(
+    "override, fragment",
+    [
+        ({"dt": True}, "`dt` = True: expected a number"),
+        ({"dt": "1e-4"}, "`dt` = '1e-4': expected a number"),
+        ({"dt": math.nan}, "`dt` = nan"),
+        ({"dt": 0.0}, "`dt`"),
+        ({"t_end": math.inf}, "`t_end` = inf"),
+        ({"t_end": 1e-6}, "longer than `t_end`"),
+        ({"theta0": math.nan}, "`theta0`"),
+        ({"theta0": 0.3}, "`theta0` = 0.3 rad: the block does not rest on its corner"),
+        ({"E": math.nan}, "`E`"),
+        ({"E": 1e9}, "`E` = 1e+09 Pa: too soft"),
+        ({"E": 1e31}, "`E` = 1e+31 Pa: above 1e+30 Pa"),
+        ({"n_elements": 6.0}, "`n_elements` = 6.0: expected a whole number"),
+        ({"n_elements": True}, "`n_elements` = True"),
+        ({"n_elements": 1001}, "`n_elements` = 1001: at most 1000 elements"),
+        ({"theta_method": -0.1}, "`theta_method`"),
+        ({"mu": math.inf}, "`mu`"),
+        ({"restitution": math.nan}, "`restitution`"),
+        ({"x_centre": "0.15"}, "`x_centre`"),
+        ({"gs_tol": 0.0}, "`gs_tol`"),
+        ({"gs_tol": 1e-16}, "`gs_tol`"),
+        ({"gs_max_iter": 2.5}, "`gs_max_iter`"),
+        ({"gs_max_iter": 10**7}, "`gs_max_iter`"),
+        ({"record_every": 0}, "`record_every`"),
+        ({"rest_fraction": 0.0}, "`rest_fraction`"),
+        ({"max_hours": 0.0}, "`max_hours`"),
+        ({"progress": "yes"}, "`progress` = 'yes'"),
+    ],
+)
 def test_bad_argument_names_the_field(override, fragment):
     with pytest.raises(InputError) as err:
         nscd.simulate("B6M", **{**GOOD, **override})
@@ -245,7 +280,13 @@ class _Recorder:
     made = []
 
     def __init__(self, total, desc, *, show=None, estimate=None, unit="s"):
-        self.total, self.desc, self.show, self.estimate, self.ticks = total, desc, show, estimate, []
+        self.total, self.desc, self.show, self.estimate, self.ticks = (
+            total,
+            desc,
+            show,
+            estimate,
+            [],
+        )
         _Recorder.made.append(self)
 
     shown = property(lambda self: True)
@@ -278,6 +319,6 @@ def test_progress_is_automatic_above_a_few_seconds(monkeypatch):
     monkeypatch.setattr(engine, "Progress", _Recorder)
     _Recorder.made.clear()
     nscd.simulate("B6M", theta0=0.1, dt=1e-4, t_end=0.01)
-    assert _Recorder.made[-1].show is None                # automatic: multimass.progress decides
+    assert _Recorder.made[-1].show is None  # automatic: multimass.progress decides
     nscd.simulate("B6M", theta0=0.1, dt=1e-4, t_end=0.01, progress=False)
     assert _Recorder.made[-1].show is False

@@ -17,9 +17,15 @@ def test_first_peak_from_paper_002_initial_angles(name, integrator):
     blk = multimass.rigid_block(name)
     ref = blk.specimen.reference
     theta0 = math.radians(ref.theta0_deg)
-    kw = dict(integrator="newmark", dt=1e-4) if integrator == "newmark" else dict(rtol=1e-10, atol=1e-12)
-    resp = simulate(blk, FreeRelease(theta0), "CIM", 1.0, restitution="housner", output_dt=None, **kw)
-    eta = 1 - 1.5 * math.sin(blk.alpha_cg) ** 2                        # paper 004, Eq 9
+    kw = (
+        dict(integrator="newmark", dt=1e-4)
+        if integrator == "newmark"
+        else dict(rtol=1e-10, atol=1e-12)
+    )
+    resp = simulate(
+        blk, FreeRelease(theta0), "CIM", 1.0, restitution="housner", output_dt=None, **kw
+    )
+    eta = 1 - 1.5 * math.sin(blk.alpha_cg) ** 2  # paper 004, Eq 9
     a = blk.alpha_cg
     exact = a - math.acos(math.cos(a) + eta**2 * (math.cos(a - theta0) - math.cos(a)))
     assert abs(resp.peaks[1] - exact) < 1e-6
@@ -28,7 +34,7 @@ def test_first_peak_from_paper_002_initial_angles(name, integrator):
 
 def test_rocking_starts_only_above_g_tan_alpha():
     blk = multimass.rigid_block("B6M")
-    a_th = blk.g * math.tan(blk.alpha_cg)                             # paper 004, Section 2
+    a_th = blk.g * math.tan(blk.alpha_cg)  # paper 004, Section 2
     below = simulate(blk, SineWave(amplitude=0.999 * a_th, omega=20.0), "CIM", 1.0)
     above = simulate(blk, SineWave(amplitude=1.001 * a_th, omega=20.0), "CIM", 1.0)
     assert not any(e.kind == "uplift" for e in below.events)
@@ -70,16 +76,27 @@ def test_solve_ivp_and_newmark_maps_agree_60x60():
 
 @pytest.fixture(scope="module")
 def maps():
-    kw = dict(omega_p=np.linspace(0.5, 10, 24), amp=np.linspace(0.25, 8, 24), executor="serial",
-              integrator="newmark")
-    return {(b, p, r): overturning_map(b, p, restitution=r, **kw)
-            for b in ("B6M", "B3L") for p in ("sine", "cosine") for r in ("modified", "housner")}
+    kw = dict(
+        omega_p=np.linspace(0.5, 10, 24),
+        amp=np.linspace(0.25, 8, 24),
+        executor="serial",
+        integrator="newmark",
+    )
+    return {
+        (b, p, r): overturning_map(b, p, restitution=r, **kw)
+        for b in ("B6M", "B3L")
+        for p in ("sine", "cosine")
+        for r in ("modified", "housner")
+    }
 
 
 def _shift(m, h):
     """Mean rise of the first overturning amplitude from η_M to η_H, over ω/p where both overturn."""
-    pairs = [(a, b) for a, b in zip(m.min_overturn_amp(), h.min_overturn_amp())
-             if a is not None and b is not None]
+    pairs = [
+        (a, b)
+        for a, b in zip(m.min_overturn_amp(), h.min_overturn_amp())
+        if a is not None and b is not None
+    ]
     return float(np.mean([b - a for a, b in pairs]))
 
 
@@ -115,8 +132,15 @@ def test_map_has_safe_islands_above_the_first_overturning_amplitude(maps):
 
 
 def test_refinement_narrows_boundaries():
-    m = overturning_map("B6M", "sine", omega_p=[2.0, 4.0], amp=np.linspace(0.5, 4, 8), refine=4,
-                        executor="serial", integrator="newmark")
+    m = overturning_map(
+        "B6M",
+        "sine",
+        omega_p=[2.0, 4.0],
+        amp=np.linspace(0.5, 4, 8),
+        refine=4,
+        executor="serial",
+        integrator="newmark",
+    )
     width = (m.boundaries.amp_high - m.boundaries.amp_low).to_numpy()
     assert width.size and np.all(width <= (3.5 / 7) / 2**4 + 1e-12)
     lo = m.min_overturn_amp()
@@ -124,24 +148,36 @@ def test_refinement_narrows_boundaries():
 
 
 def test_summary_keys():
-    m = overturning_map("B6M", "sine", omega_p=[2.0, 6.0], amp=[0.5, 3.0], executor="serial",
-                        integrator="newmark")
+    m = overturning_map(
+        "B6M", "sine", omega_p=[2.0, 6.0], amp=[0.5, 3.0], executor="serial", integrator="newmark"
+    )
     info = m.summary()
-    for key in ("block", "pulse", "restitution", "k", "omega_p", "min_overturn_amp",
-                "n_simulations", "wall_time_s"):
+    for key in (
+        "block",
+        "pulse",
+        "restitution",
+        "k",
+        "omega_p",
+        "min_overturn_amp",
+        "n_simulations",
+        "wall_time_s",
+    ):
         assert key in info
-    assert info["k"] == 0.8241                       # B6M's block-specific k (paper 004)
+    assert info["k"] == 0.8241  # B6M's block-specific k (paper 004)
     assert len(info["min_overturn_amp"]) == 2
 
 
-@pytest.mark.parametrize("kwargs, fragment", [
-    (dict(omega_p=[0.0, 1.0]), "`omega_p`"),
-    (dict(amp=[-1.0, 1.0]), "`amp`"),
-    (dict(amp=[2.0, 1.0]), "increase"),
-    (dict(amp=[]), "empty"),
-    (dict(k=1.5), "`k`"),
-    (dict(pulse="square"), "`pulse`"),
-])
+@pytest.mark.parametrize(
+    "kwargs, fragment",
+    [
+        (dict(omega_p=[0.0, 1.0]), "`omega_p`"),
+        (dict(amp=[-1.0, 1.0]), "`amp`"),
+        (dict(amp=[2.0, 1.0]), "increase"),
+        (dict(amp=[]), "empty"),
+        (dict(k=1.5), "`k`"),
+        (dict(pulse="square"), "`pulse`"),
+    ],
+)
 def test_bad_map_input(kwargs, fragment):
     args = dict(omega_p=[1.0], amp=[1.0], executor="serial") | kwargs
     with pytest.raises(ValueError, match=fragment):
@@ -170,14 +206,19 @@ def test_undecided_cells_are_neither_overturned_nor_safe():
     assert short.overturn_fraction() == pytest.approx(short.overturned().mean())
     assert short.undecided_fraction() == pytest.approx(und.mean())
     s = short.summary()
-    assert s["outcomes"]["undecided"] == und.sum() and s["undecided_fraction"] == pytest.approx(und.mean())
+    assert s["outcomes"]["undecided"] == und.sum() and s["undecided_fraction"] == pytest.approx(
+        und.mean()
+    )
     # the true overturned share lies between overturn_fraction and that plus undecided_fraction
-    assert short.overturn_fraction() <= full.overturn_fraction() \
+    assert (
+        short.overturn_fraction()
+        <= full.overturn_fraction()
         <= short.overturn_fraction() + short.undecided_fraction()
+    )
     # an interval with an undecided end brackets no boundary: nothing bisected against it
     for b in short.boundaries.itertuples():
         assert "undecided" not in (b.low_outcome, b.high_outcome)
-    assert short.min_overturn_amp()[0] == pytest.approx(5.0)   # from decided cells only
+    assert short.min_overturn_amp()[0] == pytest.approx(5.0)  # from decided cells only
 
 
 def test_inaccurate_cells_keep_their_outcome_and_are_counted():

@@ -31,6 +31,7 @@ from tests.conftest import unavailable
 
 # --- job functions (top level: picklable by reference) -------------------------------
 
+
 def draw(job):
     """Random draws that depend only on the job's own seed."""
     rng = np.random.default_rng(job["seed"])
@@ -66,7 +67,7 @@ def unpicklable_failure(x):
 
 
 class _TwoArgError(Exception):
-    def __init__(self, a, b):          # unpickling calls cls(message): TypeError
+    def __init__(self, a, b):  # unpickling calls cls(message): TypeError
         super().__init__(f"{a}/{b}")
 
 
@@ -105,6 +106,7 @@ def compiled_job(n):
 
 # --- fixtures: one pool / cluster per module -----------------------------------------
 
+
 @pytest.fixture(scope="module")
 def pool1():
     with ProcessExecutor(workers=1) as ex:
@@ -124,8 +126,9 @@ def dask_client():
     except ImportError:
         unavailable("dask.distributed not installed (pip install -e '.[test]')")
     try:
-        cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                           dashboard_address=":0")
+        cluster = distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0"
+        )
     except OSError as exc:  # a sandbox without sockets
         unavailable(f"dask.distributed cannot start a LocalCluster here: {exc!r}")
     client = distributed.Client(cluster)
@@ -140,11 +143,15 @@ def _seeded_jobs(n=37, seed=2024):
 
 # --- seeds ---------------------------------------------------------------------------
 
+
 def test_job_seeds_are_the_seedsequence_children_and_stable_under_more_jobs():
     seeds = job_seeds(12345, 6)
     # closed form: child i of SeedSequence(s).spawn is SeedSequence(s, spawn_key=(i,))
-    expected = [int(np.random.SeedSequence(12345, spawn_key=(i,)).generate_state(1, np.uint64)[0])
-                & (2**63 - 1) for i in range(6)]
+    expected = [
+        int(np.random.SeedSequence(12345, spawn_key=(i,)).generate_state(1, np.uint64)[0])
+        & (2**63 - 1)
+        for i in range(6)
+    ]
     assert seeds == expected
     assert job_seeds(12345, 10)[:6] == seeds
     assert len(set(seeds)) == 6 and all(0 <= s < 2**63 for s in seeds)
@@ -166,6 +173,7 @@ def test_job_seeds_reject_bad_input(base, n):
 
 
 # --- determinism across executors, worker counts and batch sizes ---------------------
+
 
 @pytest.mark.parametrize("batch_size", [None, 1, 3, 7, 100])
 def test_process_pool_matches_serial_for_any_batch_size(pool2, batch_size):
@@ -204,8 +212,9 @@ def test_fork_start_method_gives_the_same_results():
 
 def test_results_come_back_in_job_order_although_batches_finish_out_of_order(pool2):
     n = 12
-    assert run_jobs(slow_first, [(i, n) for i in range(n)], executor=pool2,
-                    batch_size=1) == list(range(n))
+    assert run_jobs(slow_first, [(i, n) for i in range(n)], executor=pool2, batch_size=1) == list(
+        range(n)
+    )
 
 
 def test_numba_compiled_function_runs_in_workers(pool2):
@@ -215,6 +224,7 @@ def test_numba_compiled_function_runs_in_workers(pool2):
 
 
 # --- executors: registry, reuse, user's own ------------------------------------------
+
 
 def test_registry_names_and_get_executor():
     assert set(EXECUTORS) == {"serial", "process", "dask"}
@@ -229,7 +239,7 @@ def test_an_executor_instance_is_reused_and_left_open(pool2):
     run_jobs(square, range(5), executor=pool2)
     pool = pool2._pool
     assert run_jobs(square, range(5), executor=pool2) == [0, 1, 4, 9, 16]
-    assert pool2._pool is pool            # same processes, not closed by run_jobs
+    assert pool2._pool is pool  # same processes, not closed by run_jobs
 
 
 class ReversedExecutor(Executor):
@@ -254,12 +264,13 @@ class ReversedExecutor(Executor):
 
 class LossyExecutor(ReversedExecutor):
     def map_unordered(self, fn, args):
-        yield 0, fn(args[0])      # forgets the other batches
+        yield 0, fn(args[0])  # forgets the other batches
 
 
 def test_users_own_executor_class_and_instance():
-    assert run_jobs(square, range(10), executor=ReversedExecutor, workers=3) == \
-        [i * i for i in range(10)]
+    assert run_jobs(square, range(10), executor=ReversedExecutor, workers=3) == [
+        i * i for i in range(10)
+    ]
     ex = ReversedExecutor(workers=2)
     assert run_jobs(square, range(17), executor=ex) == [i * i for i in range(17)]
     # guided plan: min(17, 64·2) = 17 stripes of one job; batches take ceil(R / (4·2))
@@ -284,21 +295,28 @@ def test_batches_are_strided_and_no_larger_than_batch_size():
 def test_guided_plan_covers_every_job_once_large_batches_first(n_jobs, workers):
     plan = batch_plan(n_jobs, workers)
     assert sorted(i for b in plan for i in b) == list(range(n_jobs))
-    n_stripes = min(n_jobs, 64 * workers)                   # STRIPES_PER_WORKER · workers
+    n_stripes = min(n_jobs, 64 * workers)  # STRIPES_PER_WORKER · workers
     stripes = [range(k, n_jobs, n_stripes) for k in range(n_stripes)]
     left, at = n_stripes, 0
-    for batch in plan:                  # each batch: the next ceil(R / (4·workers)) stripes
+    for batch in plan:  # each batch: the next ceil(R / (4·workers)) stripes
         take = -(-left // (4 * workers))
-        assert batch == [i for s in stripes[at:at + take] for i in s]
+        assert batch == [i for s in stripes[at : at + take] for i in s]
         left, at = left - take, at + take
     assert left == 0
     sizes = [len(b) for b in plan]
     assert sizes == sorted(sizes, reverse=True)
 
 
-@pytest.mark.parametrize("args, field", [((10, 0), "workers"), ((-1, 2), "n_jobs"),
-                                         ((10.0, 2), "n_jobs"), ((10, True), "workers"),
-                                         ((10, 2, 0), "batch_size")])
+@pytest.mark.parametrize(
+    "args, field",
+    [
+        ((10, 0), "workers"),
+        ((-1, 2), "n_jobs"),
+        ((10.0, 2), "n_jobs"),
+        ((10, True), "workers"),
+        ((10, 2, 0), "batch_size"),
+    ],
+)
 def test_batch_plan_rejects_bad_sizes(args, field):
     with pytest.raises(InputError, match=f"`{field}`"):
         batch_plan(*args)
@@ -320,6 +338,7 @@ def test_an_executor_that_loses_batches_is_caught():
 
 # --- errors from jobs and from executors ---------------------------------------------
 
+
 def _executor(kind, request):
     if kind == "serial":
         return SerialExecutor()
@@ -336,16 +355,19 @@ def test_a_failing_job_raises_job_error_with_index_and_cause(kind, request):
     assert info.value.index == 7
     cause = info.value.__cause__
     assert isinstance(cause, KeyError) and cause.args == ("no such record", 7)
-    if kind != "serial":           # the worker's traceback is chained below the cause
+    if kind != "serial":  # the worker's traceback is chained below the cause
         assert "fail_at_seven" in str(cause.__cause__)
     # the executor still works after a failed sweep
     assert run_jobs(square, range(4), executor=ex) == [0, 1, 4, 9]
 
 
-@pytest.mark.parametrize("func, index, text", [
-    (unpicklable_failure, 3, "lost in transit"),
-    (two_arg_failure, 2, "left/right"),
-])
+@pytest.mark.parametrize(
+    "func, index, text",
+    [
+        (unpicklable_failure, 3, "lost in transit"),
+        (two_arg_failure, 2, "left/right"),
+    ],
+)
 def test_exceptions_that_cannot_travel_are_replaced_by_their_text(pool2, func, index, text):
     with pytest.raises(JobError) as info:
         run_jobs(func, range(6), executor=pool2, batch_size=2)
@@ -372,6 +394,7 @@ def test_an_unpicklable_result_is_an_executor_error(pool2):
 
 # --- bad arguments -------------------------------------------------------------------
 
+
 def test_empty_jobs_give_an_empty_list_without_starting_workers():
     for name in ("serial", "process"):
         assert run_jobs(square, [], executor=name) == []
@@ -379,20 +402,23 @@ def test_empty_jobs_give_an_empty_list_without_starting_workers():
     assert run_jobs(square, iter(()), executor=ex) == [] and ex._pool is None
 
 
-@pytest.mark.parametrize("kwargs, field", [
-    (dict(executor="threads"), "executor"),
-    (dict(executor=42), "executor"),
-    (dict(executor=dict), "executor"),
-    (dict(workers=0), "workers"),
-    (dict(workers=-3), "workers"),
-    (dict(workers=1.5), "workers"),
-    (dict(workers=True), "workers"),
-    (dict(batch_size=0), "batch_size"),
-    (dict(batch_size=2.5), "batch_size"),
-    (dict(progress="yes"), "progress"),
-    (dict(executor="serial", workers=4), "workers"),
-    (dict(executor=SerialExecutor(), workers=2), "workers"),
-])
+@pytest.mark.parametrize(
+    "kwargs, field",
+    [
+        (dict(executor="threads"), "executor"),
+        (dict(executor=42), "executor"),
+        (dict(executor=dict), "executor"),
+        (dict(workers=0), "workers"),
+        (dict(workers=-3), "workers"),
+        (dict(workers=1.5), "workers"),
+        (dict(workers=True), "workers"),
+        (dict(batch_size=0), "batch_size"),
+        (dict(batch_size=2.5), "batch_size"),
+        (dict(progress="yes"), "progress"),
+        (dict(executor="serial", workers=4), "workers"),
+        (dict(executor=SerialExecutor(), workers=2), "workers"),
+    ],
+)
 def test_bad_arguments_raise_input_error_naming_the_argument(kwargs, field):
     with pytest.raises(InputError, match=f"`{field}`") as info:
         run_jobs(square, range(3), **kwargs)
@@ -413,10 +439,11 @@ def test_func_must_be_callable_and_picklable_for_the_pool():
 
 
 def test_functions_from_an_interactive_session_are_rejected_for_forkserver(monkeypatch):
-    main = types.ModuleType("__main__")                 # like a notebook: no __file__
+    main = types.ModuleType("__main__")  # like a notebook: no __file__
 
     def typed_in(x):
         return x
+
     typed_in.__module__, typed_in.__qualname__ = "__main__", "typed_in"
     main.typed_in = typed_in
     monkeypatch.setitem(sys.modules, "__main__", main)
@@ -430,6 +457,7 @@ def test_unavailable_start_method():
 
 
 # --- progress bar --------------------------------------------------------------------
+
 
 class _FakeTerminal(io.StringIO):
     def isatty(self):
@@ -457,6 +485,7 @@ def test_default_progress_on_a_terminal_only_for_long_sweeps(monkeypatch, n, sho
 
 # --- Dask: finding, owning and closing clusters --------------------------------------
 
+
 def test_dask_missing_names_the_extra(monkeypatch):
     monkeypatch.setitem(sys.modules, "distributed", None)
     with pytest.raises(ImportError, match=r'pip install "multimass\[dask\]"'):
@@ -467,7 +496,7 @@ def test_dask_leaves_a_given_client_open_and_uses_the_default_one(dask_client):
     with DaskExecutor(client=dask_client) as ex:
         assert run_jobs(square, range(3), executor=ex) == [0, 1, 4]
     assert dask_client.status == "running"
-    ex = DaskExecutor()                                 # finds the default client
+    ex = DaskExecutor()  # finds the default client
     assert ex.client is dask_client
     ex.close()
     assert dask_client.status == "running"
@@ -476,7 +505,7 @@ def test_dask_leaves_a_given_client_open_and_uses_the_default_one(dask_client):
 
 
 def test_dask_closes_the_cluster_it_started(dask_client):
-    ex = DaskExecutor(workers=1, processes=False)      # threads: starts fast
+    ex = DaskExecutor(workers=1, processes=False)  # threads: starts fast
     assert run_jobs(square, range(5), executor=ex) == [0, 1, 4, 9, 16]
     cluster = ex._own_cluster
     assert cluster is not None and ex.client is not dask_client
@@ -503,8 +532,9 @@ def test_an_unguarded_script_is_told_about_the_guard(tmp_path):
 
     script = tmp_path / "unguarded.py"
     script.write_text(UNGUARDED)
-    done = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True,
-                          text=True, timeout=300)
+    done = subprocess.run(
+        [sys.executable, str(script)], cwd=tmp_path, capture_output=True, text=True, timeout=300
+    )
     assert done.returncode != 0
     assert 'if __name__ == "__main__":' in done.stderr and 'executor="serial"' in done.stderr
 
@@ -512,8 +542,11 @@ def test_an_unguarded_script_is_told_about_the_guard(tmp_path):
 def test_an_unreachable_dask_scheduler_is_an_input_error_naming_the_address():
     ex = DaskExecutor(address="tcp://127.0.0.1:1", connect_timeout=1.0)
     t0 = time.perf_counter()
-    with pytest.raises(InputError, match=r"no Dask scheduler answered at .*'tcp://127.0.0.1:1' "
-                                         r"within 1 s.*dask scheduler"):
+    with pytest.raises(
+        InputError,
+        match=r"no Dask scheduler answered at .*'tcp://127.0.0.1:1' "
+        r"within 1 s.*dask scheduler",
+    ):
         run_jobs(abs, [1, 2], executor=ex)
     assert time.perf_counter() - t0 < 20.0
     with pytest.raises(InputError, match="`address` = ''"):
