@@ -25,9 +25,10 @@ def test_readme_python_example_runs_as_a_script(how, tmp_path):
     script = tmp_path / "script.py"
     script.write_text(code)
     argv = [sys.executable, str(script)] if how == "file" else [sys.executable, "-"]
+    # from a folder of its own, as a user would: nothing may depend on the repository's cwd
     done = subprocess.run(
         argv,
-        cwd=REPO,
+        cwd=tmp_path,
         input=None if how == "file" else code,
         capture_output=True,
         text=True,
