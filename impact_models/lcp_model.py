@@ -32,7 +32,7 @@ import numpy as np
 
 from multimass.errors import InputError
 
-from .models import ImpactModel, Transition
+from .models import ImpactModel, Transition, full_contact_velocities
 from .poisson import poisson_impact
 from .sources import FixedRestitution
 
@@ -81,7 +81,7 @@ class PoissonLCP(ImpactModel):
         raise NotImplementedError("PoissonLCP resolves the impact in impact_at_zero")
 
     def impact_at_zero(
-        self, structure, side_old: int, u, udot, thetadot: float, theta_dot_min: float
+        self, structure, side_old: int, u, udot, thetadot: float, thetadot_min: float
     ) -> Transition:
         """The transition at θ = 0 by the Poisson LCP (paper 000, Eqs 6 and 11)."""
         n = np.asarray(structure.m).size
@@ -97,9 +97,7 @@ class PoissonLCP(ImpactModel):
         detail = f"LCP: old pivot {old}, new corner {new}; energy lost {res.energy_loss:.4g} J"
         if new == "separating":
             return Transition(None, up[:n], float(up[-1]), "flight", None, detail)
-        if old == "closed" or abs(up[-1]) <= theta_dot_min:
-            # full contact: keep each node's horizontal momentum (as paper 001, Eq 10)
-            return Transition(
-                0, up[:n] + np.asarray(structure.H) * up[-1], 0.0, "full_contact", None, detail
-            )
+        if old == "closed" or abs(up[-1]) <= thetadot_min:
+            ud = full_contact_velocities(np.asarray(structure.H), up[:n], up[-1])
+            return Transition(0, ud, 0.0, "full_contact", None, detail)
         return Transition(-side_old, up[:n], float(up[-1]), "impact", None, detail)

@@ -16,11 +16,17 @@ import numpy as np
 
 from multimass.errors import InputError
 
+from .gaussian_force import activation_angle, deactivation_angle, impact_width
 from .sources import Restitution
 
-__all__ = ["Transition", "ImpactModel", "Classical", "DiracDelta"]
-
-_SQRT_PI = math.sqrt(math.pi)
+__all__ = [
+    "Transition",
+    "ImpactModel",
+    "Classical",
+    "DiracDelta",
+    "next_phase_is_rocking",
+    "full_contact_velocities",
+]
 
 
 @dataclass(frozen=True)
@@ -52,10 +58,16 @@ class Transition:
 
 
 def next_phase_is_rocking(
-    side_new: int, L_new: float, thetadot: float, theta_dot_min: float
+    side_new: int, L_new: float, thetadot: float, thetadot_min: float
 ) -> bool:
     """Paper 001, Eq 9: ±L_p^r ≥ 0 and ±θ̇⁻ > θ̇_min (± = the new pivot)."""
-    return side_new * L_new >= 0.0 and side_new * thetadot > theta_dot_min  # paper 001, Eq 9
+    return side_new * L_new >= 0.0 and side_new * thetadot > thetadot_min  # paper 001, Eq 9
+
+
+def full_contact_velocities(H, udot, thetadot):
+    """u̇⁺ = u̇⁻ + H θ̇⁻ of a drop to full contact (θ̇⁺ = 0): the vertical momentum is
+    lost, each node's horizontal momentum kept."""
+    return udot + H * thetadot  # paper 001, Eq 10
 
 
 @dataclass(frozen=True)
@@ -79,7 +91,7 @@ class ImpactModel:
         udot: np.ndarray,
         thetadot: float,
         r: float,
-        theta_dot_min: float,
+        thetadot_min: float,
     ) -> Transition:
         """The transition map at the end of a half-cycle (θ = 0).
 
@@ -94,17 +106,16 @@ class ImpactModel:
         udot, thetadot : pre-transition velocities.
         r : float
             Restitution for this corner.
-        theta_dot_min : float
+        thetadot_min : float
             θ̇_min of Eq 9 (rad/s).
         """
         side_new = -side_old
-        if next_phase_is_rocking(side_new, L_new, thetadot, theta_dot_min):
+        if next_phase_is_rocking(side_new, L_new, thetadot, thetadot_min):
             td, ud = self.rebound(thetadot, udot, r)
             return Transition(
                 side_new, ud, td, "impact", r if self.uses_restitution_at_zero else None
             )
-        # paper 001, Eq 10: vertical momentum lost, horizontal momentum of each node kept
-        return Transition(0, udot + H * thetadot, 0.0, "full_contact")
+        return Transition(0, full_contact_velocities(H, udot, thetadot), 0.0, "full_contact")
 
     uses_restitution_at_zero = False
 
@@ -159,19 +170,13 @@ class DiracDelta(ImpactModel):
     def width(
         self, E_ini: float, r: float, B: float, m_t: float, g: float, thetadot_i: float
     ) -> float:
-        """Width parameter n of paper 001, Eq 15, bounded below by `n_min`."""
-        n = E_ini * (1.0 - r * r) / (B * _SQRT_PI * (0.5 * m_t * g + self.C_p * abs(thetadot_i)))
-        return max(n, self.n_min)
+        """Width parameter n (`gaussian_force.impact_width`, Eq 15) with this model's C_p, n_min."""
+        return impact_width(E_ini, r, B, m_t, g, self.C_p, thetadot_i, self.n_min)
 
     def threshold(self, n: float) -> float:
-        """``|θ_i|`` = 2.576 n/√2, the activation angle (paper 001, Eq 16)."""
-        return self.z * n / math.sqrt(2.0)
+        """``|θ_i|`` = 2.576 n/√2 (`gaussian_force.activation_angle`, Eq 16) with this model's z."""
+        return activation_angle(self.z, n)
 
-    @staticmethod
-    def force(theta: float, side: int, E_ini: float, r: float, n: float, B: float) -> float:
-        """F_i of paper 001, Eq 14, opposing the approach to θ = 0.
-
-        `side` is the current pivot; the force has the sign of the impending
-        one (−side), which makes its moment 2B F_i in Eq 5 brake the motion.
-        """
-        return -side * E_ini * (1.0 - r * r) / (B * n * _SQRT_PI) * math.exp(-((theta / n) ** 2))
+    def release_angle(self, theta_i: float) -> float:
+        """``|θ|`` at which a force moving away from impact is dropped (`deactivation_angle`, Eq 17)."""
+        return deactivation_angle(self.release, theta_i)

@@ -39,11 +39,19 @@ CHECK = 3  # reached the check point k_check (k written)
 FAIL = 4  # Newton did not converge in the step to k (k not written)
 
 
-def rhs(theta: float, side: int, ag: float, p2: float, alpha: float, g: float) -> float:
-    """θ̈ on `side` at angle θ and ground acceleration ü_g (paper 004, Eqs 1–2)."""
+def rhs_and_tangent(theta: float, side: int, ag: float, p2: float, alpha: float, g: float):
+    """θ̈ on `side` at angle θ and ground acceleration ü_g, and its tangent ∂θ̈/∂θ."""
     s = float(side)
     phi = alpha - s * theta
-    return -p2 * (s * math.sin(phi) + ag / g * math.cos(phi))  # paper 004, Eqs 1–2
+    sn = math.sin(phi)
+    cs = math.cos(phi)
+    agn = ag / g
+    return -p2 * (s * sn + agn * cs), p2 * (cs - s * agn * sn)  # paper 004, Eqs 1–2
+
+
+def rhs(theta: float, side: int, ag: float, p2: float, alpha: float, g: float) -> float:
+    """θ̈ on `side` at angle θ and ground acceleration ü_g (`rhs_and_tangent`)."""
+    return rhs_and_tangent(theta, side, ag, p2, alpha, g)[0]
 
 
 def advance(
@@ -104,18 +112,13 @@ def advance(
     while k <= k_last:
         h = t_grid[k] - t_a
         q = 0.25 * h * h
-        agn = ag_grid[k] / g
         a = thdd  # predictor: θ̈_{n+1} = θ̈_n
         th1 = th + h * thd + q * (thdd + a)  # paper 004, Eq 4 solved for θ_{n+1}
         it = 0
         converged = False
         while it < max_iter:
             it += 1
-            phi = alpha - s * th1
-            sn = math.sin(phi)
-            cs = math.cos(phi)
-            f = -p2 * (s * sn + agn * cs)  # paper 004, Eqs 1–2
-            df = p2 * (cs - s * agn * sn)  # ∂f/∂θ, analytic tangent
+            f, df = rhs_and_tangent(th1, side, ag_grid[k], p2, alpha, g)
             d = (f - a) / (1.0 - q * df)  # Newton on paper 004, Eq 5 / Eq 6
             a += d
             th1 += q * d
@@ -164,7 +167,9 @@ def compiled_advance():
     global _COMPILED
     if _COMPILED is None:
         import numba
+        from numba.extending import register_jitable
 
+        register_jitable(inline="always")(rhs_and_tangent)  # compiled from the same source
         _COMPILED = numba.njit(cache=True)(advance)
     return _COMPILED
 

@@ -1,5 +1,9 @@
 """Right-hand sides and event functions of one phase, for `scipy.integrate.solve_ivp`.
 
+The right-hand sides evaluate the equations of `multimass.equations` with
+NumPy sums over the nodes; the compiled path (`multimass.fast._maths`)
+compiles the same functions.
+
 State layout in every phase: y = [u (N), θ, u̇ (N), θ̇, D, W_g, W_F], where the
 last three are quadratures for the energy ledger: damping dissipation
 D = ∫ u̇ᵀCu̇ dt, work of the effective ground forces W_g = ∫ −ü_g Σ m Ẋ dt and
@@ -14,6 +18,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from multimass.impact_models import gaussian_force as gf
+
+from . import equations as eq
 from .structure import Structure
 
 __all__ = ["Model", "ActiveForce", "rocking_rhs", "full_contact_rhs", "guard"]
@@ -77,72 +84,52 @@ class ActiveForce:
     thetadot_i: float
 
 
-_SQRT_PI = math.sqrt(math.pi)
-
-
 def rocking_rhs(model: Model, side: int, ag_fn, force: ActiveForce | None):
-    """dy/dt of the rocking phase about pivot `side` (paper 001, Eqs 4–5)."""
+    """dy/dt of the rocking phase about pivot `side` (Eqs 4–5 of `multimass.equations`)."""
     mdl, s = model, float(side)
     n, m, H, K, C, B, g = mdl.n, mdl.m, mdl.H, mdl.K, mdl.C, mdl.B, mdl.g
-    pivot_arm = s * B * m  # M (±B 1)
-    schur0 = mdl.J_p - mdl.HmH
-    lever0 = s * B * mdl.m_t  # ±(1ᵀ M B 1 + m0 B)
-    if force is not None:
-        f_amp = -s * force.E_ini * (1.0 - force.r**2) / (B * force.n * _SQRT_PI)  # paper 001, Eq 14
-        inv_n2 = 1.0 / force.n**2
+    h, m_t, J_p, h_m_h = mdl.height, mdl.m_t, mdl.J_p, mdl.HmH
 
     def rhs(t, y):
         u, th, ud, thd = y[:n], y[n], y[n + 1 : 2 * n + 1], y[2 * n + 1]
         ag = ag_fn(t)
         c, sn = math.cos(th), math.sin(th)
-        F = f_amp * math.exp(-th * th * inv_n2) if force is not None else 0.0
+        F = gf.impact_force(th, s, force.E_ini, force.r, force.n, B) if force is not None else 0.0
         mu = m * u
-        smu = mu.sum() if n else 0.0
-        Cud = C @ ud if n else ud
-        # paper 001, Eq 4 (right-hand side)
-        bu = -(pivot_arm - mu) * thd * thd - Cud - (K @ u if n else u) - m * (ag * c - g * sn)
-        lever = lever0 - smu  # ±1ᵀM(B1 ∓ u) ± m0 B, using s² = 1
-        # paper 001, Eq 5 (right-hand side)
-        bt = (
-            2.0 * thd * (ud @ (pivot_arm - mu) if n else 0.0)
-            - 2.0 * B * F
-            - ag * (mdl.height * c + lever * sn)
-            - g * (-mdl.height * sn + lever * c)
-        )
-        a_tt_minus_hmh = schur0 + (u @ mu if n else 0.0) - 2.0 * s * B * smu
-        thdd = (bt - (H @ bu if n else 0.0)) / a_tt_minus_hmh
-        udd = bu / m - H * thdd if n else bu
-        xdot = (
-            (ud @ m) * c + thd * (mdl.height * c + lever * sn)
-            if n
-            else thd * (mdl.height * c + lever * sn)
-        )
+        smu = float(mu.sum())
+        cud = C @ ud
+        arm = eq.pivot_arm(s, B, m, u)
+        bu = eq.rocking_forcing_u(arm, thd, cud, K @ u, m, ag, c, sn, g)
+        lever = eq.lever_arm(s, B, m_t, smu)
+        bt = eq.rocking_forcing_theta(thd, float(ud @ arm), B, F, ag, h, lever, c, sn, g)
+        a_tt = eq.rocking_inertia(J_p, float(u @ mu), s, B, smu)
+        thdd = eq.rocking_theta_acceleration(bt, float(H @ bu), a_tt, h_m_h)
         out = np.empty_like(y)
         out[:n] = ud
         out[n] = thd
-        out[n + 1 : 2 * n + 1] = udd
+        out[n + 1 : 2 * n + 1] = eq.rocking_u_acceleration(bu, m, H, thdd)
         out[2 * n + 1] = thdd
-        out[-3] = ud @ Cud if n else 0.0
-        out[-2] = -ag * xdot
-        out[-1] = 2.0 * B * F * thd
+        out[-3] = ud @ cud
+        out[-2] = eq.ground_power(ag, float(m @ ud), thd, h, lever, c, sn)
+        out[-1] = eq.impact_power(B, F, thd)
         return out
 
     return rhs
 
 
 def full_contact_rhs(model: Model, ag_fn):
-    """dy/dt of the full-contact phase (paper 001, Eq 3); θ and θ̇ stay 0."""
+    """dy/dt of the full-contact phase (Eq 3 of `multimass.equations`); θ and θ̇ stay 0."""
     n, m, K, C = model.n, model.m, model.K, model.C
 
     def rhs(t, y):
         u, ud = y[:n], y[n + 1 : 2 * n + 1]
         ag = ag_fn(t)
-        Cud = C @ ud
+        cud = C @ ud
         out = np.zeros_like(y)
         out[:n] = ud
-        out[n + 1 : 2 * n + 1] = -(Cud + K @ u) / m - ag  # paper 001, Eq 3
-        out[-3] = ud @ Cud
-        out[-2] = -ag * (m @ ud)
+        out[n + 1 : 2 * n + 1] = eq.full_contact_acceleration(cud, K @ u, m, ag)
+        out[-3] = ud @ cud
+        out[-2] = eq.ground_power(ag, float(m @ ud), 0.0, 0.0, 0.0, 1.0, 0.0)
         return out
 
     return rhs

@@ -7,7 +7,11 @@ import math
 import numpy as np
 import pandas as pd
 
+from multimass.impact_models import gaussian_force as gf
+
+from . import equations as eq
 from ._phase import ActiveForce, Model
+from .eom import state_accelerations, total_accelerations
 from .response import Response
 
 __all__ = ["Recorder"]
@@ -103,55 +107,24 @@ class Recorder:
     def _derived(self, phase: int, force: ActiveForce | None, t: np.ndarray, Y: np.ndarray):
         """Vectorised ü_g, F_i, total accelerations (Eq 7) and energies for rows of one kind."""
         st, n = self.st, self.st.n
-        m, H, B, g = st.m, st.H, st.B, st.g
+        m, H, B = st.m, st.H, st.B
         U, th, Ud, thd = Y[:, :n], Y[:, n], Y[:, n + 1 : 2 * n + 1], Y[:, 2 * n + 1]
         ag = np.asarray(self.ag(t), dtype=float).reshape(t.shape)
         F = np.zeros_like(t)
-        elastic = 0.5 * np.einsum("ij,jk,ik->i", U, st.K, U) if n else np.zeros_like(t)
-        if phase == 0:
-            Udd = -(Ud @ st.C.T + U @ st.K.T) / m - ag[:, None] if n else U
-            kinetic = 0.5 * (Ud * Ud) @ m if n else np.zeros_like(t)
-            return ag, F, Udd + ag[:, None], kinetic, np.zeros_like(t), elastic
-        s = float(phase)
         if force is not None:
-            F = (
-                -s
-                * force.E_ini
-                * (1 - force.r**2)
-                / (B * force.n * math.sqrt(math.pi))
-                * np.exp(-((th / force.n) ** 2))
-            )  # paper 001, Eq 14
-        c, sn = np.cos(th), np.sin(th)
-        mu = U * m
-        smu = mu.sum(axis=1)
-        height = float(m @ H) + st.m0 * st.h0
-        lever = s * B * st.m_t - smu
-        arm = s * B * m - mu
-        bu = (
-            -arm * (thd**2)[:, None] - Ud @ st.C.T - U @ st.K.T - m * (ag * c - g * sn)[:, None]
-        )  # paper 001, Eq 4
-        bt = (
-            2.0 * thd * np.einsum("ij,ij->i", Ud, arm)
-            - 2.0 * B * F
-            - ag * (height * c + lever * sn)
-            - g * (-height * sn + lever * c)
-        )  # Eq 5
-        a_tt = st.J_p + np.einsum("ij,ij->i", U, mu) - 2.0 * s * B * smu
-        thdd = (bt - bu @ H) / (a_tt - H @ (m * H))
-        Udd = bu / m - np.outer(thdd, H) if n else bu
-        acc = (
-            Udd
-            + np.outer(thdd, H)
-            + (s * B - U) * (thd**2)[:, None]  # paper 001, Eq 7
-            + (ag * c)[:, None]
-            - g * sn[:, None]
-        )
-        kinetic = (
-            0.5 * (Ud * Ud) @ m + thd * (Ud @ (m * H)) + 0.5 * a_tt * thd**2
-            if n
-            else 0.5 * a_tt * thd**2
-        )
-        grav = g * (height * (c - 1.0) + lever * sn)
+            F = gf.impact_force(th, float(phase), force.E_ini, force.r, force.n, B)
+        Udd, thdd = state_accelerations(st, phase, U, th, Ud, thd, ag, F)
+        acc = total_accelerations(st, phase, U, th, Udd, thdd, thd, ag)
+        elastic = 0.5 * np.einsum("ij,jk,ik->i", U, st.K, U) if n else np.zeros_like(t)
+        ud_m_ud = (Ud * Ud) @ m
+        if phase == 0:
+            kinetic = eq.kinetic_energy(ud_m_ud, 0.0, 0.0, 0.0)
+            return ag, F, acc, kinetic, np.zeros_like(t), elastic
+        smu, umu = U @ m, np.einsum("ij,ij->i", U, U * m)
+        a_tt = eq.rocking_inertia(st.J_p, umu, phase, B, smu)
+        kinetic = eq.kinetic_energy(ud_m_ud, Ud @ (m * H), a_tt, thd)
+        lever = eq.lever_arm(phase, B, st.m_t, smu)
+        grav = eq.gravitational_energy(st.g, st.static_moment, lever, np.cos(th), np.sin(th))
         return ag, F, acc, kinetic, grav, elastic
 
     def response(

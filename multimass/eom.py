@@ -1,4 +1,8 @@
-"""Equations of motion of the full-contact and rocking phases (paper 001, Eqs 3–5, 7).
+"""Equations of motion of the full-contact and rocking phases for a `Structure`.
+
+The structure-level API over `multimass.equations` (paper 001, Eqs 3–5, 7):
+the mass matrix and forcing of the rocking phase, the accelerations of one
+state or of many recorded states at once, and the total node accelerations.
 
 Phase codes: ``0`` full contact, ``+1`` rocking about the right pivot (θ > 0),
 ``-1`` rocking about the left pivot (θ < 0). In paper 001's ± notation the
@@ -13,6 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import equations as eq
 from .structure import Structure
 
 __all__ = [
@@ -20,14 +25,15 @@ __all__ = [
     "rocking_system",
     "rocking_accelerations",
     "solve_rocking",
+    "state_accelerations",
     "total_accelerations",
 ]
 
 
 def full_contact_accelerations(structure: Structure, u, udot, ag: float) -> np.ndarray:
-    """ü of the full-contact phase: M ü + C u̇ + K u = −M 1 ü_g (paper 001, Eq 3)."""
+    """ü of the full-contact phase: M ü + C u̇ + K u = −M 1 ü_g (`equations.full_contact_acceleration`)."""
     s = structure
-    return -(s.C @ udot + s.K @ u) / s.m - ag  # paper 001, Eq 3 (M is diagonal)
+    return eq.full_contact_acceleration(s.C @ udot, s.K @ u, s.m, ag)
 
 
 def rocking_system(
@@ -65,27 +71,21 @@ def rocking_system(
     """
     st, sg = structure, float(side)
     n, m, H, B, g = st.n, st.m, st.H, st.B, st.g
+    u, udot = np.asarray(u, dtype=float), np.asarray(udot, dtype=float)
     c, sn = np.cos(theta), np.sin(theta)
-    mu = m * u
-    arm = m * (sg * B - u)  # M(±B1 − u)
+    smu = float(m @ u) if n else 0.0
+    arm = eq.pivot_arm(sg, B, m, u)
     A = np.empty((n + 1, n + 1))
     b = np.empty(n + 1)
     if n:
         A[:n, :n] = np.diag(m)
         A[:n, n] = m * H
         A[n, :n] = m * H
-        # paper 001, Eq 4
-        b[:n] = -arm * thetadot**2 - st.C @ udot - st.K @ u - m * (ag * c - g * sn)
-    A[n, n] = st.J_p + u @ mu - 2.0 * sg * B * mu.sum()
-    lever = sg * (B * m.sum() - sg * mu.sum()) + sg * st.m0 * B  # ±1ᵀM(B1 ∓ u) ± m0 B
-    height = m @ H + st.m0 * st.h0  # Hᵀ M 1 (+ m0 h0)
-    # paper 001, Eq 5 (all terms but the inertia moved to the right)
-    b[n] = (
-        2.0 * sg * (udot @ (m * B - sg * mu)) * thetadot
-        - 2.0 * B * F_i
-        - ag * (height * c + lever * sn)
-        - g * (-height * sn + lever * c)
-    )
+        b[:n] = eq.rocking_forcing_u(arm, thetadot, st.C @ udot, st.K @ u, m, ag, c, sn, g)
+    A[n, n] = eq.rocking_inertia(st.J_p, float(u @ (m * u)) if n else 0.0, sg, B, smu)
+    lever = eq.lever_arm(sg, B, st.m_t, smu)
+    ud_arm = float(udot @ arm) if n else 0.0
+    b[n] = eq.rocking_forcing_theta(thetadot, ud_arm, B, F_i, ag, st.static_moment, lever, c, sn, g)
     return A, b
 
 
@@ -94,12 +94,11 @@ def solve_rocking(
 ) -> tuple[np.ndarray, float]:
     """Solve [[M, M H], [Hᵀ M, a_tt]] [ü; θ̈] = b by the Schur complement (M diagonal).
 
-    θ̈ = (b_θ − Hᵀ b_u) / (a_tt − Hᵀ M H), ü = b_u / m − H θ̈: exact, O(N),
-    and the pivot a_tt − HᵀMH = Σ m (u − sB)² + m0 (B² + h0²) + J0 > 0.
+    `equations.rocking_theta_acceleration` and `rocking_u_acceleration`: exact, O(N).
     """
     bu = b[:-1]
-    thetaddot = (b[-1] - H @ bu) / (a_tt - H @ (m * H))
-    return bu / m - H * thetaddot if m.size else bu.copy(), float(thetaddot)
+    thetaddot = eq.rocking_theta_acceleration(b[-1], H @ bu, a_tt, H @ (m * H))
+    return eq.rocking_u_acceleration(bu, m, H, thetaddot), float(thetaddot)
 
 
 def rocking_accelerations(
@@ -117,21 +116,77 @@ def rocking_accelerations(
     return solve_rocking(structure.m, structure.H, A[-1, -1], b)
 
 
-def total_accelerations(
-    structure: Structure, side: int, u, theta, uddot, thetaddot, thetadot, ag
-) -> np.ndarray:
-    """Total lateral accelerations of nodes 1..N in the direction of u (paper 001, Eq 7).
+def state_accelerations(st: Structure, side, u, theta, udot, thetadot, ag, F_i=0.0):
+    """ü and θ̈ of many states at once, in any phase (Eq 3 in full contact, Eqs 4–5 rocking).
 
-    a = ü + H θ̈ + (±B1 − u) θ̇² + ü_g cos θ − 1 g sin θ; in full contact
-    (``side = 0``, θ = 0) this is ü + ü_g.
+    Parameters
+    ----------
+    st : Structure
+    side : int or ndarray, shape (rows,)
+        Phase of each state: 0 full contact, ±1 rocking.
+    u, udot : ndarray, shape (rows, N)
+        Elastic displacements and velocities.
+    theta, thetadot, ag, F_i : float or ndarray, shape (rows,)
+        Rotation, its rate, ü_g and the Dirac-delta force of each state.
+
+    Returns
+    -------
+    uddot : ndarray, shape (rows, N)
+    thetaddot : ndarray, shape (rows,); 0 in full contact.
+    """
+    m, H, B, g = st.m, st.H, st.B, st.g
+    side, theta, thetadot, ag, F_i = np.broadcast_arrays(
+        *(np.asarray(x, dtype=float) for x in (side, theta, thetadot, ag, F_i))
+    )
+    u, udot = np.asarray(u, dtype=float), np.asarray(udot, dtype=float)
+    col = lambda x: x[..., None]  # a per-state value against the nodes
+    c, sn = np.cos(theta), np.sin(theta)
+    cud, ku = udot @ st.C.T, u @ st.K.T
+    smu, umu = u @ m, np.einsum("...i,...i->...", u, u * m)
+    arm = eq.pivot_arm(col(side), B, m, u)
+    bu = eq.rocking_forcing_u(arm, col(thetadot), cud, ku, m, col(ag), col(c), col(sn), g)
+    lever = eq.lever_arm(side, B, st.m_t, smu)
+    ud_arm = np.einsum("...i,...i->...", udot, arm)
+    bt = eq.rocking_forcing_theta(thetadot, ud_arm, B, F_i, ag, st.static_moment, lever, c, sn, g)
+    a_tt = eq.rocking_inertia(st.J_p, umu, side, B, smu)
+    thdd = eq.rocking_theta_acceleration(bt, bu @ H, a_tt, H @ (m * H))
+    full = side == 0
+    uddot = np.where(
+        col(full),
+        eq.full_contact_acceleration(cud, ku, m, col(ag)),
+        eq.rocking_u_acceleration(bu, m, H, col(thdd)),
+    )
+    return uddot, np.where(full, 0.0, thdd)
+
+
+def total_accelerations(
+    structure: Structure, side, u, theta, uddot, thetaddot, thetadot, ag, H=None
+) -> np.ndarray:
+    """Total lateral accelerations of nodes in the direction of u (`equations.total_acceleration`).
+
+    a = ü + H θ̈ + (±B1 − u) θ̇² + ü_g cos θ − 1 g sin θ (paper 001, Eq 7); in
+    full contact (``side = 0``: θ, θ̇ and θ̈ are 0) this is ü + ü_g. Scalars
+    for one state, or arrays of shape (rows,) with u, ü of shape (rows, N).
+    `H` gives the nodes' heights when u, ü are not those of the structure's
+    own nodes 1..N (`multimass.scenes.recovery`); default ``structure.H``.
     """
     st = structure
-    if side == 0:
-        return uddot + ag
-    return (
-        uddot
-        + st.H * thetaddot
-        + (side * st.B - u) * thetadot**2  # paper 001, Eq 7
-        + ag * np.cos(theta)
-        - st.g * np.sin(theta)
+    side, theta, thetaddot, thetadot, ag = (
+        np.asarray(x, dtype=float) for x in (side, theta, thetaddot, thetadot, ag)
+    )
+    full = side == 0
+    theta, thetaddot, thetadot = (np.where(full, 0.0, x) for x in (theta, thetaddot, thetadot))
+    col = lambda x: x[..., None]
+    return eq.total_acceleration(
+        col(side),
+        st.B,
+        st.g,
+        np.asarray(u, dtype=float),
+        np.asarray(uddot, dtype=float),
+        st.H if H is None else np.asarray(H, dtype=float),
+        col(thetaddot),
+        col(thetadot),
+        col(ag),
+        col(np.cos(theta)),
+        col(np.sin(theta)),
     )

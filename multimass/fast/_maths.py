@@ -1,13 +1,14 @@
 """Compiled maths of one phase: ground motion, right-hand sides and event functions.
 
-The same equations as the reference path, written as numba kernels on flat
-arrays so one integration step never leaves machine code:
+The equations of `multimass.equations` and `multimass.impact_models.gaussian_force`,
+compiled unchanged, called from numba kernels that form the sums over the nodes
+in loops on flat arrays, so one integration step never leaves machine code:
 
 * `ground_acc` — ü_g(t) of the known excitations (`multimass.excitations`,
   `multimass.records`), from the (kind, params, samples) triple that
   `multimass.fast.excitation.encode` builds;
-* `rocking_rhs` / `full_contact_rhs` — `multimass._phase.rocking_rhs` /
-  `full_contact_rhs` (paper 001, Eqs 3–5, 14), with the same state layout
+* `rocking_rhs` / `full_contact_rhs` — as `multimass._phase.rocking_rhs` /
+  `full_contact_rhs` (the sums in loops instead of NumPy), with the same state layout
   y = [u (N), θ, u̇ (N), θ̇, D, W_g, W_F];
 * `event_value` — the event functions of `multimass._events.phase_events`
   (θ = 0, overturning, θ̇ = 0, Dirac-delta activation and deactivation, uplift
@@ -15,8 +16,8 @@ arrays so one integration step never leaves machine code:
 
 Model scalars travel in one float array `mp` (indices `MP_*`), the
 Dirac-delta force in `fp` (`FP_*`) and event parameters in `ep` (`EP_*`).
-`tests/multimass/test_fast.py` compares these kernels with the reference
-functions at random states.
+`tests/multimass/test_fast.py` compares these kernels with the solve_ivp
+path's functions at random states (the loops against the NumPy sums).
 """
 
 from __future__ import annotations
@@ -25,6 +26,15 @@ import math
 
 import numpy as np
 from numba import njit
+from numba.extending import register_jitable
+
+from .. import equations as eq
+from ..impact_models import gaussian_force as gf
+
+# The physics, compiled unchanged from the plain functions the solve_ivp path runs
+for _mod in (eq, gf):
+    for _name in _mod.__all__:
+        register_jitable(inline="always")(getattr(_mod, _name))
 
 __all__ = [
     "ground_acc",
@@ -76,9 +86,6 @@ FP_SIZE = 4
 EP_TDMIN, EP_OVERTURN, EP_R_PENDING, EP_CP, EP_NMIN, EP_Z, EP_LIMIT, EP_MREF, EP_LREF = range(9)
 EP_SIZE = 9
 
-_SQRT_PI = math.sqrt(math.pi)
-_SQRT_2 = math.sqrt(2.0)
-
 
 @njit(cache=True, error_model="numpy", inline="always")
 def ground_acc(t, kind, par, samples):
@@ -108,70 +115,59 @@ def ground_acc(t, kind, par, samples):
 
 @njit(cache=True, error_model="numpy", inline="always")
 def rocking_rhs(t, y, out, side, m, H, K, C, mp, fp, kind, par, samples):
-    """dy/dt while rocking about pivot `side` (paper 001, Eqs 4–5), written into `out`."""
+    """dy/dt while rocking about pivot `side` (Eqs 4–5 of `multimass.equations`), into `out`."""
     n = m.size
     s = float(side)
-    B, g, height = mp[MP_B], mp[MP_G], mp[MP_HEIGHT]
+    B, g, h = mp[MP_B], mp[MP_G], mp[MP_HEIGHT]
     th, thd = y[n], y[2 * n + 1]
     ag = ground_acc(t, kind, par, samples)
     c, sn = math.cos(th), math.sin(th)
     F = 0.0
     if fp[FP_ON] != 0.0:
-        r, w = fp[FP_R], fp[FP_N]
-        f_amp = -s * fp[FP_E] * (1.0 - r * r) / (B * w * _SQRT_PI)  # paper 001, Eq 14
-        F = f_amp * math.exp(-th * th * (1.0 / (w * w)))
+        F = gf.impact_force(th, s, fp[FP_E], fp[FP_R], fp[FP_N], B)
     smu = 0.0
     umu = 0.0
     ud_arm = 0.0
-    for i in range(n):
-        mu = m[i] * y[i]
-        smu += mu
-        umu += y[i] * mu
-        ud_arm += y[n + 1 + i] * (s * B * m[i] - mu)
-    lever = s * B * mp[MP_MT] - smu  # ±1ᵀM(B1 ∓ u) ± m0 B
-    # paper 001, Eq 4 (right-hand side), kept in out[n+1:2n+1] until θ̈ is known
-    hbu = 0.0
+    h_bu = 0.0
     dissip = 0.0
-    mud = 0.0
+    m_ud = 0.0
     for i in range(n):
         cud = 0.0
         ku = 0.0
         for j in range(n):
             cud += C[i, j] * y[n + 1 + j]
             ku += K[i, j] * y[j]
-        dissip += y[n + 1 + i] * cud
-        mud += y[n + 1 + i] * m[i]
-        arm = s * B * m[i] - m[i] * y[i]
-        bu = -arm * thd * thd - cud - ku - m[i] * (ag * c - g * sn)
-        out[n + 1 + i] = bu
-        hbu += H[i] * bu
-    # paper 001, Eq 5 (right-hand side)
-    bt = (
-        2.0 * thd * ud_arm
-        - 2.0 * B * F
-        - ag * (height * c + lever * sn)
-        - g * (-height * sn + lever * c)
-    )
-    a_tt_minus_hmh = (mp[MP_JP] - mp[MP_HMH]) + umu - 2.0 * s * B * smu
-    thdd = (bt - hbu) / a_tt_minus_hmh
+        ud = y[n + 1 + i]
+        arm = eq.pivot_arm(s, B, m[i], y[i])
+        smu += m[i] * y[i]
+        umu += y[i] * (m[i] * y[i])
+        ud_arm += ud * arm
+        dissip += ud * cud
+        m_ud += ud * m[i]
+        bu = eq.rocking_forcing_u(arm, thd, cud, ku, m[i], ag, c, sn, g)
+        out[n + 1 + i] = bu  # b_u, until θ̈ is known
+        h_bu += H[i] * bu
+    lever = eq.lever_arm(s, B, mp[MP_MT], smu)
+    bt = eq.rocking_forcing_theta(thd, ud_arm, B, F, ag, h, lever, c, sn, g)
+    a_tt = eq.rocking_inertia(mp[MP_JP], umu, s, B, smu)
+    thdd = eq.rocking_theta_acceleration(bt, h_bu, a_tt, mp[MP_HMH])
     for i in range(n):
         out[i] = y[n + 1 + i]
-        out[n + 1 + i] = out[n + 1 + i] / m[i] - H[i] * thdd
-    xdot = mud * c + thd * (height * c + lever * sn)
+        out[n + 1 + i] = eq.rocking_u_acceleration(out[n + 1 + i], m[i], H[i], thdd)
     out[n] = thd
     out[2 * n + 1] = thdd
     out[2 * n + 2] = dissip
-    out[2 * n + 3] = -ag * xdot
-    out[2 * n + 4] = 2.0 * B * F * thd
+    out[2 * n + 3] = eq.ground_power(ag, m_ud, thd, h, lever, c, sn)
+    out[2 * n + 4] = eq.impact_power(B, F, thd)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
 def full_contact_rhs(t, y, out, m, K, C, kind, par, samples):
-    """dy/dt in full contact (paper 001, Eq 3); θ and θ̇ stay 0."""
+    """dy/dt in full contact (Eq 3 of `multimass.equations`); θ and θ̇ stay 0."""
     n = m.size
     ag = ground_acc(t, kind, par, samples)
     dissip = 0.0
-    mud = 0.0
+    m_ud = 0.0
     for i in range(n):
         cud = 0.0
         ku = 0.0
@@ -179,13 +175,13 @@ def full_contact_rhs(t, y, out, m, K, C, kind, par, samples):
             cud += C[i, j] * y[n + 1 + j]
             ku += K[i, j] * y[j]
         out[i] = y[n + 1 + i]
-        out[n + 1 + i] = -(cud + ku) / m[i] - ag  # paper 001, Eq 3
+        out[n + 1 + i] = eq.full_contact_acceleration(cud, ku, m[i], ag)
         dissip += y[n + 1 + i] * cud
-        mud += m[i] * y[n + 1 + i]
+        m_ud += m[i] * y[n + 1 + i]
     out[n] = 0.0
     out[2 * n + 1] = 0.0
     out[2 * n + 2] = dissip
-    out[2 * n + 3] = -ag * mud
+    out[2 * n + 3] = eq.ground_power(ag, m_ud, 0.0, 0.0, 0.0, 1.0, 0.0)
     out[2 * n + 4] = 0.0
 
 
@@ -200,89 +196,82 @@ def rhs(t, y, out, side, m, H, K, C, mp, fp, kind, par, samples):
 
 @njit(cache=True, error_model="numpy")
 def _total_energy(side, y, m, H, K, mp):
-    """T + V_g + U relative to rest while rocking (multimass.kinematics.total_energy)."""
+    """T + V_g + U relative to rest while rocking (as `multimass.kinematics.total_energy`)."""
     n = m.size
     B, th, thd = mp[MP_B], y[n], y[2 * n + 1]
-    kin = 0.0
-    hmud = 0.0
+    ud_m_ud = 0.0
+    h_m_ud = 0.0
     umu = 0.0
     smu = 0.0
-    elastic = 0.0
+    uku = 0.0
     for i in range(n):
         ud = y[n + 1 + i]
-        kin += ud * (m[i] * ud)
-        hmud += ud * (m[i] * H[i])
+        ud_m_ud += ud * (m[i] * ud)
+        h_m_ud += ud * (m[i] * H[i])
         umu += y[i] * (m[i] * y[i])
         smu += m[i] * y[i]
         ku = 0.0
         for j in range(n):
             ku += K[i, j] * y[j]
-        elastic += y[i] * ku
-    a_tt = mp[MP_JP] + umu - 2.0 * side * B * smu
-    kinetic = 0.5 * kin + thd * hmud + 0.5 * a_tt * thd * thd
-    lever = side * (B * mp[MP_MT] - side * smu)
-    grav = mp[MP_G] * (mp[MP_HEIGHT] * (math.cos(th) - 1.0) + lever * math.sin(th))
-    return kinetic + grav + 0.5 * elastic
+        uku += y[i] * ku
+    a_tt = eq.rocking_inertia(mp[MP_JP], umu, side, B, smu)
+    lever = eq.lever_arm(side, B, mp[MP_MT], smu)
+    c, sn = math.cos(th), math.sin(th)
+    return (
+        eq.kinetic_energy(ud_m_ud, h_m_ud, a_tt, thd)
+        + eq.gravitational_energy(mp[MP_G], mp[MP_HEIGHT], lever, c, sn)
+        + 0.5 * uku
+    )
 
 
 @njit(cache=True, error_model="numpy")
-def _momentum_new_pivot(y, m, H, mp):
-    """L_p about the impending pivot (multimass.kinematics.angular_momentum_new_pivot)."""
+def _pivot_momentum(y, m, H, mp):
+    """L_p about the impending pivot (as `multimass.kinematics.angular_momentum_new_pivot`)."""
     n = m.size
     umu = 0.0
-    hmu = 0.0
+    h_m_ud = 0.0
     for i in range(n):
         umu += y[i] * (m[i] * y[i])
-        hmu += H[i] * (m[i] * y[n + 1 + i])
-    B = mp[MP_B]
-    return hmu + y[2 * n + 1] * (mp[MP_JP] - 2.0 * mp[MP_MT] * B * B + umu)
+        h_m_ud += H[i] * (m[i] * y[n + 1 + i])
+    return eq.pivot_momentum(h_m_ud, y[2 * n + 1], mp[MP_JP], mp[MP_MT], mp[MP_B], umu)
 
 
 @njit(cache=True, error_model="numpy")
 def _uplift(sgn, t, y, m, H, K, C, mp, ep, kind, par, samples):
-    """Uplift function about pivot `sgn` from full contact (paper 001, Eq 8)."""
+    """Uplift about pivot `sgn` from full contact (as `multimass._events`' uplift)."""
     n = m.size
     ag = ground_acc(t, kind, par, samples)
-    M_o = mp[MP_M0] * mp[MP_H0] * ag
-    hm = 0.0
-    mu = 0.0
-    L = 0.0
+    h_m_acc = 0.0
+    smu = 0.0
+    h_m_ud = 0.0
     for i in range(n):
         cud = 0.0
         ku = 0.0
         for j in range(n):
             cud += C[i, j] * y[n + 1 + j]
             ku += K[i, j] * y[j]
-        uddot = -(cud + ku) / m[i] - ag  # paper 001, Eq 3
-        hm += H[i] * (m[i] * (uddot + ag))
-        mu += m[i] * y[i]
-        L += H[i] * (m[i] * y[n + 1 + i])  # L_p^fc
-    M_o = hm + M_o
-    res = mp[MP_G] * (mp[MP_MT] * mp[MP_B] - sgn * mu)  # M_res(±)
-    moment = (-sgn * M_o - res) / ep[EP_MREF]
-    lm = sgn * L / ep[EP_LREF]
-    return lm if lm < moment else moment  # paper 001, Eq 8
+        uddot = eq.full_contact_acceleration(cud, ku, m[i], ag)
+        h_m_acc += H[i] * (m[i] * (uddot + ag))
+        smu += m[i] * y[i]
+        h_m_ud += H[i] * (m[i] * y[n + 1 + i])
+    M_o = eq.overturning_moment(h_m_acc, mp[MP_M0] * mp[MP_H0], ag)
+    M_res = eq.restoring_moment(sgn, mp[MP_G], mp[MP_MT], mp[MP_B], smu)
+    L = eq.pivot_momentum(h_m_ud, 0.0, mp[MP_JP], mp[MP_MT], mp[MP_B], 0.0)  # L_p^fc
+    return eq.uplift_margin(sgn, M_o, M_res, L, ep[EP_MREF], ep[EP_LREF])
 
 
 @njit(cache=True, error_model="numpy")
 def _activate(side, y, m, H, K, mp, ep):
-    """Dirac-delta activation function (paper 001, Eqs 15–16)."""
+    """Dirac-delta activation (as `multimass._events`' activate)."""
     n = m.size
-    th, thd = y[n], y[2 * n + 1]
-    side_imp = -side
     E = _total_energy(side, y, m, H, K, mp)
-    r = ep[EP_R_PENDING]
-    width = (
-        E
-        * (1.0 - r * r)
-        / (mp[MP_B] * _SQRT_PI * (0.5 * mp[MP_MT] * mp[MP_G] + ep[EP_CP] * abs(thd)))
-    )  # Eq 15
-    if width < ep[EP_NMIN]:
-        width = ep[EP_NMIN]
-    theta_th = ep[EP_Z] * width / _SQRT_2  # Eq 16
-    L = _momentum_new_pivot(y, m, H, mp)
-    tdm = ep[EP_TDMIN]
-    return max(abs(th) / theta_th - 1.0, -side_imp * L / ep[EP_LREF], (tdm - side_imp * thd) / tdm)
+    thd = y[2 * n + 1]
+    width = gf.impact_width(
+        E, ep[EP_R_PENDING], mp[MP_B], mp[MP_MT], mp[MP_G], ep[EP_CP], thd, ep[EP_NMIN]
+    )
+    L = _pivot_momentum(y, m, H, mp)
+    theta_i = gf.activation_angle(ep[EP_Z], width)
+    return gf.activation_margin(y[n], theta_i, side, L, ep[EP_LREF], thd, ep[EP_TDMIN])
 
 
 @njit(cache=True, error_model="numpy")
@@ -299,7 +288,7 @@ def event_value(code, t, y, t_on, quiet, side, m, H, K, C, mp, ep, kind, par, sa
     if code == EV_PEAK:
         return y[2 * n + 1]  # θ̇ = 0
     if code == EV_DEACTIVATE:
-        return s * y[n] - ep[EP_LIMIT]  # paper 001, Eq 17
+        return gf.deactivation_margin(s, y[n], ep[EP_LIMIT])
     if code == EV_ACTIVATE:
         return _activate(s, y, m, H, K, mp, ep)
     sgn = 1.0 if code == EV_UPLIFT_RIGHT else -1.0

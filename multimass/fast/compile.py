@@ -12,8 +12,9 @@ and says how long it took and whether the code came from the cache.
 Numba keys a cached function on the file that defines it, not on the files of
 the functions it calls: after an edit of `._maths` or `._rk` (or an upgrade)
 the cached `._kernel.integrate_phase` would be stale. `warm_up` therefore keeps
-a fingerprint of the kernel sources and numba's version beside the cache and
-drops the cached kernels when it changes.
+a fingerprint of the kernel sources, of the equations they compile
+(`multimass.equations`, `multimass.impact_models.gaussian_force`) and of
+numba's version beside the cache, and drops the cached kernels when it changes.
 """
 
 from __future__ import annotations
@@ -63,6 +64,8 @@ def _fingerprint() -> str:
     h = hashlib.sha256(numba.__version__.encode())
     for mod in _MODULES:
         h.update((Path(__file__).parent / f"{mod}.py").read_bytes())
+    for mod in (mx.eq, mx.gf):  # the equations the kernels compile
+        h.update(Path(mod.__file__).read_bytes())
     return h.hexdigest()
 
 

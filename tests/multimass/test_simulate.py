@@ -253,17 +253,35 @@ def test_series_columns_and_summary():
 
 
 def test_node_accelerations_follow_eq_7():
-    from multimass.eom import rocking_accelerations, total_accelerations
+    """The recorded a1..a5 against an independent calculation: the second time
+    derivative of each node's position, projected on the column's u direction,
+    plus the ground's and gravity's share (an accelerometer's reading).
 
+    Node i sits at X = (u − sB) cos θ + H sin θ, Y = −(u − sB) sin θ + H cos θ
+    from the pivot (paper 001, Fig 1); Eq 7 is Ẍ cos θ − Ÿ sin θ + ü_g cos θ − g sin θ.
+    Ẍ, Ÿ by the 5-point central difference of the recorded states (error ~3e-3 m/s²
+    here, against a centripetal term (±B − u) θ̇² of up to 0.12 m/s²).
+    """
     st = multimass.column("S1")
-    resp = simulate(st, CosinePulse(omega=15.0, amplitude=0.6 * 9.81), "CIM", 1.0)
-    df = resp.series
-    row = df[df.phase != 0].iloc[len(df[df.phase != 0]) // 2]
-    u = row[[f"u{i}" for i in range(1, 6)]].to_numpy(float)
-    ud = row[[f"udot{i}" for i in range(1, 6)]].to_numpy(float)
-    udd, thdd = rocking_accelerations(st, int(row.phase), u, row.theta, ud, row.thetadot, row.ag)
-    a = total_accelerations(st, int(row.phase), u, row.theta, udd, thdd, row.thetadot, row.ag)
-    np.testing.assert_allclose(row[[f"a{i}" for i in range(1, 6)]].to_numpy(float), a, rtol=1e-9)
+    h = 2e-4
+    exc = CosinePulse(omega=15.0, amplitude=0.6 * 9.81)
+    df = simulate(st, exc, "CIM", 1.0, output_dt=h, rtol=1e-11, atol=1e-14).series
+    t, ph, th, ag = (df[c].to_numpy() for c in ("t", "phase", "theta", "ag"))
+    U = df[[f"u{i}" for i in range(1, 6)]].to_numpy()
+    r = U - ph[:, None] * st.B
+    X = r * np.cos(th)[:, None] + st.H * np.sin(th)[:, None]
+    Y = -r * np.sin(th)[:, None] + st.H * np.cos(th)[:, None]
+    k = np.arange(2, t.size - 2)
+    ok = (ph[k] != 0) & (np.abs(t[k] - exc.duration) > 10 * h)  # ü_g jumps at the pulse's end
+    for d in (-2, -1, 1, 2):  # one phase, uniform spacing
+        ok &= (ph[k + d] == ph[k]) & (np.abs(t[k + d] - t[k] - d * h) < 1e-9 * h)
+    i = k[ok]
+    assert i.size > 4000
+    d2 = lambda Z: (-Z[i + 2] + 16 * Z[i + 1] - 30 * Z[i] + 16 * Z[i - 1] - Z[i - 2]) / (12 * h * h)
+    c, sn = np.cos(th[i])[:, None], np.sin(th[i])[:, None]
+    expected = d2(X) * c - d2(Y) * sn + ag[i, None] * c - st.g * sn
+    got = df[[f"a{i}" for i in range(1, 6)]].to_numpy()[i]
+    np.testing.assert_allclose(got, expected, rtol=0, atol=0.01)
 
 
 @pytest.mark.parametrize(
