@@ -85,7 +85,7 @@ def _map(n, repeat):
                 rest_after=exc.duration,
                 engine=engine,
             )
-            stats[res.status] += 1
+            stats[res.outcome] += 1  # "rest": stopped early, at rest
             stats["steps"] += res.n_steps
         return stats
 

@@ -4,52 +4,28 @@
 through the step kernel (`multimass._newmark_kernel.advance`), and the transitions
 between them — impact location with an unknown step Δt' and θ_{n+1} := 0, pre-impact
 rates (paper 004, Eqs 7–8), restitution, full contact (paper 001, Eq 9), overturning
-and the optional early stop. Its rows and events become a `NewmarkResult`.
+and the optional early stop. Its rows and events (`multimass.result.Event`) become a
+`NewmarkResult`.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import brentq
 
-from . import _newmark_kernel as kern
-from .errors import InputError
+from multimass.impact_models.models import next_phase_is_rocking
 
-__all__ = ["RockingEvent", "Run"]
+from . import _newmark_kernel as kern
+from . import equations as eq
+from .errors import InputError
+from .result import Event
+
+__all__ = ["Run", "peak_times"]
 
 _SNAP = 1e-9  # an event within _SNAP·Δt of a grid point is put on it
 _AT_REST = "excitation over and the block at rest in full contact"
-
-
-@dataclass(frozen=True)
-class RockingEvent:
-    """One phase transition.
-
-    Attributes
-    ----------
-    kind : {"uplift", "impact", "full_contact", "overturn", "rest"}
-    time : float
-        Instant (s).
-    theta : float
-        θ at the instant (rad): 0 for uplift, impact and full contact.
-    thetadot_minus, thetadot_plus : float
-        θ̇ just before and just after (rad/s); equal when nothing jumps.
-    restitution : float or None
-        r applied at an impact (θ̇+ = r θ̇−); None for other kinds.
-    side : int
-        Pivot after the event: +1 right, −1 left, 0 full contact / stopped.
-    """
-
-    kind: str
-    time: float
-    theta: float
-    thetadot_minus: float
-    thetadot_plus: float
-    restitution: float | None
-    side: int
 
 
 def _checked_r(fn, thd_minus: float, side: int) -> float:
@@ -149,16 +125,20 @@ class Run:
         self.N = t_grid.size - 1
         self.dt = opts["dt"]
         self.alpha, self.g, self.p2 = st.alpha_cg, st.g, st.p**2
+        self.j_new = (st.J_p, st.m_t, st.B)  # L about the impending pivot, per θ̇
+        self.J_p = st.J_p
         self.thr = st.g * math.tan(st.alpha_cg)  # uplift: |ü_g| > g tan α
         self.barrier = 1.0 - math.cos(st.alpha_cg)  # energy to reach θ = α, / m g R
         self.out = np.zeros((3, self.N + 1))
         self.inserts: list[tuple] = []  # (grid position, t, θ, θ̇, θ̈)
-        self.events: list[RockingEvent] = []
+        self.events: list[Event] = []
         self.peaks: list[float] = []
+        self.spans: list[tuple[float, float]] = []  # (start, end) of each peak's half-cycle
+        self.t_half = 0.0  # start of the current half-cycle
         self.si = np.zeros(3, dtype=np.int64)
         self.sf = np.zeros(2)
         self.written = 0
-        self.status, self.message, self.t_over = "completed", "", None
+        self.outcome, self.message, self.t_over = "completed", "", None
         ra = opts["rest_after"]
         kc = -1 if ra is None else int(np.searchsorted(t_grid, ra, side="left"))
         self.k_check = kc if 0 < kc <= self.N else -1
@@ -171,7 +151,12 @@ class Run:
         """Energy above rest / (m g R)."""
         return 0.5 * thd * thd / self.p2 + math.cos(self.alpha - abs(th)) - math.cos(self.alpha)
 
-    def energy_stop(self, t, th, thd) -> bool:
+    def close_half(self, t, peak=None):
+        """End the current half-cycle at t: keep its peak (default: the kernel's) and span."""
+        self.peaks.append(float(self.sf[0]) if peak is None else float(peak))
+        self.spans.append((self.t_half, t))
+
+    def energy_stop(self, t, th, thd, side) -> bool:
         """The early stop of `newmark_block` (rest_after) in flight or at an impact."""
         ra = self.o["rest_after"]
         if ra is None or t < ra or not abs(th) < self.alpha:
@@ -185,12 +170,14 @@ class Run:
             thd,
             "excitation over and energy below the overturning "
             "barrier m g R (1 − cos α): the block can no longer overturn",
+            side,
         )
         return True
 
-    def stop(self, status, t, th, thd, message, kind="rest"):
-        self.status, self.message = status, message
-        self.events.append(RockingEvent(kind, t, th, thd, thd, None, 0))
+    def stop(self, outcome, t, th, thd, message, side, kind="rest"):
+        """End the run with `outcome`: an event `kind` at t, the block on `side` (0: at rest)."""
+        self.outcome, self.message = outcome, message
+        self.events.append(Event(kind, t, side, side, th, thd, thd, detail=message))
 
     def row(self, k, t, th, thd, thdd) -> tuple[float, int]:
         """Write the state of an event at t; returns (start time, next grid point)."""
@@ -210,7 +197,7 @@ class Run:
         """Full contact from t_a (grid point k next). Returns the uplift start or None."""
         ra = self.o["rest_after"]
         if ra is not None and t_a >= ra:
-            self.stop("rest", t_a, 0.0, 0.0, _AT_REST)
+            self.stop("rest", t_a, 0.0, 0.0, _AT_REST, 0)
             return None
         a0 = float(self.ag(t_a))
         if abs(a0) > self.thr:  # uplift at once (at t_a)
@@ -221,7 +208,7 @@ class Run:
         kc = self.k_check
         if kc >= k and (j is None or j >= kc):  # rests until the excitation ends
             self.written = kc
-            self.stop("rest", float(self.t[kc]), 0.0, 0.0, _AT_REST)
+            self.stop("rest", float(self.t[kc]), 0.0, 0.0, _AT_REST, 0)
             return None
         if j is None:  # rests to t_end
             self.written = self.N
@@ -243,8 +230,8 @@ class Run:
             t_a = t_u
         else:
             t_a, k = self.row(k, t_u, 0.0, 0.0, thdd)
-        self.events.append(RockingEvent("uplift", t_u, 0.0, 0.0, 0.0, None, side))
-        self.sf[0] = 0.0
+        self.events.append(Event("uplift", t_u, 0, side))
+        self.sf[0], self.t_half = 0.0, t_u
         return t_a, k, 0.0, 0.0, thdd, side
 
     def fly(self, t_a, k, th, thd, thdd, side):
@@ -284,7 +271,7 @@ class Run:
             else:
                 self.written = kk - 1
             if code == kern.END:
-                self.peaks.append(float(self.sf[0]))
+                self.close_half(float(self.t[kk]))
                 return None
             if code == kern.FAIL:
                 return self.fail(pre, kk, side)
@@ -294,8 +281,8 @@ class Run:
                 self.k_check = -1
                 t_a, k = float(self.t[kk]), kk + 1
                 th, thd, thdd = (float(x) for x in self.out[:, kk])
-                if self.energy_stop(t_a, th, thd):
-                    self.peaks.append(float(self.sf[0]))
+                if self.energy_stop(t_a, th, thd, side):
+                    self.close_half(t_a)
                     return None
                 continue
             nxt = self.impact(pre, kk, side)  # code == CROSS
@@ -326,19 +313,22 @@ class Run:
         t_i = t_p + tau
         thdd_m = self.f(0.0, side, t_i)  # paper 004, Eq 8
         thd_m = thd + 0.5 * tau * (thdd + thdd_m)  # paper 004, Eq 7
-        self.peaks.append(float(self.sf[0]))
-        self.sf[0] = 0.0
+        self.close_half(t_i)
+        self.sf[0], self.t_half = 0.0, t_i
         new = -side
-        if abs(thd_m) <= self.o["thetadot_min"]:  # paper 001, Eq 9
-            self.events.append(RockingEvent("full_contact", t_i, 0.0, thd_m, 0.0, None, 0))
+        L_new = eq.pivot_momentum(0.0, thd_m, *self.j_new, 0.0)
+        if not next_phase_is_rocking(new, L_new, thd_m, self.o["thetadot_min"]):
+            loss = 0.5 * self.J_p * thd_m * thd_m
+            self.events.append(Event("full_contact", t_i, side, 0, 0.0, thd_m, 0.0, None, -loss))
             t_a, k = self.row(kk, t_i, 0.0, 0.0, 0.0)
             return t_a, k, 0.0, 0.0, 0.0, 0
         r = _checked_r(self.r_fn, thd_m, new)
         thd_p = r * thd_m  # θ̇+ = r θ̇− (paper 004, Sec 2.3)
         thdd_p = self.f(0.0, new, t_i)
-        self.events.append(RockingEvent("impact", t_i, 0.0, thd_m, thd_p, r, new))
+        change = 0.5 * self.J_p * (thd_p * thd_p - thd_m * thd_m)
+        self.events.append(Event("impact", t_i, side, new, 0.0, thd_m, thd_p, r, change))
         t_a, k = self.row(kk, t_i, 0.0, thd_p, thdd_p)
-        if self.energy_stop(t_i, 0.0, thd_p):
+        if self.energy_stop(t_i, 0.0, thd_p, new):
             return None
         return t_a, k, 0.0, thd_p, thdd_p, new
 
@@ -351,46 +341,81 @@ class Run:
         thd_o = thd + 0.5 * tau * (thdd + float(self.out[2, kk]))
         self.out[:, kk] = (side * ang, thd_o, self.f(side * ang, side, t_o))
         self.t_over = t_o
-        self.peaks.append(ang)
+        self.close_half(t_o, ang)
         msg = f"|θ| reached overturn_angle = {ang:.6g} rad at t = {t_o:.6g} s"
-        self.stop("overturned", t_o, side * ang, thd_o, msg, kind="overturn")
+        self.stop("overturned", t_o, side * ang, thd_o, msg, side, kind="overturn")
         return None
 
     def fail(self, pre, kk, side):
         t_p, th, thd, _ = pre
-        self.peaks.append(float(self.sf[0]))
-        self.status = "failed"
-        self.message = (
+        self.close_half(t_p)
+        msg = (
             f"Newton–Raphson did not converge in max_iter = {self.o['max_iter']} "
             f"iterations in the step from t = {t_p:.6g} s (θ = {th:.6g} rad, "
             f"θ̇ = {thd:.6g} rad/s) to t = {float(self.t[kk]):.6g} s; reduce `dt` "
             "or raise `max_iter`"
         )
+        self.stop("failed", t_p, th, thd, msg, side, kind="failed")
         return None
 
     def fields(self) -> dict:
-        """The fields of `multimass.newmark.NewmarkResult`."""
+        """The rows, events and counters of the run (`multimass.newmark.NewmarkResult`)."""
         n = self.written + 1
         t = self.t[:n].copy()
+        ag = self.agg[:n].copy()
         if self.t_over is not None:
             t[-1] = self.t_over
-        cols = [t, self.out[0, :n].copy(), self.out[1, :n].copy(), self.out[2, :n].copy()]
+            ag[-1] = float(self.ag(self.t_over))
+        cols = [t, self.out[0, :n].copy(), self.out[1, :n].copy(), self.out[2, :n].copy(), ag]
         ins = [r for r in self.inserts if r[0] <= n]
         if ins:
             pos = [r[0] for r in ins]
-            cols = [np.insert(c, pos, [r[i + 1] for r in ins]) for i, c in enumerate(cols)]
+            vals = [[*r[1:5], float(self.ag(r[1]))] for r in ins]
+            cols = [np.insert(c, pos, [v[i] for v in vals]) for i, c in enumerate(cols)]
         return dict(
             t=cols[0],
             theta=cols[1],
             thetadot=cols[2],
             thetaddot=cols[3],
+            ag=cols[4],
             events=tuple(self.events),
-            status=self.status,
+            outcome=self.outcome,
             message=self.message or "reached t_end",
             overturn_time=self.t_over,
             peaks=np.asarray(self.peaks, dtype=float),
+            peak_times=peak_times(*cols[:4], self.spans),
             n_steps=int(self.si[0]),
             n_newton_iterations=int(self.si[1]),
             max_newton_iterations=int(self.si[2]),
             dt=self.dt,
         )
+
+
+def peak_times(t, theta, thetadot, thetaddot, spans) -> np.ndarray:
+    """Instant of each half-cycle's peak ``|θ|`` (s); `spans` holds (start, end) per half-cycle.
+
+    The largest ``|θ|`` among the rows of the span, or inside a step where θ̇ changes sign:
+    Newmark's constant average acceleration makes θ quadratic in the step, with its
+    extremum at τ = −θ̇_n / ā, ā = (θ̈_n + θ̈_{n+1}) / 2 (as the kernel refines the peak).
+    """
+    th0, th1, thd0, thd1 = theta[:-1], theta[1:], thetadot[:-1], thetadot[1:]
+    s = np.sign(np.where(th1 != 0.0, th1, th0))
+    abar = 0.5 * (thetaddot[:-1] + thetaddot[1:])
+    turn = (s * thd0 > 0.0) & (s * thd1 <= 0.0) & (abar != 0.0)
+    safe = np.where(turn, abar, 1.0)
+    pk = np.where(turn, s * (th0 - 0.5 * thd0 * thd0 / safe), -np.inf)
+    t_pk = t[:-1] - thd0 / safe
+    out = np.zeros(len(spans))
+    for j, (a, b) in enumerate(spans):
+        i0 = int(np.searchsorted(t, a, side="left"))
+        i1 = int(np.searchsorted(t, b, side="right"))
+        if i1 <= i0:
+            out[j] = a
+            continue
+        best = i0 + int(np.argmax(np.abs(theta[i0:i1])))
+        out[j] = t[best]
+        if i1 - 1 > i0:  # steps i0 → i0+1, …, i1−2 → i1−1
+            k = i0 + int(np.argmax(pk[i0 : i1 - 1]))
+            if pk[k] > abs(theta[best]):
+                out[j] = t_pk[k]
+    return out

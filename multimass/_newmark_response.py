@@ -10,19 +10,13 @@ import pandas as pd
 
 from multimass.impact_models import Classical, ImpactContext
 
+from . import equations as eq
 from .errors import InputError
 from .newmark import newmark_block
-from .response import Event, Response
+from .response import Response
+from .result import status_of
 
 __all__ = ["simulate_newmark"]
-
-_KINDS = {
-    "uplift": "uplift",
-    "impact": "impact",
-    "full_contact": "full_contact",
-    "overturn": "overturn",
-    "rest": "rest",
-}
 
 
 def _restitution(st, model, rng):
@@ -59,7 +53,7 @@ def simulate_newmark(
     *,
     dt,
     seed,
-    theta_dot_min,
+    thetadot_min,
     overturn_angle,
     stop_when_safe,
     options,
@@ -82,51 +76,32 @@ def simulate_newmark(
         restitution=_restitution(st, model, np.random.default_rng(seed)),
         theta0=theta0,
         overturn_angle=overturn_angle,
-        thetadot_min=theta_dot_min,
+        thetadot_min=thetadot_min,
         rest_after=duration if stop_when_safe and math.isfinite(duration) else None,
     )
     wall = time.perf_counter() - wall
-    return _to_response(st, res, ag, wall, options, t_end, floor)
+    return _to_response(st, res, wall, options, t_end, floor)
 
 
-def _to_response(st, res, ag_fn, wall, options, t_end, floor) -> Response:
+def _to_response(st, res, wall, options, t_end, floor) -> Response:
+    """The `Response` of a `NewmarkResult`: its events (`multimass.result.Event` already,
+    a "release" first, with their energy changes); the ledger as the
+    engine's (`multimass.equations` with no elastic nodes). The status is the physical
+    one: `simulate` judges the ledger with its own `energy_tol` (`multimass.checks.judge`)."""
     t, th, thd = res.t, res.theta, res.thetadot
-    events = [Event("release", 0.0, int(np.sign(th[0])), int(np.sign(th[0])), theta=float(th[0]))]
-    side = int(np.sign(th[0]))
-    for e in res.events:
-        kind = _KINDS.get(e.kind, e.kind)
-        loss = (
-            0.5 * st.J_p * (e.thetadot_minus**2 - e.thetadot_plus**2)
-            if kind in ("impact", "full_contact")
-            else 0.0
-        )
-        events.append(
-            Event(
-                kind,
-                e.time,
-                side,
-                e.side,
-                theta=e.theta,
-                thetadot_minus=e.thetadot_minus,
-                thetadot_plus=e.thetadot_plus,
-                restitution=e.restitution,
-                energy_change=-loss,
-            )
-        )
-        side = e.side
+    events = list(res.events)
     # phase of each row: the side of θ, or of the pivot just taken at θ = 0
     phase = np.sign(th).astype(int)
     for e in res.events:
         if e.kind in ("uplift", "impact", "full_contact"):
-            phase[t == e.time] = e.side
-    ag = np.asarray(ag_fn(t), dtype=float)
-    # rigid body (kinematics.py with u = 0): T = ½ J_p θ̇², V = g (h (cos θ − 1) + s B m_t sin θ),
-    # ground power −ü_g θ̇ (h cos θ + s B m_t sin θ), with h = m0 h0 the static moment
-    height, lever = st.static_moment, phase * st.B * st.m_t
+            phase[t == e.time] = e.phase_after
+    ag = res.ag
+    # the rigid body's ledger: multimass.equations with no elastic nodes (u = 0)
+    h, lever = st.static_moment, eq.lever_arm(phase, st.B, st.m_t, 0.0)
     c, sn = np.cos(th), np.sin(th)
-    T = 0.5 * st.J_p * thd**2
-    V = np.where(phase == 0, 0.0, st.g * (height * (c - 1.0) + lever * sn))
-    P = np.where(phase == 0, 0.0, -ag * thd * (height * c + lever * sn))
+    T = eq.kinetic_energy(0.0, 0.0, eq.rocking_inertia(st.J_p, 0.0, phase, st.B, 0.0), thd)
+    V = np.where(phase == 0, 0.0, eq.gravitational_energy(st.g, h, lever, c, sn))
+    P = np.where(phase == 0, 0.0, eq.ground_power(ag, 0.0, thd, h, lever, c, sn))
     Wg = np.concatenate([[0.0], np.cumsum(0.5 * (P[1:] + P[:-1]) * np.diff(t))])
     losses = np.zeros_like(t)
     for e in events:
@@ -152,15 +127,14 @@ def _to_response(st, res, ag_fn, wall, options, t_end, floor) -> Response:
             "balance_error": balance,
         }
     )
-    status = {"rest": "completed"}.get(res.status, res.status)
     return Response(
         structure_name=st.name,
-        status=status,
+        status=status_of(res.outcome),
         message=res.message,
         series=series,
         events=events,
         peaks=np.asarray(res.peaks, dtype=float),
-        peak_times=np.full(len(res.peaks), np.nan),
+        peak_times=np.asarray(res.peak_times, dtype=float),
         energy_reference=ref,
         energy_balance_error=float(np.max(np.abs(balance)) / ref),
         wall_time_s=wall,
@@ -173,4 +147,5 @@ def _to_response(st, res, ag_fn, wall, options, t_end, floor) -> Response:
         },
         n_rhs=res.n_newton_iterations,
         t_end=t_end,
+        outcome=res.outcome,
     )

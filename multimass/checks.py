@@ -23,12 +23,9 @@ from __future__ import annotations
 
 import dataclasses
 
-__all__ = ["STATUSES", "OUTCOMES", "energy_floor", "energy_check", "judge"]
+from .result import OUTCOMES, STATUSES, status_of
 
-#: What a run's status can be.
-STATUSES = ("completed", "overturned", "inaccurate", "failed")
-#: What a run's physical outcome can be.
-OUTCOMES = ("completed", "overturned", "failed")
+__all__ = ["STATUSES", "OUTCOMES", "energy_floor", "energy_check", "judge"]
 
 
 def energy_floor(structure, atol: float) -> float:
@@ -67,15 +64,14 @@ def judge(result, energy_tol: float):
     The same type, with ``outcome`` (the physical end), ``checks``, ``warnings``
     and ``status`` ("inaccurate" if a check failed and the run did not fail).
     """
-    outcome = result.status
+    outcome = result.outcome or result.status
     checks = dict(result.checks)
     warnings = list(result.warnings)
     if outcome != "failed":
         checks["energy_balance"] = energy_check(result.energy_balance_error, energy_tol)
         if not checks["energy_balance"]["passed"]:
             warnings.append(_energy_warning(checks["energy_balance"]))
-    failed = any(not c["passed"] for c in checks.values())
-    status = "inaccurate" if failed and outcome != "failed" else outcome
+    status = status_of(outcome, all(c["passed"] for c in checks.values()))
     return dataclasses.replace(
         result, status=status, outcome=outcome, checks=checks, warnings=tuple(warnings)
     )

@@ -41,15 +41,43 @@ friction coefficient ``mu`` when one is given.
 A model supplies ``n``, ``k``, ``mass(q)``, ``forces(t, q, v)``,
 ``contacts(q, v) -> (g, W_N, W_T, ŵ_N, ŵ_T)``, ``energy(q, v)`` (kinetic +
 potential, J), ``powers(t, q, v) -> (ground power, damping power)`` and
-optionally ``events`` (extra terminal events ``f(t, q, v)``, e.g. overturning).
+optionally
+
+* ``events``: extra terminal events, a sequence of ``(name, f(t, q, v))``, e.g.
+  ``("overturn", ...)``. A run stopped by one ends with an event and an outcome
+  named after it (`model_stop`): "overturn" or "overturned" give the event kind
+  "overturn" and the outcome "overturned"; another name that is one of
+  `multimass.result.EVENT_KINDS` keeps it as the kind (with its outcome when it
+  is one of `multimass.result.OUTCOMES`, e.g. "rest", else "completed"); any
+  other name gives the kind "stopped" and the outcome "completed". The event's
+  ``detail`` holds the model's name either way.
+* ``rotation``: the index in q of a rotation φ, counter-clockwise positive (paper
+  000); the response then gives the toolkit's θ = −φ (θ > 0 rocks about the right
+  pivot), its half-cycle peaks, and θ in the events. Without it θ is NaN and there
+  are no peaks.
+* ``pivots``: the indices (left, right) of the two contacts a body rocks on; the
+  events' and the series' phases are then 0 (both closed: full contact), +1 (the
+  right one only: rocking about the right pivot), −1 (the left one only) and None
+  (neither: flight). Without it the phases are None.
+
+The result follows the toolkit's one result contract (`multimass.result`): a
+`ContactResponse` is a `multimass.result.Result` (engine "contact") whose events are
+`ContactEvent`, a `multimass.result.Event` with the contact sets: the kinds are
+"release" (the given state, first; its phases those of the resting contacts and of the
+closed set chosen from them), "impact", "uplift" (a closed contact lifts off, paper
+000's lift-off: into rocking or flight), "rest" (the "zeno_rest" above, ``detail``
+"zeno_rest"), the model events' kinds, and "failed". The "release" does not count
+towards ``max_events``.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
+import pandas as pd
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize_scalar
 
@@ -77,35 +105,123 @@ from ._contact_phase import (
     _select,
 )
 from .errors import InputError, SolverError
+from .result import EVENT_KINDS, OUTCOMES, Event, Result, status_of
 
-__all__ = ["ContactEvent", "ContactResponse", "FrictionDemand", "simulate_contacts"]
+__all__ = [
+    "ContactEvent",
+    "ContactResponse",
+    "FrictionDemand",
+    "simulate_contacts",
+    "model_stop",
+    "half_cycle_peaks",
+]
+
+#: θ closer to 0 than this (rad) counts as upright between half-cycles (`half_cycle_peaks`)
+THETA_ZERO = 1e-12
 
 
-@dataclass(frozen=True)
-class ContactEvent:
-    """One event: ``kind`` is "impact", "liftoff", "zeno_rest" or a model event name.
+@dataclass(frozen=True, eq=False)
+class ContactEvent(Event):
+    """One event of `simulate_contacts`: a `multimass.result.Event` with the contact sets.
 
-    ``closed_before`` / ``closed_after`` are the closed contact sets;
-    ``contacts`` the contacts taking part in an impact (the columns of its
-    W_N, in order); ``impact`` holds the Poisson impact result, else None.
+    ``kind`` is "release" (the given state at t0, first), "impact", "uplift" (a closed
+    contact lifts off), "rest" (an accumulation of impacts ended, ``detail``
+    "zeno_rest"), "failed", or the kind of a model's terminal event (`model_stop`;
+    ``detail`` holds the model's name).
+    ``phase_before`` / ``phase_after`` follow the model's ``pivots`` (module
+    docstring), θ and θ̇ its ``rotation`` (0 without one); ``restitution`` is the
+    Poisson coefficient ε_P of an impact's contacts (None if they differ) and
+    ``energy_change`` the energy the event took (J: the impact loss with a minus sign).
+
+    Attributes
+    ----------
+    closed_before, closed_after : tuple of int
+        The closed contact sets.
+    impact : PoissonImpact or None
+        The Poisson impact result of an impact, else None.
+    contacts : tuple of int
+        The contacts taking part in an impact (the columns of its W_N, in order).
     """
 
-    time: float
-    kind: str
-    closed_before: tuple[int, ...]
-    closed_after: tuple[int, ...]
+    closed_before: tuple[int, ...] = ()
+    closed_after: tuple[int, ...] = ()
     impact: PoissonImpact | None = None
     contacts: tuple[int, ...] = ()
 
 
+def model_stop(name: str) -> tuple[str, str]:
+    """(event kind, outcome) of a run stopped by the model's terminal event `name`.
+
+    "overturn" / "overturned" → ("overturn", "overturned"); a name in
+    `multimass.result.EVENT_KINDS` is kept, its outcome the name if it is one of
+    `multimass.result.OUTCOMES` (e.g. "rest"), else "completed"; any other name →
+    ("stopped", "completed").
+    """
+    if name in ("overturn", "overturned"):
+        return "overturn", "overturned"
+    if name in EVENT_KINDS:
+        return name, name if name in OUTCOMES else "completed"
+    return "stopped", "completed"
+
+
+def phase_of(closed, pivots) -> int | None:
+    """Phase of a closed contact set: 0 both pivots, +1 the right only, −1 the left only,
+    None neither (flight) or no ``pivots`` = (left, right)."""
+    if pivots is None:
+        return None
+    left, right = (p in closed for p in pivots)
+    return 0 if left and right else 1 if right else -1 if left else None
+
+
+def _bits(mask: int) -> tuple[int, ...]:
+    """The contacts of a closed-set bit mask."""
+    return tuple(j for j in range(int(mask).bit_length()) if mask >> j & 1)
+
+
+def half_cycle_peaks(t, theta) -> tuple[np.ndarray, np.ndarray]:
+    """(peaks, times): the largest ``|θ|`` of each half-cycle of sampled θ, and its time.
+
+    A half-cycle is a run of samples of one sign (``|θ|`` ≤ `THETA_ZERO` counts as 0 and
+    belongs to none: full contact), the unfinished last one included; its largest
+    sample is refined by the parabola through it and its neighbours when that
+    parabola peaks between them. A release from rest at θ0 ≠ 0 gives ``|θ0|`` first.
+    Repeated times (an event's before and after samples) keep the last sample.
+    """
+    t, theta = np.asarray(t, dtype=float), np.asarray(theta, dtype=float)
+    if t.size == 0:
+        return np.zeros(0), np.zeros(0)
+    keep = np.r_[np.diff(t) > 0, True]
+    t, theta = t[keep], theta[keep]
+    peaks, times = [], []
+    sign = np.sign(np.where(np.abs(theta) > THETA_ZERO, theta, 0.0))
+    edges = np.flatnonzero(np.diff(sign) != 0) + 1
+    for a, b in zip(np.r_[0, edges], np.r_[edges, sign.size]):
+        if sign[a] == 0:
+            continue
+        i = a + int(np.argmax(np.abs(theta[a:b])))
+        pk, tp = abs(float(theta[i])), float(t[i])
+        if a < i < b - 1:
+            c = np.polyfit(t[i - 1 : i + 2] - t[i], np.abs(theta[i - 1 : i + 2]), 2)
+            if c[0] < 0 and abs(c[1] / (2 * c[0])) < t[i + 1] - t[i - 1]:
+                tv = -c[1] / (2 * c[0])
+                pk, tp = float(np.polyval(c, tv)), float(t[i] + tv)
+        peaks.append(pk)
+        times.append(tp)
+    return np.asarray(peaks, dtype=float), np.asarray(times, dtype=float)
+
+
 @dataclass(frozen=True, eq=False)
-class ContactResponse:
+class ContactResponse(Result):
     """Sampled response, energy ledger and checks of `simulate_contacts`.
+
+    A `multimass.result.Result` (engine "contact"); the views `BlockResponse`
+    (`multimass.poisson_block`) and `OscillatorResponse`
+    (`multimass.flexible_oscillator`) name its coordinates.
 
     Attributes
     ----------
     t : ndarray, shape (m,)
-        Sample times; the first sample is the given initial state, and event
+        Sample times (s); the first sample is the given initial state, and event
         times (and t0) appear twice: before and after.
     q, v : ndarray, shape (m, n)
     closed : ndarray of int, shape (m,)
@@ -115,12 +231,15 @@ class ContactResponse:
         cumulative damping dissipation, impact losses (Poisson impacts and
         "zeno_rest") and the energy removed by drift projections (J).
     events : tuple of ContactEvent
-    status : str
-        ``outcome`` when every check passed, else ``"inaccurate"``; "failed"
-        when the solvers could not go on (the history up to there is kept).
+    status : {"completed", "overturned", "inaccurate", "failed"}
+        ``outcome`` through `multimass.result.status_of` when every check passed,
+        else "inaccurate"; "failed" when the solvers could not go on (the history
+        up to there is kept) or the event budget ran out ("max_events").
     message : str
-    outcome : {"completed", "overturned", "max_events", "failed"} or a model event name
-        How the run ended, whatever the checks say.
+    outcome : str
+        How the run ended, whatever the checks say: "completed", "max_events",
+        "failed", or the outcome of a model's terminal event (`model_stop`, e.g.
+        "overturned"); one of `multimass.result.OUTCOMES`.
     checks : dict
         name → {"value": float, "limit": float, "passed": bool}:
         ``energy_balance``, ``projection`` and, with ``mu``, ``friction_smooth``
@@ -130,6 +249,18 @@ class ContactResponse:
     friction : FrictionDemand
         Largest friction demand ``|λ_T|/λ_N`` over the smooth phases and the
         impacts, with their times (always reported, `mu` or not).
+    rotation : int or None
+        Index in q of the model's rotation φ (counter-clockwise positive), which
+        gives θ = −φ; None: the model has none (θ is NaN, no peaks).
+    pivots : tuple of int or None
+        The model's (left, right) contacts, which give the phases.
+
+    Notes
+    -----
+    ``theta``, ``thetadot`` (rad, rad/s), ``peaks`` and ``peak_times``
+    (`half_cycle_peaks` of the samples), ``series`` and ``ledger`` are derived from
+    these; ``summary()`` adds the friction demand (an unbounded demand becomes None
+    in JSON, see ``friction``).
     """
 
     t: np.ndarray
@@ -148,6 +279,10 @@ class ContactResponse:
     checks: dict
     warnings: tuple[str, ...]
     friction: FrictionDemand
+    rotation: int | None = None
+    pivots: tuple[int, int] | None = None
+
+    engine = "contact"
 
     @property
     def ledger_error(self) -> np.ndarray:
@@ -164,7 +299,96 @@ class ContactResponse:
 
     @property
     def impacts(self) -> tuple[ContactEvent, ...]:
+        """The events that hold a Poisson impact (kind "impact")."""
         return tuple(e for e in self.events if e.impact is not None)
+
+    @property
+    def theta(self) -> np.ndarray:
+        """θ = −φ at the samples (rad; θ > 0 rocks about the right pivot); NaN without
+        a ``rotation``."""
+        if self.rotation is None:
+            return np.full(self.t.size, np.nan)
+        return -self.q[:, self.rotation]
+
+    @property
+    def thetadot(self) -> np.ndarray:
+        """θ̇ = −φ̇ at the samples (rad/s); NaN without a ``rotation``."""
+        if self.rotation is None:
+            return np.full(self.t.size, np.nan)
+        return -self.v[:, self.rotation]
+
+    @cached_property
+    def _peaks(self) -> tuple[np.ndarray, np.ndarray]:
+        if self.rotation is None:
+            return np.zeros(0), np.zeros(0)
+        return half_cycle_peaks(self.t, self.theta)
+
+    @property
+    def peaks(self) -> np.ndarray:
+        """Largest ``|θ|`` of each half-cycle in order (rad), the unfinished last one
+        included; a release from rest at θ0 ≠ 0 starts with ``|θ0|`` (`half_cycle_peaks`)."""
+        return self._peaks[0]
+
+    @property
+    def peak_times(self) -> np.ndarray:
+        """Instants of `peaks` (s)."""
+        return self._peaks[1]
+
+    @property
+    def phase(self) -> pd.Series:
+        """Phase at the samples (pandas Int64): 0 full contact, +1 / −1 rocking about the
+        right / left pivot, <NA> in flight or without ``pivots``."""
+        masks = self.closed.tolist()
+        codes = {m: phase_of(_bits(m), self.pivots) for m in set(masks)}
+        return pd.Series([codes[m] for m in masks], dtype="Int64")
+
+    @property
+    def series(self) -> pd.DataFrame:
+        """The samples: ``t``, ``theta``, ``thetadot``, ``phase`` (see `phase`), ``closed``
+        (bit mask), ``q0``…, ``v0``… (the model's coordinates and rates)."""
+        cols = {"t": self.t, "theta": self.theta, "thetadot": self.thetadot}
+        df = pd.DataFrame(cols)
+        df["phase"] = self.phase.array
+        df["closed"] = self.closed
+        for j in range(self.q.shape[1] if self.q.ndim == 2 else 0):
+            df[f"q{j}"] = self.q[:, j]
+        for j in range(self.v.shape[1] if self.v.ndim == 2 else 0):
+            df[f"v{j}"] = self.v[:, j]
+        return df
+
+    @property
+    def ledger(self) -> pd.DataFrame:
+        """The energy ledger at the samples (J; `multimass.result.LEDGER_NAMES`): ``t``,
+        ``energy``, ``ground_work``, ``damping``, ``impact`` (`impact_loss`),
+        ``projection`` (`projection_loss`) and ``balance_error`` (`ledger_error`)."""
+        return pd.DataFrame(
+            {
+                "t": self.t,
+                "energy": self.energy,
+                "ground_work": self.ground_work,
+                "damping": self.damping,
+                "impact": self.impact_loss,
+                "projection": self.projection_loss,
+                "balance_error": self.ledger_error,
+            }
+        )
+
+    def _summary_extra(self) -> dict:
+        fr = self.friction
+        return {
+            "n_events": len(self.events),
+            "n_uplifts": sum(e.kind == "uplift" for e in self.events),
+            "overturn_time": next((e.time for e in self.events if e.kind == "overturn"), None),
+            "energy_balance_error": self.checks.get("energy_balance", {}).get("value"),
+            "friction_demand": {
+                "smooth": fr.smooth,
+                "smooth_time": fr.smooth_time,
+                "impact": fr.impact,
+                "impact_time": fr.impact_time,
+            },
+            "t_end": float(self.t[-1]) if self.t.size else None,
+            "final_energy": float(self.energy[-1]) if self.energy.size else None,
+        }
 
 
 class _Driver:
@@ -175,6 +399,32 @@ class _Driver:
         self.out, self.events, self.loss = [], [], 0.0
         self.proj, self.proj_abs = 0.0, 0.0
         self.fd = dict(smooth=0.0, smooth_time=None, impact=0.0, impact_time=None)
+        self.release = None  # the "release" event: the given state (`start`)
+        self.rot = getattr(model, "rotation", None)
+        self.pivots = getattr(model, "pivots", None)
+
+    def angles(self, y) -> tuple[float, float]:
+        """(θ, θ̇) = (−φ, −φ̇) of a state y (0, 0 without a model ``rotation``)."""
+        if self.rot is None:
+            return 0.0, 0.0
+        return -float(y[self.rot]), -float(y[self.model.n + self.rot])
+
+    def event(self, kind, t, y, S, S_new, *, y_minus=None, **kw) -> ContactEvent:
+        """A `ContactEvent` at t: closed sets S → S_new, state y after (y_minus before)."""
+        th, thd_plus = self.angles(y)
+        thd_minus = thd_plus if y_minus is None else self.angles(y_minus)[1]
+        return ContactEvent(
+            kind,
+            float(t),
+            phase_of(S, self.pivots),
+            phase_of(S_new, self.pivots),
+            th,
+            thd_minus,
+            thd_plus,
+            closed_before=tuple(S),
+            closed_after=tuple(S_new),
+            **kw,
+        )
 
     def record(self, ts, ys, S):
         n = self.model.n
@@ -316,32 +566,36 @@ class _Driver:
                 for j in set(S) | set(closing) | {j for j in range(k) if abs(g[j]) <= o["gap_tol"]}
             )
         )
-        old = y[: 2 * n].copy()
+        y_minus, old = y.copy(), y[: 2 * n].copy()
         y[:n] = q = _project_q(m, K, q, v)  # the impact happens at g_N = 0
         self.book_projection(y, old)
         _, WN, WT, _, _ = m.contacts(q, v)
         _, tk = _constraint_matrix(WN, WT, K)
         approach = -(WN[:, list(closing)].T @ v).min(initial=0.0)
         if closing and approach < o["zeno_velocity"]:  # accumulation of impacts: come to rest
-            res, kind = None, "zeno_rest"
             e_before = m.energy(q, v)
             y[: 2 * n] = _project(m, K, q.copy(), v.copy())
-            self.loss += e_before - m.energy(y[:n], y[n : 2 * n])
-            cands = list(K)
+            lost = e_before - m.energy(y[:n], y[n : 2 * n])
+            kw = dict(energy_change=-lost, detail="zeno_rest")
+            res, kind, cands = None, "rest", list(K)
         else:
             res = poisson_impact(m.mass(q), WN[:, list(K)], WT[:, tk], v, self.eps[list(K)])
             y[n : 2 * n] = res.u_plus
-            self.loss += res.energy_loss
+            lost = res.energy_loss
+            eps = set(self.eps[list(K)].tolist())
+            kw = dict(energy_change=-lost, restitution=eps.pop() if len(eps) == 1 else None)
             cands = [K[i] for i, st in enumerate(res.final_states) if st == "closed"]
             kind = "impact"
             self.note("impact", impact_ratio(res, tangential_groups(WT, K, tk)), t)
-        return self.after(t, y, S, cands, kind, res, K)
+        self.loss += lost
+        return self.after(t, y, S, cands, kind, res, K, y_minus=y_minus, **kw)
 
-    def after(self, t, y, S, cands, kind, res, K):
+    def after(self, t, y, S, cands, kind, res, K, **kw):
         """Log the event, choose the new closed set among `cands` and record the state."""
         n = self.model.n
         S_new = _select(self.model, t, y[:n], y[n : 2 * n], cands, self.o["ftol"])
-        self.events.append(ContactEvent(t, kind, tuple(S), S_new, res, tuple(int(j) for j in K)))
+        contacts = tuple(int(j) for j in K)
+        self.events.append(self.event(kind, t, y, S, S_new, impact=res, contacts=contacts, **kw))
         self.record(np.array([t]), y[:, None], S_new)
         return S_new
 
@@ -351,7 +605,7 @@ class _Driver:
         if closing:
             return self.impact(t, y, S, closing)
         cands = [j for j in S if j not in hit_contacts]  # lift-off: the unloading contact leaves
-        return self.after(t, y, S, cands, "liftoff", None, tuple(hit_contacts))
+        return self.after(t, y, S, cands, "uplift", None, tuple(hit_contacts))
 
     def start(self, t, y):
         """Closed set at t0 from the given state; records it, applies an impact at t0 if due.
@@ -370,25 +624,35 @@ class _Driver:
         closing = [j for j, x in zip(touch, gn) if x < -vtol]
         slip = any(abs(x) > vtol for j, x in zip(touch, gt) if j in rest)
         self.record(np.array([t]), y[:, None], rest)  # the given state
+        self.release = self.event("release", t, y, rest, rest)
         if closing or slip:
             return self.impact(t, y, rest, closing)
-        return _select(m, t, q, v, rest, o["ftol"])
+        S = _select(m, t, q, v, rest, o["ftol"])
+        self.release = self.event("release", t, y, rest, S)  # resting contacts may open
+        return S
 
     def run(self, y, t, t_end, breakpoints):
-        """Run to `t_end`; a failure of the solvers ends the run with status "failed"."""
+        """Run to `t_end`: (outcome, message); a failure of the solvers ends the run with
+        the outcome "failed" and an event "failed" at the last recorded state."""
         try:
             return self.loop(y, t, t_end, breakpoints)
         except (SolverError, LCPError, np.linalg.LinAlgError) as err:  # keep the history
-            return "failed", f"{type(err).__name__}: {err}"
+            message = f"{type(err).__name__}: {err}"
+            if self.out:
+                ts, qs, vs, masks = self.out[-1][:4]
+                S = _bits(int(masks[-1]))
+                y_last = np.concatenate([qs[-1], vs[-1]])
+                self.events.append(self.event("failed", ts[-1], y_last, S, S, detail=message))
+            return "failed", message
 
     def loop(self, y, t, t_end, breakpoints):
         m, n, k = self.model, self.model.n, self.model.k
         names = [name for name, _ in getattr(m, "events", ())]
-        status, message = "completed", f"reached t_end = {t_end:g} s"
+        outcome, message = "completed", f"reached t_end = {t_end:g} s"
         S = self.start(t, y)
         while t < t_end:
             if len(self.events) >= self.o["max_events"]:
-                status = "max_events"
+                outcome = "max_events"
                 message = f"stopped after {len(self.events)} events at t = {t:.6g} s"
                 break
             self.project(S, y)
@@ -400,23 +664,24 @@ class _Driver:
                 t, y, idx = self.smooth(ph, t, t_stop, y)
                 model_ev = [names[i - k] for i in idx if i >= k]
                 if model_ev:
-                    self.events.append(ContactEvent(t, model_ev[0], S, S))
-                    status, message = model_ev[0], f"{model_ev[0]} at t = {t:.6g} s"
+                    kind, outcome = model_stop(model_ev[0])
+                    self.events.append(self.event(kind, t, y, S, S, detail=model_ev[0]))
+                    message = f"{model_ev[0]} at t = {t:.6g} s"
                     break
                 hit = [i for i in idx if i < k]
             if hit:
                 S = self.transition(t, y, S, hit)
-        return status, message
+        return outcome, message
 
-    def response(self, status, message, mu) -> ContactResponse:
+    def response(self, outcome, message, mu) -> ContactResponse:
         cat = [np.concatenate([o[i] for o in self.out]) for i in range(9)]
         demand = FrictionDemand(**self.fd)
         ledger = cat[4] - cat[4][0] - cat[5] + cat[6] + cat[7] + cat[8]
         checks, warnings = run_checks(
             cat[4], ledger, cat[5], self.proj_abs, demand, mu, self.o["e_floor"]
         )
-        failed = not all(c["passed"] for c in checks.values())
-        if failed:
+        passed = all(c["passed"] for c in checks.values())
+        if not passed:
             message = f"{message}; checks failed: " + "; ".join(warnings)
         return ContactResponse(
             t=cat[0],
@@ -428,13 +693,15 @@ class _Driver:
             damping=cat[6],
             impact_loss=cat[7],
             projection_loss=cat[8],
-            events=tuple(self.events),
-            status="inaccurate" if failed and status != "failed" else status,
+            events=tuple(self.events if self.release is None else [self.release, *self.events]),
+            status=status_of(outcome, passed),
             message=message,
-            outcome=status,
+            outcome=outcome,
             checks=checks,
             warnings=warnings,
             friction=demand,
+            rotation=self.rot,
+            pivots=None if self.pivots is None else tuple(self.pivots),
         )
 
 
@@ -481,8 +748,11 @@ def simulate_contacts(
         An impact with an approach speed below this ends an accumulation of
         ever smaller impacts (bouncing, or rocking whose half-cycles shrink to
         zero): all contacts of the impact are kept closed, i.e. the velocity is
-        projected onto their constraints, an event "zeno_rest" (m/s).
+        projected onto their constraints: an event "rest" with ``detail``
+        "zeno_rest" (m/s).
     max_events : int
+        Event budget: a run that uses it up before `t_end` ends with the outcome
+        "max_events" (status "failed").
     breakpoints : sequence of float
         Times where the excitation has a kink (integration restarts there).
     max_step : float
@@ -500,12 +770,13 @@ def simulate_contacts(
     Returns
     -------
     ContactResponse
-        ``status`` is "inaccurate" when a check fails (``outcome`` keeps
-        "completed", "overturned", "max_events", ...); ``checks`` and
-        ``warnings`` say which (`multimass._contact_checks`). A run the solvers
-        cannot continue (integrator or LCP failure, no consistent set of closed
-        contacts) returns its history with status and outcome "failed" and the
-        cause in ``message``.
+        ``status`` is `multimass.result.status_of` of the ``outcome``
+        ("completed", "overturned", "max_events" → "failed", ...), or
+        "inaccurate" when a check fails; ``checks`` and ``warnings`` say which
+        (`multimass._contact_checks`). A run the solvers cannot continue
+        (integrator or LCP failure, no consistent set of closed contacts)
+        returns its history with status and outcome "failed", an event
+        "failed" and the cause in ``message``.
 
     Raises
     ------
@@ -539,7 +810,7 @@ def simulate_contacts(
     opts["ftol"] = 1e-10 * max(h0, 1.0)
     opts["e_floor"] = h0 * opts["gap_tol"]  # energy resolved by the contact geometry
     drv = _Driver(model, eps, opts)
-    status, message = drv.run(
+    outcome, message = drv.run(
         np.concatenate([q, v, [0.0, 0.0]]), t0, t_end, [b for b in bps if t0 < b < t_end]
     )
-    return drv.response(status, message, mu)
+    return drv.response(outcome, message, mu)

@@ -3,8 +3,10 @@
 A lumped mass m on a flexible column (mass m_c, height h, stiffness EI,
 shape ψ of Eq 26) standing on a rigid base (mass m_b, width 2b) that can
 rock, bounce or fly on a rigid ground. Coordinates q = (u, x, y, φ), φ
-counter-clockwise positive as in paper 000; contact 0 is the left base
-corner, contact 1 the right one. The equations of motion come from
+counter-clockwise positive as in paper 000 (the toolkit's θ = −φ); contact 0
+is the left base corner, contact 1 the right one: phase +1 (result contract,
+`multimass.result`) rocks on the right corner, −1 on the left, 0 is full
+contact, None flight; ``|φ|`` = π/2 is an event "overturn". The equations of motion come from
 `multimass.flexible_oscillator_eom` (SymPy, Lagrangian of Eq 30); phases and
 impacts from `multimass.contact_dynamics` and `impact_models.poisson_impact`.
 
@@ -24,12 +26,14 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
+import pandas as pd
 import sympy as sp
 
 from ._contact_checks import ground_excitation
 from .contact_dynamics import ContactResponse, simulate_contacts
 from .errors import InputError
 from .flexible_oscillator_eom import numeric, symbolic
+from .result import Result
 from .validation import number, positive
 
 __all__ = ["FlexibleOscillator", "OscillatorResponse", "simulate_oscillator"]
@@ -217,13 +221,15 @@ class _OscillatorModel:
     """`contact_dynamics` model of the oscillator."""
 
     n, k = 4, 2
+    rotation = 3  # q[3] = φ, counter-clockwise: θ = −φ
+    pivots = (0, 1)  # contact 0 the left base corner, contact 1 the right one
 
     def __init__(self, osc: FlexibleOscillator, ag, quiet_after: float):
         self.o, self.ag, self.quiet_after = osc, ag, quiet_after
         self.f = numeric(osc.shape)
         self.p = osc.params()
         self.c = osc.c
-        self.events = (("overturned", lambda t, q, v: abs(q[3]) - 0.5 * math.pi),)
+        self.events = (("overturn", lambda t, q, v: abs(q[3]) - 0.5 * math.pi),)
 
     def mass(self, q):
         return np.asarray(self.f["M"](q, self.p), dtype=float)
@@ -248,26 +254,43 @@ class _OscillatorModel:
 
 
 @dataclass(frozen=True, eq=False)
-class OscillatorResponse:
-    """Response of `simulate_oscillator` with named views of the coordinates."""
+class OscillatorResponse(Result):
+    """Response of `simulate_oscillator` with named views of the coordinates.
+
+    A `multimass.result.Result` (engine "contact"): ``status``, ``outcome``,
+    ``message``, ``checks``, ``warnings``, ``events``, ``peaks``, ``peak_times``,
+    ``theta``, ``thetadot`` (of the base, θ = −φ) and ``ledger`` are those of `raw`
+    (`multimass.contact_dynamics.ContactResponse`); ``series`` names the coordinates.
+
+    Attributes
+    ----------
+    oscillator : FlexibleOscillator
+    eps_p : float
+    raw : ContactResponse
+    """
 
     oscillator: FlexibleOscillator
     eps_p: float
     raw: ContactResponse
 
-    t = property(lambda self: self.raw.t)
-    u = property(lambda self: self.raw.q[:, 0])
+    engine = "contact"
+
+    t = property(lambda self: self.raw.t, doc="Sample times (s); event times appear twice.")
+    u = property(lambda self: self.raw.q[:, 0], doc="Deflection of the column top (m).")
     x = property(lambda self: self.raw.q[:, 1])
     y = property(lambda self: self.raw.q[:, 2])
     phi = property(lambda self: self.raw.q[:, 3], doc="Rotation, counter-clockwise positive.")
-    theta = property(lambda self: -self.raw.q[:, 3], doc="Toolkit convention θ = −φ.")
+    theta = property(lambda self: self.raw.theta, doc="Toolkit convention θ = −φ (rad).")
+    thetadot = property(lambda self: self.raw.thetadot, doc="θ̇ = −φ̇ (rad/s).")
     status = property(
-        lambda self: self.raw.status, doc='``outcome`` when every check passed, else "inaccurate".'
+        lambda self: self.raw.status,
+        doc='``outcome``\'s status when every check passed, else "inaccurate".',
     )
     outcome = property(
         lambda self: self.raw.outcome,
         doc='How the run ended: "completed", "overturned", "max_events", "failed".',
     )
+    message = property(lambda self: self.raw.message)
     checks = property(
         lambda self: self.raw.checks,
         doc="Energy balance, housekeeping and (with ``mu``) friction checks.",
@@ -277,12 +300,42 @@ class OscillatorResponse:
         lambda self: self.raw.friction,
         doc="Largest friction demand ``|λ_T|/λ_N`` (`FrictionDemand`).",
     )
-    events = property(lambda self: self.raw.events)
+    events = property(lambda self: self.raw.events, doc="The `ContactEvent` log.")
+    peaks = property(
+        lambda self: self.raw.peaks, doc="Largest ``|θ|`` of each half-cycle of the base (rad)."
+    )
+    peak_times = property(lambda self: self.raw.peak_times)
+    ledger = property(lambda self: self.raw.ledger, doc="The energy ledger (J).")
 
     @property
     def phase(self) -> np.ndarray:
-        """Per sample: "full", "rock_left", "rock_right" or "flight"."""
+        """Per sample: "full", "rock_left", "rock_right" or "flight" (the series' ``phase``
+        column holds the same as 0, −1, +1, <NA>)."""
         return np.array(["flight", "rock_left", "rock_right", "full"])[self.raw.closed]
+
+    @property
+    def series(self) -> pd.DataFrame:
+        """The samples: ``t``, ``theta``, ``thetadot``, ``phase`` (0, ±1, <NA> in flight),
+        ``u``, ``x``, ``y``, ``phi`` and the rates ``udot``, ``xdot``, ``ydot``, ``phidot``."""
+        raw = self.raw
+        df = pd.DataFrame({"t": raw.t, "theta": self.theta, "thetadot": self.thetadot})
+        df["phase"] = raw.phase.array
+        for j, name in enumerate(("u", "x", "y", "phi")):
+            df[name] = raw.q[:, j]
+        for j, name in enumerate(("udot", "xdot", "ydot", "phidot")):
+            df[name] = raw.v[:, j]
+        return df
+
+    def _summary_extra(self) -> dict:
+        osc = self.oscillator
+        return self.raw._summary_extra() | {
+            "model": "flexible_oscillator",
+            "eps_p": self.eps_p,
+            "omega_n": osc.omega_n,
+            "u_cr": osc.u_cr,
+            "alpha": osc.alpha,
+            "u_max": float(np.max(np.abs(self.u))) if self.t.size else 0.0,
+        }
 
 
 def simulate_oscillator(
@@ -328,9 +381,9 @@ def simulate_oscillator(
     Returns
     -------
     OscillatorResponse
-        ``status`` is ``outcome`` ("completed", "overturned", "max_events")
-        when the checks pass, else "inaccurate"; "failed" when the solvers
-        could not go on (history kept, ``raw.message`` says why).
+        ``status`` is the status of ``outcome`` ("completed", "overturned";
+        "max_events" fails) when the checks pass, else "inaccurate"; "failed"
+        when the solvers could not go on (history kept, ``message`` says why).
     """
     if not isinstance(osc, FlexibleOscillator):
         raise InputError(f"`osc` = {osc!r}: expected a FlexibleOscillator")

@@ -15,7 +15,10 @@ tips the block about its left corner, φ > 0, θ < 0.
 
 Phases (full contact, rocking on either corner, free flight) are the closed
 contact sets of `multimass.contact_dynamics`; every impact is resolved by
-`impact_models.poisson_impact`.
+`impact_models.poisson_impact`. In the result contract's words
+(`multimass.result`): phase 0 is full contact, +1 rocking on the right corner
+(contact 1 only: φ < 0, θ > 0), −1 on the left corner (contact 0 only), None in
+flight; reaching ``|φ|`` = π/2 is an event "overturn" and the outcome "overturned".
 """
 
 from __future__ import annotations
@@ -24,10 +27,12 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+import pandas as pd
 
 from ._contact_checks import ground_excitation
 from .contact_dynamics import ContactResponse, simulate_contacts
 from .errors import InputError
+from .result import Result
 from .validation import number, positive
 
 __all__ = ["PoissonBlock", "BlockResponse", "simulate_block", "housner_theta"]
@@ -130,11 +135,13 @@ class _BlockModel:
     """`contact_dynamics` model of the block under a horizontal ground acceleration."""
 
     n, k = 3, 2
+    rotation = 2  # q[2] = φ, counter-clockwise: θ = −φ
+    pivots = (0, 1)  # contact 0 the left corner, contact 1 the right one
 
     def __init__(self, block: PoissonBlock, ag, quiet_after: float = np.inf):
         self.bl, self.ag, self.quiet_after = block, ag, quiet_after
         self._M = block.mass_matrix()
-        self.events = (("overturned", lambda t, q, v: abs(q[2]) - 0.5 * math.pi),)
+        self.events = (("overturn", lambda t, q, v: abs(q[2]) - 0.5 * math.pi),)
 
     def mass(self, q):
         return self._M
@@ -161,51 +168,81 @@ class _BlockModel:
         return -self.bl.mass * self.ag(t) * v[0], 0.0
 
 
+_PHASE_NAMES = np.array(["flight", "rock_left", "rock_right", "full"])
+
+
 @dataclass(frozen=True, eq=False)
-class BlockResponse:
-    """Response of `simulate_block`: the contact response plus block-specific views."""
+class BlockResponse(Result):
+    """Response of `simulate_block`: the contact response with the block's views.
+
+    A `multimass.result.Result` (engine "contact"): ``status``, ``outcome``,
+    ``message``, ``checks``, ``warnings``, ``events``, ``peaks``, ``peak_times``,
+    ``theta``, ``thetadot`` and ``ledger`` are those of `raw`
+    (`multimass.contact_dynamics.ContactResponse`); ``series`` names the block's
+    coordinates.
+
+    Attributes
+    ----------
+    block : PoissonBlock
+    eps_p : float
+    raw : ContactResponse
+    """
 
     block: PoissonBlock
     eps_p: float
     raw: ContactResponse
 
+    engine = "contact"
+
     @property
     def t(self) -> np.ndarray:
+        """Sample times (s); event times appear twice (before and after)."""
         return self.raw.t
 
     @property
     def x(self) -> np.ndarray:
+        """Horizontal displacement of the centre of mass relative to the ground (m)."""
         return self.raw.q[:, 0]
 
     @property
     def y(self) -> np.ndarray:
+        """Height of the centre of mass above the ground (m; h at rest)."""
         return self.raw.q[:, 1]
 
     @property
     def phi(self) -> np.ndarray:
-        """Rotation, counter-clockwise positive (paper 000)."""
+        """Rotation, counter-clockwise positive (paper 000, rad)."""
         return self.raw.q[:, 2]
 
     @property
     def theta(self) -> np.ndarray:
-        """Rotation in the toolkit's convention θ = −φ (θ > 0 rocks on the right pivot)."""
-        return -self.raw.q[:, 2]
+        """Rotation in the toolkit's convention θ = −φ (rad; θ > 0 rocks on the right pivot)."""
+        return self.raw.theta
+
+    @property
+    def thetadot(self) -> np.ndarray:
+        """θ̇ = −φ̇ (rad/s)."""
+        return self.raw.thetadot
 
     @property
     def phase(self) -> np.ndarray:
-        """Per sample: "full", "rock_left", "rock_right" or "flight"."""
-        names = np.array(["flight", "rock_left", "rock_right", "full"])
-        return names[self.raw.closed]
+        """Per sample: "full", "rock_left", "rock_right" or "flight" (the series' ``phase``
+        column holds the same as 0, −1, +1, <NA>)."""
+        return _PHASE_NAMES[self.raw.closed]
 
     @property
     def status(self) -> str:
-        """``outcome`` when every check passed, else "inaccurate" (`ContactResponse`)."""
+        """``outcome``'s status when every check passed, else "inaccurate" (`ContactResponse`)."""
         return self.raw.status
 
     @property
     def outcome(self) -> str:
         """How the run ended: "completed", "overturned", "max_events" or "failed"."""
         return self.raw.outcome
+
+    @property
+    def message(self) -> str:
+        return self.raw.message
 
     @property
     def checks(self) -> dict:
@@ -223,7 +260,47 @@ class BlockResponse:
 
     @property
     def events(self):
+        """The `ContactEvent` log (kinds "impact", "uplift", "rest", "overturn", "failed")."""
         return self.raw.events
+
+    @property
+    def peaks(self) -> np.ndarray:
+        """Largest ``|θ|`` of each half-cycle (rad); a release from rest at φ0 ≠ 0 gives
+        ``|φ0|`` first."""
+        return self.raw.peaks
+
+    @property
+    def peak_times(self) -> np.ndarray:
+        return self.raw.peak_times
+
+    @property
+    def ledger(self) -> pd.DataFrame:
+        """The energy ledger (`ContactResponse.ledger`)."""
+        return self.raw.ledger
+
+    @property
+    def series(self) -> pd.DataFrame:
+        """The samples: ``t``, ``theta``, ``thetadot``, ``phase`` (0, ±1, <NA> in flight),
+        ``x``, ``y``, ``phi`` and the rates ``xdot``, ``ydot``, ``phidot``."""
+        raw = self.raw
+        df = pd.DataFrame({"t": raw.t, "theta": self.theta, "thetadot": self.thetadot})
+        df["phase"] = raw.phase.array
+        for j, name in enumerate(("x", "y", "phi")):
+            df[name] = raw.q[:, j]
+        for j, name in enumerate(("xdot", "ydot", "phidot")):
+            df[name] = raw.v[:, j]
+        return df
+
+    def _summary_extra(self) -> dict:
+        bl = self.block
+        return self.raw._summary_extra() | {
+            "model": "poisson_block",
+            "eps_p": self.eps_p,
+            "b": bl.b,
+            "h": bl.h,
+            "mass": bl.mass,
+            "alpha": bl.alpha,
+        }
 
 
 def simulate_block(
@@ -269,7 +346,7 @@ def simulate_block(
     zeno_velocity : float, optional
         Approach speed below which an impact ends an accumulation of impacts
         (bounces, or rocking cycles shrinking to zero) by keeping all touching
-        corners closed (event "zeno_rest"); default 1e-4 √(g R).
+        corners closed (an event "rest", ``detail`` "zeno_rest"); default 1e-4 √(g R).
     max_events : int
     locked_dt : float
         In full contact the contact forces are scanned for uplift on this grid (s).
@@ -287,10 +364,11 @@ def simulate_block(
     Returns
     -------
     BlockResponse
-        ``status`` is ``outcome`` ("completed", "overturned", "max_events")
-        when the checks pass, else "inaccurate"; see ``checks``, ``warnings``.
-        "failed": the solvers could not go on (e.g. a corner that would have
-        to slide), the history up to there is kept and ``raw.message`` says why.
+        ``status`` is the status of ``outcome`` ("completed", "overturned";
+        "max_events" fails) when the checks pass, else "inaccurate"; see
+        ``checks``, ``warnings``. "failed": the solvers could not go on (e.g. a
+        corner that would have to slide), the history up to there is kept and
+        ``message`` says why.
     """
     if not isinstance(block, PoissonBlock):
         raise InputError(f"`block` = {block!r}: expected a PoissonBlock")

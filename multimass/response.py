@@ -1,53 +1,35 @@
-"""The result of a simulation: time series, event log, energy ledger, summary."""
+"""The result of `multimass.simulate`: time series, event log, energy ledger, summary.
+
+`Response` (with its series) and `Outcome` (without, for sweeps) follow the one
+result contract of `multimass.result`.
+"""
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
 
-__all__ = ["Event", "Response"]
+from .result import Event, Result
 
+__all__ = ["Event", "Response", "Outcome", "ENERGY_COLUMNS"]
 
-@dataclass(frozen=True)
-class Event:
-    """One entry of the event log.
-
-    Attributes
-    ----------
-    kind : str
-        "release", "uplift", "impact" (a new half-cycle after θ = 0),
-        "full_contact" (paper 001, Eq 10), "dd_activate", "dd_deactivate",
-        "chatter_guard", "overturn", "rest" or "failed".
-    time : float
-    phase_before, phase_after : int
-        0 full contact, +1 / −1 rocking about the right / left pivot.
-    theta, thetadot_minus, thetadot_plus : float
-    restitution : float or None
-        The coefficient applied (classical impacts) or fixed at activation
-        (Dirac-delta).
-    energy_change : float
-        Mechanical energy after minus before an instantaneous transition (J).
-    detail : str
-    """
-
-    kind: str
-    time: float
-    phase_before: int
-    phase_after: int
-    theta: float = 0.0
-    thetadot_minus: float = 0.0
-    thetadot_plus: float = 0.0
-    restitution: float | None = None
-    energy_change: float = 0.0
-    detail: str = ""
+#: The energy-ledger columns of a `Response`'s series (J; `multimass.result.LEDGER_NAMES`).
+ENERGY_COLUMNS = (
+    "kinetic",
+    "gravitational",
+    "elastic",
+    "damping",
+    "impact",
+    "ground_work",
+    "balance_error",
+)
 
 
 @dataclass(frozen=True, eq=False)
-class Response:
+class Response(Result):
     """Outcome of `multimass.simulate`.
 
     Attributes
@@ -107,29 +89,34 @@ class Response:
     checks: dict = field(default_factory=dict)
 
     @property
-    def n_impacts(self) -> int:
-        """Number of θ = 0 transitions into a new half-cycle."""
-        return sum(e.kind == "impact" for e in self.events)
-
-    @property
     def n_full_contact(self) -> int:
         """Number of transitions into full contact (paper 001, Eq 10)."""
         return sum(e.kind == "full_contact" for e in self.events)
 
     @property
-    def theta_max(self) -> float:
-        """Largest ``|θ|`` reached (rad)."""
-        return float(self.peaks.max()) if self.peaks.size else 0.0
+    def engine(self) -> str:
+        """ "solve_ivp", "compiled" or "newmark": what integrated the run."""
+        return self.options.get("engine", "solve_ivp")
 
     @property
-    def overturned(self) -> bool:
-        """True if the run overturned and its checks passed (status "overturned")."""
-        return self.status == "overturned"
+    def t(self) -> np.ndarray:
+        """Sample times (s); empty if nothing was recorded."""
+        return self.series["t"].to_numpy() if "t" in self.series else np.zeros(0)
 
-    def events_frame(self) -> pd.DataFrame:
-        """The event log as a table."""
-        cols = list(Event.__dataclass_fields__)
-        return pd.DataFrame([[getattr(e, c) for c in cols] for e in self.events], columns=cols)
+    @property
+    def theta(self) -> np.ndarray:
+        """θ at the samples (rad)."""
+        return self.series["theta"].to_numpy() if "theta" in self.series else np.zeros(0)
+
+    @property
+    def ledger(self) -> pd.DataFrame:
+        """The energy ledger at the samples: ``t``, `ENERGY_COLUMNS` and their ``energy``
+        = kinetic + gravitational + elastic (J)."""
+        if "kinetic" not in self.series:
+            return pd.DataFrame(columns=["t", "energy", *ENERGY_COLUMNS])
+        led = self.series[["t", *ENERGY_COLUMNS]].copy()
+        led.insert(1, "energy", led["kinetic"] + led["gravitational"] + led["elastic"])
+        return led
 
     def consecutive_transitions(self, window: float = 0.02, t_max: float = math.inf) -> int:
         """Phase transitions inside one impact (paper 001, Section 4.3).
@@ -147,22 +134,12 @@ class Response:
         ]
         return int(sum(b - a < window for a, b in zip(times, times[1:])))
 
-    def summary(self) -> dict:
-        """JSON-ready summary (SI units, radians)."""
+    def _summary_extra(self) -> dict:
         return {
             "structure": self.structure_name,
-            "status": self.status,
-            "outcome": self.outcome or self.status,
-            "message": self.message,
-            "warnings": list(self.warnings),
-            "checks": self.checks,
-            "n_impacts": self.n_impacts,
             "n_full_contact": self.n_full_contact,
             "n_uplifts": sum(e.kind == "uplift" for e in self.events),
             "consecutive_transitions": self.consecutive_transitions(),
-            "theta_max": self.theta_max,
-            "peaks": [float(p) for p in self.peaks],
-            "peak_times": [float(t) for t in self.peak_times],
             "overturn_time": next((e.time for e in self.events if e.kind == "overturn"), None),
             "energy_balance_error": float(self.energy_balance_error),
             "energy_reference": float(self.energy_reference),
@@ -172,6 +149,58 @@ class Response:
             "options": self.options,
         }
 
-    def to_json(self, **kw) -> str:
-        """`summary` as a JSON string."""
-        return json.dumps(self.summary(), **kw)
+
+@dataclass(frozen=True, eq=False)
+class Outcome(Result):
+    """What `multimass.simulate_outcome` returns: the run without its series.
+
+    Attributes
+    ----------
+    status, message : str
+        As in `Response` ("completed", "overturned", "inaccurate", "failed").
+    events : list of Event
+    peaks : ndarray
+        Absolute peak ``|θ|`` of each half-cycle (rad), as in `Response`.
+    n_rhs : int
+    wall_time_s : float
+    energy_balance_error : float
+        Balance error of the ledger at the end of the run, relative to its
+        energy scale (the Response's is the largest over the whole run).
+    outcome, warnings, checks :
+        As in `Response`.
+    peak_times : ndarray
+    engine : str
+        "solve_ivp", "compiled" or "newmark".
+
+    ``t``, ``theta``, ``series`` and ``ledger`` are empty: nothing is sampled.
+    """
+
+    status: str
+    message: str
+    events: list
+    peaks: np.ndarray
+    n_rhs: int
+    wall_time_s: float
+    energy_balance_error: float = 0.0
+    outcome: str = ""
+    warnings: tuple[str, ...] = ()
+    checks: dict = field(default_factory=dict)
+    peak_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    engine: str = "solve_ivp"
+
+    t = property(lambda self: np.zeros(0), doc="Empty: an Outcome holds no samples.")
+    theta = property(lambda self: np.zeros(0), doc="Empty: an Outcome holds no samples.")
+    series = property(
+        lambda self: pd.DataFrame(columns=["t", "theta", "thetadot"]), doc="Empty (no samples)."
+    )
+    ledger = property(
+        lambda self: pd.DataFrame(columns=["t", "energy", *ENERGY_COLUMNS]),
+        doc="Empty (no samples); `energy_balance_error` holds the end-of-run balance.",
+    )
+
+    def _summary_extra(self) -> dict:
+        return {
+            "energy_balance_error": float(self.energy_balance_error),
+            "wall_time_s": float(self.wall_time_s),
+            "n_rhs": int(self.n_rhs),
+        }

@@ -21,7 +21,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from multimass.contact_dynamics import half_cycle_peaks
 from multimass.errors import InputError
+from multimass.result import status_of
 
 __all__ = [
     "RunResult",
@@ -138,55 +140,44 @@ def from_response(resp, wall: float) -> RunResult:
 
 
 def _block_event(e) -> tuple[str, float] | None:
-    """A paper-000 contact event in the engine's words (None: no engine counterpart)."""
-    after, before = len(e.closed_after), len(e.closed_before)
-    if e.kind == "overturned":
+    """A paper-000 contact event in the engine's words (None: no engine counterpart).
+
+    Its phases (`multimass.result.Event`): an impact or a Zeno rest ("rest") into full
+    contact (phase 0) is "full_contact", an uplift from full contact to one pivot is
+    "uplift", one into flight (no phase) is "flight".
+    """
+    if e.kind == "overturn":
         return "overturn", float(e.time)
-    if e.kind == "zeno_rest" or (e.kind == "impact" and after == 2):
+    if e.kind in ("rest", "impact") and e.phase_after == 0:
         return "full_contact", float(e.time)
     if e.kind == "impact":
         return "impact", float(e.time)
-    if e.kind == "liftoff" and before == 2 and after == 1:
+    if e.kind == "uplift" and e.phase_before == 0 and e.phase_after in (-1, 1):
         return "uplift", float(e.time)
-    return ("flight", float(e.time)) if e.kind == "liftoff" and after == 0 else None
+    return ("flight", float(e.time)) if e.kind == "uplift" and e.phase_after is None else None
 
 
 def sampled_peaks(t: np.ndarray, theta: np.ndarray) -> tuple[list, list]:
-    """Peak ``|θ|`` of each half-cycle (a run of samples of one sign), refined by a parabola."""
-    peaks, times = [], []
-    sign = np.sign(np.where(np.abs(theta) > 1e-12, theta, 0.0))
-    edges = np.flatnonzero(np.diff(sign) != 0) + 1
-    for a, b in zip(np.r_[0, edges], np.r_[edges, sign.size]):
-        if sign[a] == 0:
-            continue
-        i = a + int(np.argmax(np.abs(theta[a:b])))
-        pk, tp = abs(float(theta[i])), float(t[i])
-        if a < i < b - 1 and len({t[i - 1], t[i], t[i + 1]}) == 3:
-            c = np.polyfit(t[i - 1 : i + 2] - t[i], np.abs(theta[i - 1 : i + 2]), 2)
-            if c[0] < 0 and abs(c[1] / (2 * c[0])) < t[i + 1] - t[i - 1]:
-                tv = -c[1] / (2 * c[0])
-                pk, tp = float(np.polyval(c, tv)), float(t[i] + tv)
-        peaks.append(pk)
-        times.append(tp)
-    return peaks, times
+    """Peak ``|θ|`` of each half-cycle (a run of samples of one sign), refined by a parabola
+    (`multimass.contact_dynamics.half_cycle_peaks`, which `BlockResponse.peaks` uses)."""
+    peaks, times = half_cycle_peaks(t, theta)
+    return peaks.tolist(), times.tolist()
 
 
 def from_block(resp, wall: float, n_rhs: int) -> RunResult:
     """From the paper-000 block (`multimass.poisson_block.BlockResponse`)."""
     raw = resp.raw
     events = tuple(x for x in map(_block_event, raw.events) if x is not None)
-    keep = np.r_[np.diff(raw.t) > 0, True]  # event times appear twice
-    peaks, times = sampled_peaks(raw.t[keep], resp.theta[keep])
     scale = max(abs(float(raw.energy[0])), float(np.max(np.abs(raw.ground_work))), 1e-300)
     trans = [t for k, t in events if k in TRANSITIONS]
     # the physical outcome: an "inaccurate" run is judged by its errors here, not as a failure
-    status = {"overturned": "overturned", "completed": "completed"}.get(raw.outcome, "failed")
+    status = status_of(raw.outcome)
     return RunResult(
         status,
         raw.message,
         events,
-        tuple(peaks),
-        tuple(times),
+        tuple(map(float, resp.peaks)),
+        tuple(map(float, resp.peak_times)),
         float(raw.energy[-1]),
         scale,
         float(np.max(np.abs(raw.ledger_error)) / scale),
@@ -210,27 +201,27 @@ def from_nscd(res, wall: float, block) -> RunResult:
     as chattering). The energy is the block's rocking energy
     ``½ J_p θ̇² + g (m h0 (cos θ − 1) + B m_t |sin θ|)``, the beam's left out.
     """
-    th0 = float(res.params.get("theta0_deg", math.degrees(res.theta[0])))
+    th0 = float(res.params.get("theta0", res.theta[0]))
     events = tuple(("impact", float(x)) for x in _crossings(res.t, res.theta))
-    th, thd = float(res.theta[-1]), float(res.theta_dot[-1])
+    th, thd = float(res.theta[-1]), float(res.thetadot[-1])
     energy = lambda a, w: (
         0.5 * block.J_p * w * w  # noqa: E731
         + block.g
         * (block.static_moment * (math.cos(a) - 1.0) + block.B * block.m_t * abs(math.sin(a)))
     )
-    e0 = energy(math.radians(th0), 0.0)
+    e0 = energy(th0, 0.0)
     outcome = getattr(res, "outcome", None) or res.status
     status = outcome if outcome in ("completed", "overturned") else "failed"
     return RunResult(
         status,
         res.message,
         events,
-        (math.radians(abs(th0)),) + tuple(math.radians(p) for p in res.peaks_deg),
-        (0.0,) + tuple(res.peak_times_s),
+        tuple(float(p) for p in res.peaks),  # the release angle first
+        tuple(float(t) for t in res.peak_times),
         energy(th, thd),
         e0,
-        max(res.max_energy_increase_J, 0.0) / res.energy_scale_J,
-        _chatter(list(res.impact_times_s)),
+        max(res.max_energy_increase, 0.0) / res.energy_scale,
+        _chatter(list(res.impact_times)),
         int(res.n_steps),
         wall,
     )

@@ -284,14 +284,14 @@ def _write_series(res, path: Path) -> None:
     import numpy as np
 
     cols = np.column_stack(
-        [res.t, res.theta, res.theta_dot, res.X, res.Y, res.v_mid, res.energy, res.n_contacts]
+        [res.t, res.theta, res.thetadot, res.X, res.Y, res.v_mid, res.energy, res.n_contacts]
     )
     np.savetxt(
         path,
         cols,
         delimiter=",",
         fmt="%.10g",
-        header="t_s,theta_rad,theta_dot_rad_per_s,X_m,Y_m,v_mid_m,energy_J,n_contacts",
+        header="t_s,theta_rad,thetadot_rad_per_s,X_m,Y_m,v_mid_m,energy_J,n_contacts",
         comments="",
     )
 
@@ -374,19 +374,19 @@ def run(args) -> int:
     if args.json:
         print(json.dumps(info, indent=2))
         return _exit([res.status])
-    fp = res.first_peak_deg
-    rest = "still rocking" if res.rest_time_s is None else f"{res.rest_time_s:.3f} s"
+    fp = None if res.first_peak is None else math.degrees(res.first_peak)  # display: degrees
+    rest = "still rocking" if res.rest_time is None else f"{res.rest_time:.3f} s"
     print("\n".join(_status_lines(res.params["block"], res)))
     print(
         f"  first peak {'-' if fp is None else f'{fp:.4f}'}° (paper {info['paper_first_peak_deg']}°, "
         f"rigid block with Housner η {info['exact_rigid_first_peak_deg']:.4f}°); "
-        f"{len(res.peaks_deg)} half-cycles; rest {rest}"
+        f"{len(res.peaks)} half-cycles (the release's included); rest {rest}"
     )
     print(
         f"  {res.n_steps} steps, {res.cost_per_step_us:.2f} µs/step, wall {res.wall_time_s:.2f} s "
         f"(estimated {res.estimated_s:.2g} s); Gauss–Seidel max {res.max_gs_iterations} "
         f"iterations, cap hit {res.n_gs_cap_hits} times; sliding steps {res.n_slip_steps}; "
-        f"max energy increase {res.max_energy_increase_J:.2e} J"
+        f"max energy increase {res.max_energy_increase:.2e} J"
     )
     if out is not None:
         print(f"  written to {out}/")

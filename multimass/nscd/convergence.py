@@ -243,7 +243,7 @@ def _study(kind, block, levels, plans, what, settings, report, progress, max_hou
         tuple(levels),
         tuple(runs),
         tuple(compare_runs(levels, runs, _ratio(kind, levels))),
-        {"E_Pa": runs[0].params["E_Pa"], **settings},
+        {"E_Pa": runs[0].params["E"], **settings},
     )
 
 
@@ -294,6 +294,7 @@ def dt_study(
         {
             "n_elements": plans[0].inp.n_elements,
             "t_end_s": plans[0].opts.t_end,
+            "theta0": plans[0].inp.theta0,
             "theta0_deg": math.degrees(plans[0].inp.theta0),
         },
         report,
@@ -342,6 +343,7 @@ def mesh_study(
         {
             "dt_s": plans[0].inp.dt,
             "t_end_s": plans[0].opts.t_end,
+            "theta0": plans[0].inp.theta0,
             "theta0_deg": math.degrees(plans[0].inp.theta0),
         },
         report,
@@ -356,7 +358,12 @@ def _name(names, key):
 
 @dataclass(frozen=True)
 class FirstPeakStudy:
-    """First post-impact peak against the exact Housner value as dt → 0."""
+    """First post-impact peak against the exact Housner value as dt → 0.
+
+    A table for reading, as paper 002 gives it: angles in degrees (the names
+    end with ``_deg``), block name → one value per dt (None where a run had no
+    first peak); the runs' own `NSCDResult.first_peak` is in radians.
+    """
 
     blocks: tuple[str, ...]
     dts: tuple[float, ...]
@@ -379,7 +386,7 @@ def _run_warnings(labels, runs) -> list[str]:
         if r.outcome == "failed":
             out.append(f"{label}: the run failed: {r.message}")
         out += [f"{label}: {w}" for w in r.warnings]
-        if r.first_peak_deg is None and r.outcome != "failed":
+        if r.first_peak is None and r.outcome != "failed":
             out.append(
                 f"{label}: no first peak ({r.outcome} before a half-cycle closed); extend t_end"
             )
@@ -459,7 +466,7 @@ def first_peak_study(
     for i, blk in enumerate(blks):
         mine = runs[i * len(dts) : (i + 1) * len(dts)]
         ex = math.degrees(housner_first_peak(blk, _theta0(blk, None)))
-        vals = [r.first_peak_deg for r in mine]
+        vals = [None if r.first_peak is None else math.degrees(r.first_peak) for r in mine]
         err = [None if v is None else abs(v - ex) for v in vals]
         warns += _run_warnings([f"{blk.name} dt = {dt:g} s" for dt in dts], mine)
         exact[blk.name], paper[blk.name] = ex, blk.reference.first_peak_deg
@@ -560,6 +567,7 @@ def flexibility_study(
             "E_Pa": Ebar * 10.0**n,
             "exponent": n,
             "t_end_s": plans[0].opts.t_end,
+            "theta0": plans[0].inp.theta0,
             "theta0_deg": math.degrees(plans[0].inp.theta0),
         }
         mesh_runs, dt_runs = [runs[n, base_dt, m] for m in ms], [runs[n, d, base_mesh] for d in ds]

@@ -96,18 +96,18 @@ def _reference_lines(ax, res, exact_first_peak_deg, paper_first_peak_deg, paper_
         ax.axhline(-paper_first_peak_deg, color="tab:red", ls=":", lw=1)
     if exact_first_peak_deg is not None:
         ax.axhline(
-            -exact_first_peak_deg if p["theta0_deg"] > 0 else exact_first_peak_deg,
+            -exact_first_peak_deg if p["theta0"] > 0 else exact_first_peak_deg,
             color="k",
             ls="--",
             lw=0.8,
             label=f"rigid block, Housner η: {exact_first_peak_deg:.3f}°",
         )
-    if res.rest_time_s is not None:
+    if res.rest_time is not None:
         ax.axvline(
-            res.rest_time_s,
+            res.rest_time,
             color="tab:green",
             lw=1,
-            label=f"at rest (|θ| < {100 * p['rest_fraction']:g} % θ0): {res.rest_time_s:.2f} s",
+            label=f"at rest (|θ| < {100 * p['rest_fraction']:g} % θ0): {res.rest_time:.2f} s",
         )
     if paper_rest_time_s is not None:
         ax.axvline(
@@ -132,12 +132,12 @@ def history_figure(
     _legend_outside(ax[0])
     status = res.status + (f" ({res.outcome})" if res.status != res.outcome else "")
     fig.suptitle(
-        f"{p['block']} on {p['beam']}: E = {p['E_Pa']:.3g} Pa, {p['n_elements']} "
-        f"elements, Δt = {p['dt_s']:g} s, θ-method {p['theta_method']:g} — {status}",
+        f"{p['block']} on {p['beam']}: E = {p['E']:.3g} Pa, {p['n_elements']} "
+        f"elements, Δt = {p['dt']:g} s, θ-method {p['theta_method']:g} — {status}",
         fontsize=9,
         color="k" if res.status in ("completed", "overturned") else "tab:red",
     )
-    ax[1].plot(*_thin(res.t, res.theta_dot), lw=0.8, color="tab:purple")
+    ax[1].plot(*_thin(res.t, res.thetadot), lw=0.8, color="tab:purple")
     ax[1].set_ylabel("θ̇ (rad/s)")
     ax[2].plot(*_thin(res.t, 1e3 * res.v_mid), lw=0.8, color="tab:brown")
     ax[2].set_ylabel("v mid (mm)")
@@ -277,7 +277,7 @@ def _sweep_figure(flex, lim):
     name, exps, base, rigid = flex["block"], flex["exponents"], flex["base"], flex["rigid"]
     fig = Figure(figsize=(11, 5), layout="constrained")
     ax = fig.subplots()
-    E = rigid.params["E_Pa"]
+    E = rigid.params["E"]
     own = f"rigid base (E = {E:.0e} Pa)" if E >= 1e20 else f"beam's own E = {E:.3g} Pa"
     curves = [(rigid, own, {"color": "k", "lw": 1.8})]
     curves += [
@@ -292,7 +292,7 @@ def _sweep_figure(flex, lim):
     ax.set_title(
         f"{name}: flexibility sweep, Ē = {flex['E_bar']:.3g} Pa (L/2500 under the block), "
         f"{base[exps[0]].params['n_elements']} elements, "
-        f"Δt = {base[exps[0]].params['dt_s']:g} s",
+        f"Δt = {base[exps[0]].params['dt']:g} s",
         fontsize=9,
     )
     ax.grid(alpha=0.3)
@@ -321,8 +321,8 @@ def _sensitivity_figure(flex, key):
 def flexibility_figures(flex) -> list[tuple[str, object]]:
     """(file stem, figure) of paper 002, Figs 16–19 for a `flexibility_study` result."""
     name, rigid = flex["block"], flex["rigid"]
-    pk = rigid.peak_times_s  # the second post-impact peak follows the second impact
-    t_zoom = pk[1] + 0.05 if len(pk) > 1 else rigid.t[-1]
+    pk = rigid.peak_times  # the release, then the post-impact peaks: pk[2] after the 2nd impact
+    t_zoom = pk[2] + 0.05 if len(pk) > 2 else rigid.t[-1]
     return [
         (f"fig16_flexibility_{name}", _sweep_figure(flex, rigid.t[-1])),
         (f"fig17_first_impacts_{name}", _sweep_figure(flex, t_zoom)),

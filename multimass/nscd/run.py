@@ -10,13 +10,12 @@ status (`nscd.result`: "inaccurate" when a check fails).
 >>> import math
 >>> from multimass import nscd
 >>> res = nscd.simulate("B6M", theta0=math.radians(11.268), dt=1e-4, t_end=0.6)
->>> round(res.first_peak_deg, 1), res.status
+>>> round(math.degrees(res.first_peak), 1), res.status
 (7.8, 'completed')
 """
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass
 
@@ -24,6 +23,7 @@ import numpy as np
 
 from multimass.errors import InputError
 from multimass.progress import PROGRESS_AFTER_S, Progress, RunCost, budget_seconds
+from multimass.result import status_of
 from multimass.validation import integer, number
 
 from . import cost
@@ -36,6 +36,7 @@ from .result import (
     accuracy_checks,
     log_warnings,
     outcome_message,
+    run_events,
 )
 
 __all__ = [
@@ -51,7 +52,7 @@ __all__ = [
     "GS_MAX_ITER_MAX",
 ]
 
-#: at rest: ``|θ|`` stays below this fraction of ``|θ0|`` from rest_time_s to the end ...
+#: at rest: ``|θ|`` stays below this fraction of ``|θ0|`` from rest_time to the end ...
 REST_FRACTION = 0.01
 #: ... for at least this long (s); otherwise the block is reported as still rocking
 REST_HOLD = 0.1
@@ -247,7 +248,7 @@ def _run(sys: System, o: RunOptions, bar: Progress | None, estimated: float) -> 
     )
     warnings += log_warnings(peaks, impacts)
     failed = [k for k, c in checks.items() if not c["passed"]]
-    status = "inaccurate" if failed and outcome != "failed" else outcome
+    status = status_of(outcome, not failed)
     message = outcome_message(outcome, int(last), sys.dt, sys.theta_method)
     if failed:
         message += f"; accuracy check failed: {', '.join(failed)} (see warnings)"
@@ -259,24 +260,41 @@ def _run(sys: System, o: RunOptions, bar: Progress | None, estimated: float) -> 
         )
     t_rest = (int(st["last_moving_step"]) + 1) * sys.dt
     rest = t_rest if outcome == "completed" and o.n_steps * sys.dt - t_rest >= REST_HOLD else None
-    post = peaks[1:] if len(peaks) and peaks[0, 0] == 0.0 else peaks  # drop the release
+    # the kernel logs the release half-cycle (peak |θ0| at t = 0) once |θ0| > CROSS_EPS;
+    # below, the block starts (and stays) at rest and its release is added here
+    if not (len(peaks) and abs(sys.theta0) > CROSS_EPS):
+        peaks = np.vstack([[0.0, abs(sys.theta0)], peaks.reshape(-1, 2)])
+    t_s, theta, thetadot, energy = series[:, 0].copy(), -series[:, 1], -series[:, 2], series[:, 6]
+    qk, vk = out[6], out[7]
+    events = run_events(
+        outcome,
+        sys.theta0,
+        impacts,
+        t_s,
+        theta,
+        thetadot,
+        energy,
+        int(last) * sys.dt,
+        final=(float(-qk[2]), float(-vk[2])),
+        detail=message,
+    )
     bm = sys.beam
     return NSCDResult(
         status=status,
         outcome=outcome,
         message=message,
-        t=series[:, 0].copy(),
-        theta=-series[:, 1],
-        theta_dot=-series[:, 2],
+        t=t_s,
+        theta=theta,
+        thetadot=thetadot,
         X=series[:, 3].copy(),
         Y=series[:, 4].copy(),
         v_mid=series[:, 5].copy(),
-        energy=series[:, 6].copy(),
+        energy=energy.copy(),
         n_contacts=series[:, 7].astype(int),
-        peaks_deg=tuple(float(math.degrees(p)) for p in post[:, 1]),
-        peak_times_s=tuple(float(t) for t in post[:, 0]),
-        impact_times_s=tuple(float(t) for t in impacts),
-        rest_time_s=None if rest is None else float(rest),
+        peaks=peaks[:, 1].copy(),
+        peak_times=peaks[:, 0].copy(),
+        events=events,
+        rest_time=None if rest is None else float(rest),
         n_steps=int(last),
         max_gs_iterations=int(st["max_gs_iterations"]),
         n_gs_cap_hits=int(st["n_gs_cap_hits"]),
@@ -284,9 +302,9 @@ def _run(sys: System, o: RunOptions, bar: Progress | None, estimated: float) -> 
         n_multi_contact_steps=int(st["n_multi_contact_steps"]),
         n_slip_steps=int(st["n_slip_steps"]),
         max_slip_speed=float(st["max_slip_speed"]),
-        max_energy_increase_J=float(st["max_energy_increase"]),
-        energy_scale_J=float(st["energy_scale"]),
-        max_penetration_m=float(st["max_penetration"]),
+        max_energy_increase=float(st["max_energy_increase"]),
+        energy_scale=float(st["energy_scale"]),
+        max_penetration=float(st["max_penetration"]),
         wall_time_s=time.perf_counter() - wall0,
         kernel_time_s=kernel_time,
         estimated_s=float(estimated),
@@ -295,15 +313,15 @@ def _run(sys: System, o: RunOptions, bar: Progress | None, estimated: float) -> 
         params={
             "block": sys.block.name,
             "beam": sys.beam_spec.name,
-            "E_Pa": bm.E,
+            "E": bm.E,
             "n_elements": bm.n_elements,
-            "dt_s": sys.dt,
-            "t_end_s": o.n_steps * sys.dt,
+            "dt": sys.dt,
+            "t_end": o.n_steps * sys.dt,
             "theta_method": sys.theta_method,
             "mu": sys.mu,
             "restitution": sys.restitution,
-            "theta0_deg": math.degrees(sys.theta0),
-            "x_centre_m": sys.x_centre,
+            "theta0": sys.theta0,
+            "x_centre": sys.x_centre,
             "gs_tol": o.gs_tol,
             "gs_max_iter": o.gs_max_iter,
             "record_every": int(o.stride),

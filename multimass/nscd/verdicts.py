@@ -3,7 +3,9 @@ non-convergence (paper 002, Sections 6.1 and 6.3, Figs 10–11 and 16–19).
 
 A study runs one block at successive refinements (time step or mesh) and
 compares scalar measures between neighbouring levels: the first post-impact
-peak, the first ten peaks, the rest time and the whole angle history. A
+peak, the first ten post-impact peaks, the rest time and the whole angle
+history (angles in degrees, as paper 002 reports them; the measure's name ends
+with its unit). A
 measure is "converged" when its last difference is within tolerance,
 "converging" when it is not yet but the differences shrink at least as fast
 as an order-1/2 method would (half the scheme's first order), and "not
@@ -147,11 +149,22 @@ def _history_difference(a: NSCDResult, b: NSCDResult) -> float:
     )
 
 
+def _post_impact_peaks_deg(r: NSCDResult) -> np.ndarray:
+    """The peaks after the release (deg): those of the half-cycles that follow an impact."""
+    return np.degrees(r.peaks[1:])
+
+
+def _first_peak_deg(r: NSCDResult) -> float | None:
+    return None if r.first_peak is None else math.degrees(r.first_peak)
+
+
 def _peaks_difference(a: NSCDResult, b: NSCDResult) -> float:
-    k = min(N_PEAKS_COMPARED, len(a.peaks_deg), len(b.peaks_deg))
+    """Largest difference (deg) of the first `N_PEAKS_COMPARED` peaks after the release."""
+    pa, pb = _post_impact_peaks_deg(a), _post_impact_peaks_deg(b)
+    k = min(N_PEAKS_COMPARED, len(pa), len(pb))
     if k == 0:
-        return 0.0 if len(a.peaks_deg) == len(b.peaks_deg) else math.inf
-    return float(np.max(np.abs(np.subtract(a.peaks_deg[:k], b.peaks_deg[:k]))))
+        return 0.0 if len(pa) == len(pb) else math.inf
+    return float(np.max(np.abs(pa[:k] - pb[:k])))
 
 
 def _scalar_difference(x, y) -> float:
@@ -171,12 +184,12 @@ def compare_runs(
     rest = judge(
         "rest_time_s",
         levels,
-        [r.rest_time_s for r in runs],
-        [_scalar_difference(a.rest_time_s, b.rest_time_s) for a, b in pairs],
+        [r.rest_time for r in runs],
+        [_scalar_difference(a.rest_time, b.rest_time) for a, b in pairs],
         tol["rest_time_s"],
         ratio,
     )
-    if len(runs) >= 2 and runs[-1].rest_time_s is None and runs[-2].rest_time_s is None:
+    if len(runs) >= 2 and runs[-1].rest_time is None and runs[-2].rest_time is None:
         rest = replace(
             rest,
             status="undetermined",
@@ -186,15 +199,15 @@ def compare_runs(
         judge(
             "first_peak_deg",
             levels,
-            [r.first_peak_deg for r in runs],
-            [_scalar_difference(a.first_peak_deg, b.first_peak_deg) for a, b in pairs],
+            [_first_peak_deg(r) for r in runs],
+            [_scalar_difference(_first_peak_deg(a), _first_peak_deg(b)) for a, b in pairs],
             tol["first_peak_deg"],
             ratio,
         ),
         judge(
             "peaks_deg",
             levels,
-            [len(r.peaks_deg) for r in runs],
+            [len(r.peaks) - 1 for r in runs],
             [_peaks_difference(a, b) for a, b in pairs],
             tol["peaks_deg"],
             ratio,

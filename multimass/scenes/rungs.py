@@ -276,15 +276,8 @@ def _block_answer(rung: Rung, scene, backend: str) -> RungAnswer:
     )
     wall = time.perf_counter() - start
     _trusted(res, "nscd", scene)
-    if q.kind == "overturning":
-        value = res.status == "overturned"
-    elif res.status == "overturned":
-        value = math.pi / 2
-    else:
-        k = scene.after_impacts
-        peaks = [abs(scene.excitation.theta0)] if k == 0 else []
-        peaks += [math.radians(p) for p in res.peaks_deg[max(k - 1, 0) :]]
-        value = max(peaks) if peaks else 0.0
+    # the peaks follow the one convention of every engine (the release's first)
+    value = _rotation(res, scene) if q.kind == "peak_rotation" else res.status == "overturned"
     return RungAnswer(
         rung.name,
         value,
@@ -294,7 +287,7 @@ def _block_answer(rung: Rung, scene, backend: str) -> RungAnswer:
         {
             "n_steps": res.n_steps,
             "dt_s": scene.nscd_dt,
-            "E_Pa": res.params["E_Pa"],
+            "E_Pa": res.params["E"],
             "n_elements": res.params["n_elements"],
             "cost_per_step_us": res.cost_per_step_us,
         },

@@ -5,6 +5,7 @@ with explicit initial states; the reference values are closed forms derived in t
 comments (angular momentum about a corner, paper 000's impact states, Eqs 13–25).
 """
 
+import json
 import math
 
 import numpy as np
@@ -18,9 +19,16 @@ from multimass._contact_checks import (
     impact_ratio,
     run_checks,
 )
-from multimass.contact_dynamics import simulate_contacts
+from multimass.contact_dynamics import (
+    ContactEvent,
+    ContactResponse,
+    half_cycle_peaks,
+    model_stop,
+    simulate_contacts,
+)
 from multimass.impact_models import poisson_impact
 from multimass.poisson_block import PoissonBlock, _BlockModel
+from multimass.result import EVENT_KINDS, LEDGER_NAMES, OUTCOMES, STATUSES, Event, Result
 
 
 def block_run(block, q0, v0, t_end=0.2, eps=0.0, **kw):
@@ -49,7 +57,8 @@ def test_slip_at_the_start_is_an_impact_that_trips_the_block(b, h):
     r = block_run(block, [0.0, h, 0.0], [V, 0.0, 0.0])
     R2 = b * b + h * h
     w = -3.0 * h * V / (4.0 * R2)
-    ev = r.events[0]
+    release, ev = r.events[:2]
+    assert (release.kind, release.time, release.closed_before) == ("release", 0.0, (0, 1))
     assert (ev.kind, ev.time, ev.closed_before, ev.closed_after) == ("impact", 0.0, (0, 1), (1,))
     np.testing.assert_allclose(ev.impact.u_plus, [-h * w, -b * w, w], rtol=1e-12, atol=1e-15)
     loss = 0.5 * 2.0 * V * V - 0.5 * (4.0 / 3.0) * 2.0 * R2 * w * w
@@ -66,7 +75,8 @@ def test_slip_at_the_start_is_an_impact_that_trips_the_block(b, h):
 def test_a_resting_block_stays_at_rest_with_an_exact_ledger():
     block = PoissonBlock(b=0.3, h=0.6)
     r = block_run(block, [0.0, 0.6, 0.0], np.zeros(3), t_end=1.0)
-    assert r.events == () and set(r.closed) == {3}
+    assert [e.kind for e in r.events] == ["release"] and set(r.closed) == {3}
+    assert (r.events[0].phase_before, r.events[0].phase_after) == (0, 0)  # full contact
     np.testing.assert_array_equal(r.energy, 0.0)
     assert r.friction == FrictionDemand(0.0, 0.0, 0.0, None)
     assert r.status == "completed" and r.warnings == ()
@@ -80,7 +90,8 @@ def test_a_corner_separating_at_the_start_is_open(dphi):
     r = block_run(block, q0, v0, t_end=0.05)
     pivot = 0 if dphi > 0 else 1
     assert r.closed[0] == 1 << pivot and set(r.closed) == {1 << pivot}
-    assert r.events == ()
+    assert [e.kind for e in r.events] == ["release"]
+    assert r.events[0].phase_after == (-1 if dphi > 0 else 1)  # θ = −φ: φ̇ > 0 tips left
     assert r.energy[0] == pytest.approx(0.5 * (4 / 3) * block.R**2 * dphi**2, rel=1e-14)
     assert abs(r.q[-1, 2]) > 0.01 * block.alpha
 
@@ -202,3 +213,139 @@ def test_a_contact_that_must_slide_ends_failed_with_its_history():
     assert 0.5 < r.t[-1] < 3.0
     assert np.all(np.isfinite(r.energy))
     assert r.friction.smooth == math.inf  # the pivot unloaded while pushed sideways
+
+
+# -- the one result contract (multimass.result)
+
+
+def _no_nan(text):
+    """json.loads that refuses NaN and infinities (not JSON)."""
+
+    def refuse(c):
+        raise ValueError(f"{c} in JSON")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+def test_contact_response_follows_the_result_contract():
+    # a slender block released from φ0 > 0 (θ0 = −φ0 < 0, rocking on the left corner)
+    block = PoissonBlock.from_slenderness(4.0, width=0.4)
+    phi0 = block.alpha / 2
+    q0, v0 = block.rocking_state(phi0)
+    r = block_run(block, q0, v0, t_end=3.0, dt_out=2e-3)
+    assert isinstance(r, ContactResponse) and isinstance(r, Result) and r.engine == "contact"
+    assert r.status in STATUSES and r.outcome in OUTCOMES and r.status == "completed"
+    assert all(isinstance(e, ContactEvent) and isinstance(e, Event) for e in r.events)
+    assert {e.kind for e in r.events} <= EVENT_KINDS and r.n_impacts == len(r.impacts) > 3
+    # phases from the corners: left only −1, right only +1 (θ > 0 rocks on the right pivot)
+    first = r.impacts[0]
+    assert (first.closed_before, first.closed_after) == ((0,), (1,))
+    assert (first.phase_before, first.phase_after) == (-1, 1)
+    assert first.thetadot_minus > 0.0 and first.thetadot_plus > 0.0  # θ grows through 0
+    assert first.energy_change == pytest.approx(-first.impact.energy_loss, rel=1e-15)
+    assert first.restitution == 0.0
+    # θ = −φ, peaks in rad: the release angle first, then one per half-cycle
+    np.testing.assert_array_equal(r.theta, -r.q[:, 2])
+    assert r.peaks[0] == phi0 and r.peak_times[0] == 0.0
+    assert r.peaks.size == r.n_impacts + 1 and np.all(np.diff(r.peaks) < 0.0)
+    assert np.all(np.diff(r.peak_times) > 0.0)
+    # series and ledger
+    df = r.series
+    assert list(df.columns[:4]) == ["t", "theta", "thetadot", "phase"]
+    assert {"q0", "q1", "q2", "v2", "closed"} <= set(df.columns)
+    assert set(df["phase"].dropna()) == {-1, 1}
+    led = r.ledger
+    assert set(led.columns) <= set(LEDGER_NAMES) and {"t", "energy"} <= set(led.columns)
+    np.testing.assert_array_equal(led["impact"], r.impact_loss)
+    np.testing.assert_array_equal(led["balance_error"], r.ledger_error)
+    info = _no_nan(r.to_json())
+    assert info["engine"] == "contact" and info["peaks"] == list(r.peaks)
+    assert info["n_impacts"] == r.n_impacts and "friction_demand" in info
+
+
+def test_a_model_without_rotation_or_pivots_has_no_theta():
+    class Bare(_BlockModel):  # the same block, without the two optional attributes
+        rotation = None
+        pivots = None
+
+    block = PoissonBlock(b=0.2, h=0.5)
+    q0, v0 = block.rocking_state(0.1)
+    r = simulate_contacts(Bare(block, lambda t: 0.0), q0, v0, 1.0, 0.0, dt_out=1e-2)
+    assert r.rotation is None and np.all(np.isnan(r.theta)) and r.peaks.size == 0
+    assert r.impacts and all(e.phase_before is e.phase_after is None for e in r.events)
+    assert r.series["phase"].isna().all()
+    info = _no_nan(r.to_json())
+    assert info["peaks"] == [] and info["theta_max"] == 0.0
+
+
+@pytest.mark.parametrize(
+    "name, kind, outcome",
+    [
+        ("overturned", "overturn", "overturned"),
+        ("overturn", "overturn", "overturned"),
+        ("rest", "rest", "rest"),
+        ("fell_off_beam", "fell_off_beam", "fell_off_beam"),
+        ("impact", "impact", "completed"),
+        ("hits_the_wall", "stopped", "completed"),
+    ],
+)
+def test_model_events_map_to_the_contract(name, kind, outcome):
+    assert model_stop(name) == (kind, outcome)
+    assert kind in EVENT_KINDS and outcome in OUTCOMES
+
+
+def test_a_model_event_stops_the_run_with_its_name_in_detail():
+    class Wall(_BlockModel):
+        def __init__(self, *a):
+            super().__init__(*a)
+            self.events = (("hits_the_wall", lambda t, q, v: q[2] - 0.05),)
+
+    block = PoissonBlock(b=0.2, h=0.5)
+    q0, v0 = block.rocking_state(0.0, 1.0)  # spins about the left corner, φ grows
+    r = simulate_contacts(Wall(block, lambda t: 0.0), q0, v0, 1.0, 0.0, dt_out=1e-3)
+    last = r.events[-1]
+    assert (last.kind, last.detail) == ("stopped", "hits_the_wall")
+    assert last.theta == pytest.approx(-0.05, abs=1e-12) and last.phase_after == -1
+    assert r.outcome == r.status == "completed" and "hits_the_wall" in r.message
+
+
+def test_running_out_of_events_fails():
+    # outcome "max_events" (the budget ran out before t_end): status "failed"
+    block = PoissonBlock.from_slenderness(4.0, width=0.4)
+    q0, v0 = block.rocking_state(block.alpha / 2)
+    r = block_run(block, q0, v0, t_end=3.0, max_events=2)
+    assert r.outcome == "max_events" and r.status == "failed"
+    assert [e.kind for e in r.events] == ["release", "impact", "impact"]  # release not counted
+    assert _no_nan(r.to_json())["status"] == "failed"
+
+
+def test_a_solver_failure_is_an_event():
+    block = PoissonBlock(b=0.5, h=0.25)
+    a, w = 2.0 * block.g * math.tan(block.alpha), 2.0 * block.p
+    r = block_run(
+        block,
+        [0.0, 0.25, 0.0],
+        np.zeros(3),
+        t_end=3.0,
+        ag=lambda t: a * math.sin(w * t) if t < 2 * math.pi / w else 0.0,
+        quiet=2 * math.pi / w,
+    )
+    assert r.status == "failed" and r.events[-1].kind == "failed"
+    assert r.events[-1].time == r.t[-1] and r.events[-1].detail == r.message
+    info = _no_nan(r.to_json())  # the unbounded friction demand is null, not Infinity
+    assert info["friction_demand"]["smooth"] is None
+
+
+def test_half_cycle_peaks_of_a_damped_release():
+    # closed form: θ = θ0 e^{−t} cos(2π t) has |θ| extrema where tan(2π t) = −1/(2π);
+    # the first sample is the release, |θ0|
+    t = np.arange(0.0, 2.0 + 1e-12, 1e-3)
+    theta = 0.2 * np.exp(-t) * np.cos(2 * np.pi * t)
+    peaks, times = half_cycle_peaks(np.r_[0.0, t], np.r_[theta[0], theta])  # t0 twice
+    k = np.arange(1, 4)
+    t_ext = (k * np.pi - np.arctan(1 / (2 * np.pi))) / (2 * np.pi)
+    assert peaks[0] == 0.2 and times[0] == 0.0 and len(peaks) == 5
+    np.testing.assert_allclose(times[1:4], t_ext, atol=1e-6)
+    np.testing.assert_allclose(
+        peaks[1:4], 0.2 * np.exp(-t_ext) * np.abs(np.cos(2 * np.pi * t_ext)), rtol=1e-6
+    )

@@ -1,5 +1,6 @@
 """Flexible rocking oscillator (paper 000, Section 4): SymPy EOMs, uplift, impacts, energy."""
 
+import json
 import math
 
 import numpy as np
@@ -10,10 +11,12 @@ from multimass import InputError, Ricker
 from multimass.contact_dynamics import _Phase
 from multimass.flexible_oscillator import (
     FlexibleOscillator,
+    OscillatorResponse,
     _OscillatorModel,
     simulate_oscillator,
 )
 from multimass.flexible_oscillator_eom import numeric, symbolic
+from multimass.result import EVENT_KINDS, LEDGER_NAMES, OUTCOMES, STATUSES, Result
 
 # an illustrative oscillator (paper 000 takes its specimens from [23], not reproduced there)
 OSC = dict(m=1000.0, m_c=200.0, m_b=300.0, h=2.0, b=0.3, zeta=0.02)
@@ -325,3 +328,37 @@ def test_bad_new_simulation_input(osc):
 def test_a_ground_acceleration_that_is_not_finite_is_refused(osc):
     with pytest.raises(InputError, match=r"`ag` returned inf at t = 0 s"):
         simulate_oscillator(osc, 0.5, 1.0, ag=lambda t: float("inf"))
+
+
+# -- the one result contract (multimass.result)
+
+
+def test_oscillator_response_follows_the_result_contract(osc):
+    ag = Ricker(amplitude=0.25 * osc.g, omega=2 * math.pi * 1.0)
+    r = simulate_oscillator(osc, 0.3, 6.0, ag=ag)
+    assert isinstance(r, OscillatorResponse) and isinstance(r, Result) and r.engine == "contact"
+    assert r.status in STATUSES and r.outcome in OUTCOMES and r.status == "completed"
+    assert {e.kind for e in r.events} <= EVENT_KINDS and r.n_impacts > 0
+    # the base starts flat: no release peak, the peaks are the half-cycles of θ = −φ
+    assert r.theta[0] == 0.0 and r.peaks.size >= 2
+    assert np.abs(r.theta).max() == pytest.approx(r.theta_max, rel=1e-4)
+    for pk, tp in zip(r.peaks, r.peak_times):  # each peak sits on a sample's |θ| or above
+        i = int(np.argmin(np.abs(r.t - tp)))
+        assert pk >= abs(r.theta[i]) - 1e-15 and abs(r.t[i] - tp) <= 0.005
+    for e in r.events:  # the phase of every event is that of its corners
+        for closed, phase in ((e.closed_before, e.phase_before), (e.closed_after, e.phase_after)):
+            assert phase == {(0, 1): 0, (1,): 1, (0,): -1, (): None}[tuple(closed)]
+    df = r.series
+    assert list(df.columns[:4]) == ["t", "theta", "thetadot", "phase"]
+    assert {"u", "x", "y", "phi", "udot"} <= set(df.columns)
+    np.testing.assert_array_equal(df["u"], r.u)
+    led = r.ledger
+    assert set(led.columns) <= set(LEDGER_NAMES) and {"t", "energy", "damping"} <= set(led.columns)
+    assert led["damping"].iloc[-1] > 0.0
+
+    def refuse(c):
+        raise ValueError(f"{c} in JSON")
+
+    info = json.loads(r.to_json(), parse_constant=refuse)
+    assert info["engine"] == "contact" and info["model"] == "flexible_oscillator"
+    assert info["peaks"] == list(r.peaks) and info["u_cr"] == osc.u_cr

@@ -13,6 +13,7 @@ References used below, none computed by the code under test:
   Eqs 1–2 with terminal events at θ = 0 and |θ| = π/2.
 """
 
+import json
 import math
 
 import numpy as np
@@ -25,7 +26,8 @@ from multimass import _newmark_kernel as kern
 from multimass.eom import rocking_accelerations
 from multimass.excitations import SineWave
 from multimass.impact_models.restitution import housner_eta
-from multimass.newmark import NewmarkResult, newmark_block
+from multimass.newmark import NewmarkResult, newmark_block, rocking_energy
+from multimass.result import EVENT_KINDS, LEDGER_NAMES, OUTCOMES, STATUSES, Event, Result
 
 G = 9.81
 
@@ -138,8 +140,10 @@ def test_first_post_impact_peak_free_rocking(name):
     assert (
         abs(math.degrees(res.peaks[1]) - sp.reference.first_peak_deg) < 0.03
     )  # paper 002, Sec 6.2
-    first = res.events[0]
-    assert first.kind == "impact" and first.side == -1 and first.thetadot_minus < 0.0
+    release, first = res.events[:2]
+    assert (release.kind, release.time, release.theta) == ("release", 0.0, res.peaks[0])
+    assert first.kind == "impact" and first.thetadot_minus < 0.0
+    assert (first.phase_before, first.phase_after) == (1, -1)
 
 
 def test_first_peak_error_is_second_order_in_dt():
@@ -199,7 +203,7 @@ def test_trapezoidal_rule_is_time_reversible():
     fwd = newmark_block(
         st, lambda t: 0.0, n * dt, dt=dt, restitution=0.9, theta0=th0, thetadot0=thd0, tol=1e-13
     )
-    assert not fwd.events and np.all(fwd.theta > 0.0)
+    assert [e.kind for e in fwd.events] == ["release"] and np.all(fwd.theta > 0.0)
     back = newmark_block(
         st,
         lambda t: 0.0,
@@ -225,7 +229,8 @@ def test_no_rocking_at_the_uplift_threshold():
         2.0,
         restitution=housner_eta(alpha),
     )
-    assert res.events == () and res.status == "completed"
+    assert [e.kind for e in res.events] == ["release"] and res.status == "completed"
+    assert (res.events[0].phase_before, res.events[0].phase_after) == (0, 0)  # at rest
     assert np.all(res.theta == 0.0) and res.peaks.size == 0
 
 
@@ -236,12 +241,13 @@ def test_rocking_just_above_threshold_starts_at_the_exact_instant():
     res = newmark_block(
         multimass.rigid_block("B6M"), _sine(a0, omega), 1.0, restitution=housner_eta(alpha)
     )
-    up = res.events[0]
-    assert up.kind == "uplift" and up.side == -1  # ü_g > 0 first: left pivot, θ < 0
+    up = res.events[1]  # after the release (at rest, full contact)
+    assert up.kind == "uplift"
+    assert (up.phase_before, up.phase_after) == (0, -1)  # ü_g > 0 first: left pivot, θ < 0
     assert up.time == pytest.approx(math.asin(a_up / a0) / omega, abs=1e-13)  # closed form
     assert res.theta.min() < 0.0
     assert sum(ev.kind == "uplift" for ev in res.events) == 2  # again on the right in the 2nd half
-    assert [ev.side for ev in res.events if ev.kind == "uplift"] == [-1, 1]
+    assert [ev.phase_after for ev in res.events if ev.kind == "uplift"] == [-1, 1]
 
 
 # ---------------------------------------------------------------------------- forced response
@@ -295,7 +301,9 @@ def test_mirrored_excitation_gives_mirrored_response():
     np.testing.assert_array_equal(pos.t, neg.t)
     np.testing.assert_allclose(neg.theta, -pos.theta, rtol=0, atol=1e-14)
     np.testing.assert_allclose(neg.thetadot, -pos.thetadot, rtol=0, atol=1e-12)
-    assert [ev.side for ev in neg.events] == [-ev.side for ev in pos.events]
+    assert [(ev.phase_before, ev.phase_after) for ev in neg.events] == [
+        (-ev.phase_before, -ev.phase_after) for ev in pos.events
+    ]
     np.testing.assert_allclose(neg.peaks, pos.peaks, atol=1e-14)
 
 
@@ -309,7 +317,9 @@ def test_numba_kernel_matches_python_reference():
         for e in ("python", "numba")
     ]
     py, nb = runs
-    assert [(e.kind, e.side) for e in nb.events] == [(e.kind, e.side) for e in py.events]
+    assert [(e.kind, e.phase_after) for e in nb.events] == [
+        (e.kind, e.phase_after) for e in py.events
+    ]
     assert len(py.events) > 3 and py.status == nb.status
     np.testing.assert_allclose(
         [e.time for e in nb.events], [e.time for e in py.events], rtol=0, atol=1e-12
@@ -343,7 +353,7 @@ def test_restitution_callable_gets_velocity_and_new_side():
     impacts = [ev for ev in res.events if ev.kind == "impact"]
     assert len(calls) == len(impacts) >= 2
     for (thd, side), ev in zip(calls, impacts):
-        assert thd == ev.thetadot_minus and side == ev.side == int(math.copysign(1, thd))
+        assert thd == ev.thetadot_minus and side == ev.phase_after == int(math.copysign(1, thd))
         assert ev.restitution == 0.8
 
 
@@ -359,7 +369,8 @@ def test_rest_after_stops_early_and_matches_the_full_run():
         restitution=housner_eta(alpha),
         rest_after=exc.duration,
     )
-    assert early.status == "rest" and early.events[-1].kind == "rest"
+    assert early.outcome == "rest" and early.status == "completed"
+    assert early.events[-1].kind == "rest"
     assert exc.duration <= early.t[-1] < 3.0
     n = early.t.size
     np.testing.assert_array_equal(early.t, full.t[:n])
@@ -373,7 +384,8 @@ def test_rest_after_stops_early_and_matches_the_full_run():
 
 def test_free_release_with_rest_after_zero_stops_at_once():
     res = _free("B6M", dt=1e-3, rest_after=0.0)
-    assert res.status == "rest" and res.t.size == 1 and res.events[0].kind == "rest"
+    assert res.outcome == "rest" and res.status == "completed"
+    assert res.t.size == 1 and [e.kind for e in res.events] == ["release", "rest"]
 
 
 def test_block_beyond_alpha_at_pulse_end_is_not_declared_safe():
@@ -440,3 +452,106 @@ def test_result_is_frozen():
     assert isinstance(res, NewmarkResult)
     with pytest.raises(AttributeError):
         res.status = "x"
+
+
+# ---------------------------------------------------------------------------- result contract
+def _no_nan(text):
+    """json.loads that refuses NaN and infinities (not JSON)."""
+
+    def refuse(c):
+        raise ValueError(f"{c} in JSON")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+@pytest.mark.parametrize("case", ["free", "forced", "rest"])
+def test_result_contract(case):
+    st = multimass.rigid_block("B6M")
+    _, _, alpha, _, p2 = _block("B6M")
+    exc = SineWave(amplitude=1.5 * alpha * G, omega=4 * math.sqrt(p2))
+    if case == "free":
+        res = _free("B6M", dt=1e-3)
+    else:
+        res = newmark_block(
+            st,
+            exc,
+            3.0,
+            restitution=housner_eta(alpha),
+            rest_after=exc.duration if case == "rest" else None,
+        )
+    assert isinstance(res, Result) and res.engine == "newmark_block"
+    assert res.status in STATUSES and res.outcome in OUTCOMES
+    assert res.status == OUTCOMES[res.outcome]  # every check passed
+    assert res.outcome == {"free": "completed", "forced": "completed", "rest": "rest"}[case]
+    assert res.checks["energy_balance"]["passed"] and res.warnings == ()
+    assert res.events and all(isinstance(e, Event) for e in res.events)
+    assert {e.kind for e in res.events} <= EVENT_KINDS
+    for a, b in zip(res.events, res.events[1:]):  # the phases chain
+        assert b.phase_before == a.phase_after
+    # peaks in rad, one time each, in order; a free release starts with θ0
+    assert res.peaks.size == res.peak_times.size > 1
+    assert np.all(np.diff(res.peak_times) > 0.0) and np.all(res.peaks < alpha)
+    if case == "free":
+        assert res.peaks[0] == math.radians(specimens.load("B6M").reference.theta0_deg)
+        assert res.peak_times[0] == 0.0
+    assert res.theta_max == res.peaks.max()
+    # series and ledger
+    assert list(res.series.columns[:3]) == ["t", "theta", "thetadot"]
+    np.testing.assert_array_equal(res.series["theta"], res.theta)
+    led = res.ledger
+    assert set(led.columns) <= set(LEDGER_NAMES) and {"t", "energy"} <= set(led.columns)
+    np.testing.assert_allclose(led["energy"], rocking_energy(st, res.theta, res.thetadot))
+    scale = max(led["energy"].iloc[0], np.abs(led["ground_work"]).max())
+    err = np.abs(led["balance_error"]).max() / scale
+    assert err == pytest.approx(res.checks["energy_balance"]["value"], rel=1e-12) and err < 1e-3
+    # JSON: radians, degrees only beside them, no NaN
+    info = _no_nan(res.to_json())
+    assert info["engine"] == "newmark_block" and info["status"] == res.status
+    assert info["peaks"] == pytest.approx(list(res.peaks), abs=0.0)
+    assert info["peaks_deg"] == pytest.approx([math.degrees(x) for x in res.peaks])
+    assert info["n_impacts"] == sum(e.kind == "impact" for e in res.events)
+
+
+def test_free_rocking_peaks_fall_midway_between_impacts():
+    # closed form: free rocking is conservative and time-reversible between impacts, so
+    # each half-cycle after an impact peaks halfway to the next impact
+    res = _free("B6M", dt=5e-4, t_end=1.5)
+    imp = [e.time for e in res.events if e.kind == "impact"]
+    assert len(imp) == 4
+    mid = [(a + b) / 2 for a, b in zip(imp, imp[1:])]
+    np.testing.assert_allclose(res.peak_times[1 : len(mid) + 1], mid, atol=1e-8)
+
+
+def test_impact_events_carry_their_energy_change():
+    # ½ J_p (θ̇+² − θ̇−²) = ½ J_p (r² − 1) θ̇−² (paper 004, Sec 2.3); the ledger books it
+    st = multimass.rigid_block("B6M")
+    res = _free("B6M", dt=1e-3)
+    assert res.events[0].kind == "release" and res.events[0].energy_change == 0.0
+    for e in res.events[1:]:
+        assert e.kind == "impact" and e.restitution == housner_eta(st.alpha_cg)
+        expected = 0.5 * st.J_p * (e.restitution**2 - 1.0) * e.thetadot_minus**2
+        assert e.energy_change == pytest.approx(expected, rel=1e-12)
+    lost = -sum(e.energy_change for e in res.events)
+    assert res.ledger["impact"].iloc[-1] == pytest.approx(lost, rel=1e-12)
+
+
+def test_a_coarse_step_is_flagged_inaccurate():
+    # dt = 0.05 s against 1/p ≈ 0.27 s: the ledger no longer closes to 1e-3
+    _, _, alpha, _, p2 = _block("B6M")
+    exc = SineWave(amplitude=3 * alpha * G, omega=math.sqrt(p2))
+    st, eta = multimass.rigid_block("B6M"), housner_eta(alpha)
+    coarse = newmark_block(st, exc, 3.0, dt=0.05, restitution=eta)
+    assert coarse.outcome == "overturned" and coarse.status == "inaccurate"
+    assert not coarse.overturned  # the contract's overturned needs passing checks
+    assert not coarse.checks["energy_balance"]["passed"]
+    assert len(coarse.warnings) == 1 and "reduce `dt`" in coarse.warnings[0]
+    loose = newmark_block(st, exc, 3.0, dt=0.05, restitution=eta, energy_tol=0.1)
+    assert loose.status == "overturned"
+    with pytest.raises(InputError, match="`energy_tol`"):
+        newmark_block(st, exc, 3.0, restitution=eta, energy_tol=0.0)
+
+
+def test_a_failed_run_ends_with_a_failed_event():
+    res = _free("B6M", dt=1e-3, max_iter=1)
+    assert res.status == res.outcome == "failed" and res.checks == {}
+    assert res.events[-1].kind == "failed" and "max_iter" in res.events[-1].detail

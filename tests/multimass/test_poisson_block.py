@@ -1,5 +1,6 @@
 """Rigid block with Poisson LCP impacts (paper 000, Section 3) against Housner's model."""
 
+import json
 import math
 
 import numpy as np
@@ -9,11 +10,13 @@ import multimass
 from multimass import InputError, SineWave
 from multimass.impact_models import housner_eta
 from multimass.poisson_block import (
+    BlockResponse,
     PoissonBlock,
     _BlockModel,
     housner_theta,
     simulate_block,
 )
+from multimass.result import EVENT_KINDS, LEDGER_NAMES, OUTCOMES, STATUSES, Result
 
 
 def on_grid(resp, grid):
@@ -50,8 +53,9 @@ def test_sine_pulse_figure_5_agrees_with_housner():
     err = np.abs(on_grid(r, grid) + theta_h).max() / block.alpha
     assert err < 1e-6
     assert np.abs(r.phi).max() / block.alpha > 0.5  # it does rock substantially
-    uplift = r.events[0]
-    assert uplift.kind == "liftoff" and uplift.closed_after == (0,)  # left corner: φ > 0
+    uplift = r.events[1]  # after the release, upright at rest
+    assert uplift.kind == "uplift" and uplift.closed_after == (0,)  # left corner: φ > 0
+    assert (uplift.phase_before, uplift.phase_after) == (0, -1)  # full contact → left pivot
     assert uplift.time == pytest.approx(t_up, abs=1e-9)
     assert r.phi[np.searchsorted(r.t, t_up + 0.05)] > 0.0  # ag > 0 ⇒ φ > 0 ⇒ θ < 0
     assert r.theta[np.searchsorted(r.t, t_up + 0.05)] < 0.0
@@ -89,7 +93,8 @@ def test_stocky_block_partial_restitution_decays_to_rest():
     r = simulate_block(block, 0.5, 3.0, phi0=block.alpha / 3)
     ratios = [ev.impact.u_plus[2] / ev.impact.u_minus[2] for ev in r.events if ev.kind == "impact"]
     np.testing.assert_allclose(ratios, -0.5, atol=1e-9)
-    assert r.events[-1].kind == "zeno_rest" and r.events[-1].closed_after == (0, 1)
+    assert r.events[-1].kind == "rest" and r.events[-1].detail == "zeno_rest"
+    assert r.events[-1].closed_after == (0, 1) and r.events[-1].phase_after == 0
     assert r.phase[-1] == "full"
 
 
@@ -98,7 +103,8 @@ def test_rocking_that_dies_out_comes_to_rest():
     block = PoissonBlock.from_slenderness(3.0)
     r = simulate_block(block, 0.0, 8.0, phi0=block.alpha / 3)
     assert r.status == "completed"
-    assert r.events[-1].kind == "zeno_rest" and r.events[-1].closed_after == (0, 1)
+    assert r.events[-1].kind == "rest" and r.events[-1].detail == "zeno_rest"
+    assert r.events[-1].closed_after == (0, 1)
     assert 4.0 < r.events[-1].time < 5.5
     assert np.abs(r.phi[r.t > r.events[-1].time]).max() < 1e-12
 
@@ -302,7 +308,7 @@ def test_spin_towards_the_other_corner_is_an_impact_at_t0(eps):
     # resolved by the Poisson LCPs; η = 1 − 3/2 sin²α − 3/2 ε sin²α (paper 000, Eq 24)
     block, w = b6m_block(), -0.5
     r = simulate_block(block, eps, 0.12, phi0=1e-12, dphi0=w, dt_out=1e-5)
-    ev = r.events[0]
+    ev = r.events[1]  # after the release
     assert (ev.kind, ev.time, ev.closed_before) == ("impact", 0.0, (0,))
     s2 = math.sin(block.alpha) ** 2
     eta = 1.0 - 1.5 * s2 - 1.5 * eps * s2
@@ -401,7 +407,8 @@ def test_lift_off_into_flight_needs_unbounded_friction():
     block = PoissonBlock(b=0.5, h=0.25)
     ag = SineWave(amplitude=1.5 * block.g * math.tan(block.alpha), omega=4.0 * block.p)
     r = simulate_block(block, 0.0, 3.0, ag=ag, mu=5.0)
-    flights = [e for e in r.events if e.kind == "liftoff" and e.closed_after == ()]
+    flights = [e for e in r.events if e.kind == "uplift" and e.closed_after == ()]
+    assert all(e.phase_after is None for e in flights)  # flight has no phase
     assert flights and r.friction.smooth == math.inf
     assert r.friction.smooth_time == pytest.approx(flights[0].time, abs=1e-12)
     assert r.status == "inaccurate" and any("unbounded" in s for s in r.warnings)
@@ -435,3 +442,85 @@ def test_a_ground_acceleration_that_is_not_finite_is_refused():
         )
     with pytest.raises(InputError, match="`ag`"):
         simulate_block(block, 0.0, 1.0, ag=lambda t: "1 g")
+
+
+# -- the one result contract (multimass.result)
+
+
+def _no_nan(text):
+    """json.loads that refuses NaN and infinities (not JSON)."""
+
+    def refuse(c):
+        raise ValueError(f"{c} in JSON")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+def housner_peaks(alpha, theta0, n):
+    """Closed form (energy): cos(α − θ_{k+1}) = cos α + η² [cos(α − θ_k) − cos α]."""
+    eta, peaks = housner_eta(alpha), [theta0]
+    for _ in range(n - 1):
+        c = math.cos(alpha) + eta**2 * (math.cos(alpha - peaks[-1]) - math.cos(alpha))
+        peaks.append(alpha - math.acos(c))
+    return peaks
+
+
+def test_block_response_follows_the_result_contract():
+    # H/b = 7, ε_P = 0 is Housner's block (Fig 5): its peaks are the closed form's
+    block = PoissonBlock.from_slenderness(7.0)
+    phi0 = block.alpha / 3
+    r = simulate_block(block, 0.0, 4.0, phi0=phi0, dt_out=0.01)
+    assert isinstance(r, BlockResponse) and isinstance(r, Result) and r.engine == "contact"
+    assert r.status in STATUSES and r.outcome in OUTCOMES and r.status == "completed"
+    assert r.message == r.raw.message and {e.kind for e in r.events} <= EVENT_KINDS
+    # peaks in rad, release first: |θ0| = φ0, then Housner's energy closed form
+    assert r.peaks[0] == phi0 and r.peak_times[0] == 0.0
+    assert r.peaks.size == r.n_impacts + 1 == 4
+    np.testing.assert_allclose(r.peaks, housner_peaks(block.alpha, phi0, 4), atol=1e-9)
+    imp = [e.time for e in r.events if e.kind == "impact"]
+    assert np.all((r.peak_times[1:-1] > imp[:-1]) & (r.peak_times[1:-1] < imp[1:]))
+    # the impacts alternate the pivots: released on the left (φ0 > 0, θ0 < 0) → right, …
+    assert [(e.kind, e.phase_before, e.phase_after) for e in r.events] == [
+        ("release", -1, -1),
+        ("impact", -1, 1),
+        ("impact", 1, -1),
+        ("impact", -1, 1),
+    ]
+    # series: θ = −φ, the integer phase beside the named one
+    df = r.series
+    assert list(df.columns[:4]) == ["t", "theta", "thetadot", "phase"]
+    assert {"x", "y", "phi", "phidot"} <= set(df.columns)
+    np.testing.assert_array_equal(df["theta"], -r.phi)
+    np.testing.assert_array_equal(df["thetadot"], -df["phidot"])
+    named = {"rock_left": -1, "rock_right": 1, "full": 0}
+    assert [named[p] for p in r.phase] == df["phase"].tolist()
+    led = r.ledger
+    assert set(led.columns) <= set(LEDGER_NAMES) and {"t", "energy"} <= set(led.columns)
+    assert np.abs(led["balance_error"]).max() < 1e-7 * led["energy"].iloc[0]
+    info = _no_nan(r.to_json())
+    assert info["peaks"] == list(r.peaks) and info["eps_p"] == 0.0
+    assert info["theta_max"] == phi0 and info["model"] == "poisson_block"
+
+
+def test_overturning_block_ends_with_an_overturn_event():
+    block = PoissonBlock.from_slenderness(4.0, width=0.4)
+    ag = SineWave(amplitude=1.2 * block.g, omega=2.0 * block.p)
+    r = simulate_block(block, 0.0, 10.0, ag=ag)
+    last = r.events[-1]
+    assert r.outcome == r.status == "overturned" and r.overturned
+    assert last.kind == "overturn" and abs(last.theta) == pytest.approx(math.pi / 2, abs=1e-12)
+    assert r.peaks[-1] == pytest.approx(math.pi / 2, abs=1e-12)
+    assert r.events[1].kind == "uplift" and r.events[1].phase_before == 0
+    info = _no_nan(r.to_json())
+    assert info["status"] == "overturned" and info["overturn_time"] == last.time
+
+
+def test_flight_has_no_phase():
+    # paper 000, Eq 22: a slender block with ε_P > 0 leaves the ground after its first impact
+    block = PoissonBlock.from_slenderness(7.0)
+    r = simulate_block(block, 0.5, 3.0, phi0=block.alpha / 3)
+    first = r.raw.impacts[0]
+    assert (first.phase_before, first.phase_after) == (-1, None)
+    flight = r.phase == "flight"
+    assert flight.any() and r.series["phase"][flight].isna().all()
+    assert r.series["phase"][~flight].notna().all()

@@ -2,6 +2,7 @@
 
 import importlib
 import json
+import math
 
 import pytest
 
@@ -33,7 +34,7 @@ def test_nscd_json(capsys):
     for key in (
         "status",
         "peaks_deg",
-        "rest_time_s",
+        "rest_time",
         "n_steps",
         "max_gs_iterations",
         "wall_time_s",
@@ -43,9 +44,12 @@ def test_nscd_json(capsys):
     ):
         assert key in data
     assert data["status"] == "completed" and data["n_steps"] == 10000
-    assert data["rest_time_s"] is None  # still rocking at 1 s
+    assert data["rest_time"] is None  # still rocking at 1 s
     assert data["paper_first_peak_deg"] == 7.76  # paper 002, Section 6.2
-    assert data["peaks_deg"][0] == pytest.approx(7.76, abs=0.03)
+    assert data["peaks_deg"][0] == pytest.approx(11.268, abs=1e-12)  # the release angle
+    assert data["peaks_deg"][1] == pytest.approx(7.76, abs=0.03)
+    assert data["first_peak_deg"] == data["peaks_deg"][1]
+    assert data["first_peak"] == pytest.approx(math.radians(data["first_peak_deg"]), rel=1e-12)
 
 
 def test_nscd_writes_files(tmp_path, capsys):
@@ -106,7 +110,7 @@ def test_bad_input_is_one_clear_line(capsys, argv, fragment):
 def test_rigid_base_convention_e_1e24_keeps_working(capsys):
     # paper 002, Section 6.1: E = 1e24 Pa is the rigid base; E_MAX (1e30) leaves room above it
     assert main(["nscd", "B6M", "--E", "1e24", "--dt", "1e-4", "--t-end", "0.05", "--json"]) == 0
-    assert json.loads(capsys.readouterr().out)["E_Pa"] == 1e24
+    assert json.loads(capsys.readouterr().out)["E"] == 1e24
 
 
 def test_a_billion_steps_are_refused_with_their_estimate(capsys):

@@ -27,7 +27,7 @@ def test_kernel_matches_reference(theta0, flex, theta_method, mu):
     q, v = reference_run(sys, n)
     res = run_system(sys, n * sys.dt)
     qk, vk, qe, ve = res.final_state
-    assert res.n_steps == n and len(res.impact_times_s) >= 1
+    assert res.n_steps == n and len(res.impact_times) >= 1
     assert res.n_multi_contact_steps >= 1  # Gauss-Seidel over two contacts ran
     if mu < 0.1:
         assert res.n_slip_steps > 0

@@ -24,7 +24,7 @@ def flex():
 def figures(flex):
     """Every figure builder, with the cases the reviewer found wrong."""
     res = nscd.simulate("B6M", theta0=math.radians(11.268), dt=1e-4, t_end=4.0)
-    assert res.rest_time_s is not None  # the rest line the legend used to hide
+    assert res.rest_time is not None  # the rest line the legend used to hide
     figs = {
         "history": plots.history_figure(
             res, exact_first_peak_deg=7.7665, paper_first_peak_deg=7.76, paper_rest_time_s=3.5
