@@ -1,31 +1,75 @@
-"""The state of one simulation while it runs: phase loop, transitions, draws, guard.
+"""The phase loop of one simulation: it owns the run's state and passes it by value.
 
-`multimass.simulate` validates its arguments and builds a `_Run`; the run
-integrates one phase segment at a time (solve_ivp, or the compiled kernels of
-`multimass.fast`), hands terminal events to `multimass._events` and records
-samples, peaks and the ledger in a `Recorder`.
+`multimass.simulate` validates its options (`SimulationOptions`) and builds a
+`PhaseLoop`. The loop carries a `State` (time, phase, state vector, the active
+Dirac-delta force, the pending restitution, the guard's hold, the status)
+from one phase segment to the next: a segment (solve_ivp, or the compiled kernels
+of `multimass.fast`) returns the state at its end, and a terminal event's handler
+(`multimass._events.handle_event`) returns the state after the transition. What
+the loop keeps besides is the run's record — the event log, the `Recorder` of
+samples, peaks and ledger, the restitution draws, the chattering guard's window.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections import deque
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
 from multimass.impact_models import ImpactContext
+from multimass.impact_models.models import full_contact_velocities
 
 from . import kinematics as kin
 from ._events import handle_event, phase_events
 from ._phase import ActiveForce, Model, full_contact_rhs, rocking_rhs
 from ._recorder import Recorder
 from ._rigid import next_uplift
-from .response import Event
+from .checks import energy_floor
+from .result import Event
 
-__all__ = ["_Run", "QUIET_DELAY"]
+__all__ = ["PhaseLoop", "State", "QUIET_DELAY"]
 
 QUIET_DELAY = 1e-9  # s: events are held quiet this long after a restart
+
+
+@dataclass(frozen=True, eq=False)
+class State:
+    """The state of a run between two segments; handlers return a new one.
+
+    Attributes
+    ----------
+    t : float
+    phase : int
+        0 full contact, +1 / −1 rocking about the right / left pivot.
+    y : ndarray
+        [u, θ, u̇, θ̇, damping, ground work, impact-force work]; never changed in
+        place once in a State (transitions copy it).
+    force : ActiveForce or None
+        The active Dirac-delta force (paper 001, Eqs 14–16).
+    r_pending : float or None
+        The restitution drawn for the coming impact (Dirac-delta models).
+    hold_until : float
+        Uplift is held off until this time after the chattering guard tripped.
+    status, message : str
+        "completed" while the run goes on; "overturned" or "failed" end it.
+    """
+
+    t: float
+    phase: int
+    y: np.ndarray
+    force: ActiveForce | None = None
+    r_pending: float | None = None
+    hold_until: float = 0.0
+    status: str = "completed"
+    message: str = ""
+
+    def but(self, **changes) -> State:
+        """This state with `changes`."""
+        return dataclasses.replace(self, **changes)
 
 
 def _reporting(rhs, progress, every: int = 2000):
@@ -41,102 +85,104 @@ def _reporting(rhs, progress, every: int = 2000):
     return wrapped
 
 
-class _Run:
-    """State of one simulation while it runs (phase, force, draws, log)."""
+class PhaseLoop:
+    """One simulation while it runs: the fixed context, the record, and the loop.
 
-    def __init__(
-        self,
-        st,
-        model,
-        ag_fn,
-        duration,
-        bps,
-        t_end,
-        phase,
-        y,
-        seed,
-        ivp,
-        theta_dot_min,
-        output_dt,
-        overturn_angle,
-        chatter_window,
-        chatter_count,
-        stop_at_rest,
-        stop_when_safe,
-        energy_floor=0.0,
-    ):
-        self.st, self.mdl, self.model = st, Model.of(st), model
-        self.ag, self.duration, self.t_end = ag_fn, duration, t_end
-        ends = [b for b in bps if 0.0 < b < t_end] + ([duration] if 0 < duration < t_end else [])
+    Parameters
+    ----------
+    st : Structure
+    model : ImpactModel
+    ground : tuple
+        (ü_g, duration, breakpoints) of the excitation.
+    t_end : float
+    phase : int
+    y : ndarray
+        The initial state vector.
+    options : SimulationOptions
+    fast : FastPath, optional
+        The compiled path (backend "compiled"); None integrates with solve_ivp.
+    """
+
+    def __init__(self, st, model, ground, t_end, phase, y, options, fast=None):
+        o = options
+        self.st, self.mdl, self.model, self.fast = st, Model.of(st), model, fast
+        self.ag, self.duration, bps = ground
+        self.t_end = t_end
+        ends = [b for b in bps if 0.0 < b < t_end]
+        ends += [self.duration] if 0 < self.duration < t_end else []
         self.breakpoints = sorted(set(ends)) + [t_end]
-        self.t, self.phase, self.y = 0.0, phase, y
-        self.ivp, self.theta_dot_min, self.overturn = ivp, theta_dot_min, overturn_angle
-        self.rng = np.random.default_rng(seed)
-        self.n_draws, self.r_pending = 0, None
-        self.force: ActiveForce | None = None
-        self.hold_until = 0.0
-        self.chatter = deque(maxlen=chatter_count)
-        self.chatter_window, self.stop_at_rest = chatter_window, stop_at_rest
+        self.ivp, self.thetadot_min, self.overturn = o.ivp, o.thetadot_min, o.overturn_angle
+        self.rng = np.random.default_rng(o.seed)
+        self.n_draws = 0
+        self.chatter = deque(maxlen=o.chatter_count)
+        self.chatter_window, self.stop_at_rest = o.chatter_window, o.stop_at_rest
         self.safe_energy = None
-        if stop_when_safe and st.n == 0 and math.isfinite(duration):
+        if o.stop_when_safe and st.n == 0 and math.isfinite(self.duration):
             # energy to lift the centre of gravity over a pivot, m g R (1 − cos α)
             self.safe_energy = kin.gravitational_energy(st, 1, np.zeros(0), st.alpha_cg)
         self.events: list[Event] = [Event("release", 0.0, phase, phase, theta=float(y[st.n]))]
-        self.status, self.message, self.n_rhs = "completed", "", 0
-        self.recorder = Recorder(st, self.mdl, output_dt, ag_fn)
+        self.n_rhs = 0
+        self.recorder = Recorder(st, self.mdl, o.output_dt, self.ag)
         self.recorder.start_phase(phase, 0.0, y)
-        self.energy_floor = float(energy_floor)
+        self.energy_floor = energy_floor(st, o.atol)
         self.e0 = self.energy(phase, y)  # the ledger starts from the given state
-        self.progress = None  # a callback progress(t), see `loop`
-        if phase and model.has_force:
-            self.r_pending = self.draw(-phase)
+        self.progress = None  # a callback progress(t), see `run`
+        r = self.draw(-phase, y) if phase and model.has_force else None
+        self.start = State(0.0, phase, y, r_pending=r)
 
     # -- restitution draws -------------------------------------------------
-    def draw(self, side_new: int) -> float:
-        ctx = ImpactContext(self.st, side_new, self.y[: self.st.n].copy(), self.n_draws, self.rng)
+    def draw(self, side_new: int, y: np.ndarray) -> float:
+        """The restitution of the next impact onto pivot `side_new` at state `y` (one draw)."""
+        ctx = ImpactContext(self.st, side_new, y[: self.st.n].copy(), self.n_draws, self.rng)
         self.n_draws += 1
         return float(self.model.restitution.value(ctx))
 
     # -- main loop -----------------------------------------------------------
-    def loop(self, progress=None):
-        """Integrate to t_end (or the end of the run); `progress(t)` is told the time."""
+    def run(self, progress=None) -> State:
+        """Integrate to t_end (or the end of the run); `progress(t)` is told the time.
+
+        Returns the final state (its status and message say how the run ended).
+        """
         self.progress = progress
-        while self.t < self.t_end and self.status == "completed":
-            t_stop = next(b for b in self.breakpoints if b > self.t)
-            if self.phase == 0 and self.st.n == 0:
-                if not self.rest_until_uplift(t_stop):
+        s = self.start
+        while s.t < self.t_end and s.status == "completed":
+            t_stop = next(b for b in self.breakpoints if b > s.t)
+            if s.phase == 0 and self.st.n == 0:
+                s, go_on = self.rest_until_uplift(s, t_stop)
+                if not go_on:
                     break
                 continue
-            self.integrate(t_stop)
-            if self.status == "completed" and self.is_safe():
+            s = self.integrate(s, t_stop)
+            if s.status == "completed" and self.is_safe(s):
                 self.events.append(
                     Event(
                         "rest",
-                        self.t,
-                        self.phase,
-                        self.phase,
-                        theta=float(self.y[self.st.n]),
+                        s.t,
+                        s.phase,
+                        s.phase,
+                        theta=float(s.y[self.st.n]),
                         detail="excitation over; too little energy to overturn",
                     )
                 )
                 break
             if progress is not None:
-                progress(self.t)
-        self.recorder.finish(self.t, self.y, self.phase)
+                progress(s.t)
+        self.recorder.finish(s.t, s.y, s.phase)
+        return s
 
-    def end_balance_error(self) -> float:
+    def end_balance_error(self, s: State) -> float:
         """|ledger balance| at the end of the run over its energy scale (`multimass.checks`)."""
-        E = self.energy(self.phase, self.y)
-        D, Wg, WF = (float(x) for x in self.y[-3:])
+        E = self.energy(s.phase, s.y)
+        D, Wg, WF = (float(x) for x in s.y[-3:])
         balance = E + D + WF + self.recorder.loss - Wg - self.e0
         return abs(balance) / max(abs(self.e0), abs(Wg), abs(E), self.energy_floor, 1e-300)
 
-    def is_safe(self) -> bool:
+    def is_safe(self, s: State) -> bool:
         """After the excitation, can this rigid body still overturn? (`stop_when_safe`)"""
-        if self.safe_energy is None or self.t < self.duration or self.t >= self.t_end:
+        if self.safe_energy is None or s.t < self.duration or s.t >= self.t_end:
             return False
-        th = float(self.y[self.st.n])
-        return abs(th) < self.st.alpha_cg and self.energy(self.phase, self.y) < self.safe_energy
+        th = float(s.y[self.st.n])
+        return abs(th) < self.st.alpha_cg and self.energy(s.phase, s.y) < self.safe_energy
 
     def energy(self, phase, y) -> float:
         u, th, ud, thd = self.mdl.split(y)
@@ -150,114 +196,103 @@ class _Run:
         )
 
     # -- rigid bodies at rest --------------------------------------------------
-    def rest_until_uplift(self, t_stop: float) -> bool:
-        """A rigid body in full contact: find the next uplift (paper 001, Eq 8) or rest."""
+    def rest_until_uplift(self, s: State, t_stop: float) -> tuple[State, bool]:
+        """A rigid body in full contact: find the next uplift (paper 001, Eq 8) or rest.
 
-        t0 = max(self.t, self.hold_until)
+        Returns the next state and False when the run ends at rest.
+        """
+        t0 = max(s.t, s.hold_until)
         found = next_uplift(self.st, self.ag, t0, t_stop) if t0 < t_stop else None
         if found is None:
-            self.recorder.hold(self.t, t_stop, self.y)
-            self.t = t_stop
-            if self.stop_at_rest and self.t >= self.duration:
-                self.events.append(Event("rest", self.t, 0, 0, detail="excitation over, at rest"))
-                self.recorder.hold(self.t, self.t_end, self.y)
-                self.t = self.t_end
-                return False
-            return True
+            self.recorder.hold(s.t, t_stop, s.y)
+            if self.stop_at_rest and t_stop >= self.duration:
+                self.events.append(Event("rest", t_stop, 0, 0, detail="excitation over, at rest"))
+                self.recorder.hold(t_stop, self.t_end, s.y)
+                return s.but(t=self.t_end), False
+            return s.but(t=t_stop), True
         t_up, side = found
-        self.recorder.hold(self.t, t_up, self.y)
-        self.t = t_up
-        self.start_rocking(side, "uplift")
-        return True
+        self.recorder.hold(s.t, t_up, s.y)
+        return self.start_rocking(s.but(t=t_up), side, "uplift"), True
 
-    def start_rocking(self, side: int, kind: str, detail: str = ""):
-        self.events.append(Event(kind, self.t, self.phase, side, detail=detail))
-        self.recorder.end_phase(self.t, self.y, self.phase)
-        self.phase = side
-        self.recorder.start_phase(side, self.t, self.y)
-        self.r_pending = self.draw(-side) if self.model.has_force else None
-        if self.note_transition(self.t):
-            self.trip_guard()
+    def start_rocking(self, s: State, side: int, kind: str, detail: str = "") -> State:
+        """The state rocking about `side` from `s` (θ̇ and u̇ as in `s`), logged."""
+        self.events.append(Event(kind, s.t, s.phase, side, detail=detail))
+        self.recorder.end_phase(s.t, s.y, s.phase)
+        self.recorder.start_phase(side, s.t, s.y)
+        r = self.draw(-side, s.y) if self.model.has_force else None
+        s = s.but(phase=side, r_pending=r)
+        return self.trip_guard(s) if self.note_transition(s.t) else s
 
-    # -- one solve_ivp call ------------------------------------------------------
-    fast = None  # a multimass.fast.FastPath with backend="compiled"
-
-    def integrate(self, t_stop: float):
+    # -- one phase segment ------------------------------------------------------------
+    def integrate(self, s: State, t_stop: float) -> State:
+        """The state at `t_stop` or after the segment's first terminal event."""
         if self.fast is not None:
-            return self.fast.integrate(self, t_stop)
+            return self.fast.integrate(self, s, t_stop)
 
         rhs = (
             full_contact_rhs(self.mdl, self.ag)
-            if self.phase == 0
-            else rocking_rhs(self.mdl, self.phase, self.ag, self.force)
+            if s.phase == 0
+            else rocking_rhs(self.mdl, s.phase, self.ag, s.force)
         )
         if self.progress is not None:
             rhs = _reporting(rhs, self.progress)
-        names, events = phase_events(self, QUIET_DELAY)
-        t_eval = self.recorder.grid(self.t, t_stop)
+        names, events = phase_events(self, s, QUIET_DELAY)
+        t_eval = self.recorder.grid(s.t, t_stop)
+        method = self.ivp["method"]
         try:
-            sol = solve_ivp(rhs, (self.t, t_stop), self.y, t_eval=t_eval, events=events, **self.ivp)
+            sol = solve_ivp(rhs, (s.t, t_stop), s.y, t_eval=t_eval, events=events, **self.ivp)
         except ValueError as exc:  # e.g. LSODA's interpolant defeats the event root search
-            self.fail(
-                self.t,
-                f"solve_ivp ({self.ivp['method']}) raised in the segment starting "
-                f"at t = {self.t:.6g} s: {exc}",
+            return self.fail(
+                s,
+                s.t,
+                f"solve_ivp ({method}) raised in the segment starting at t = {s.t:.6g} s: {exc}",
             )
-            return
         self.n_rhs += sol.nfev
         if sol.status == -1:
-            self.fail(
-                float(sol.t[-1]) if sol.t.size else self.t,
+            return self.fail(
+                s,
+                float(sol.t[-1]) if sol.t.size else s.t,
                 f"solve_ivp failed at t = {sol.t[-1]:.6g} s: {sol.message}",
             )
-            return
         if not np.all(np.isfinite(sol.y)):
-            self.fail(
-                self.t,
-                f"solve_ivp ({self.ivp['method']}) produced a non-finite state in "
-                f"the segment starting at t = {self.t:.6g} s",
+            return self.fail(
+                s,
+                s.t,
+                f"solve_ivp ({method}) produced a non-finite state in the segment "
+                f"starting at t = {s.t:.6g} s",
             )
-            return
-        self.recorder.segment(sol, rhs, self.phase, self.force, names)
+        self.recorder.segment(sol, rhs, s.phase, s.force, names)
         if sol.status == 1:
             i = next(
                 i for i, name in enumerate(names) if events[i].terminal and sol.t_events[i].size
             )
-            self.t, self.y = float(sol.t_events[i][0]), sol.y_events[i][0].copy()
-            self.handle(names[i])
-        else:
-            self.t, self.y = t_stop, self._last(sol)
+            at = s.but(t=float(sol.t_events[i][0]), y=sol.y_events[i][0].copy())
+            return handle_event(self, at, names[i])
+        return s.but(t=t_stop, y=np.asarray(sol.y)[:, -1].copy())  # the grid ends at t_stop
 
-    @staticmethod
-    def _last(sol) -> np.ndarray:
-        """State at the stop time of a segment (the grid always ends there)."""
-        return np.asarray(sol.y)[:, -1].copy()
+    def fail(self, s: State, t: float, message: str) -> State:
+        """The state `s` ended with status "failed" and the solver's message (never data)."""
+        self.events.append(Event("failed", t, s.phase, s.phase, detail=message))
+        return s.but(status="failed", message=message)
 
-    def fail(self, t: float, message: str) -> None:
-        """End the run with status "failed" and the solver's message (never data)."""
-        self.status, self.message = "failed", message
-        self.events.append(Event("failed", t, self.phase, self.phase, detail=message))
-
-    # -- transitions ------------------------------------------------------------------
-    def handle(self, name: str):
-        handle_event(self, name)
-
-    def trip_guard(self):
+    # -- the chattering guard --------------------------------------------------------
+    def trip_guard(self, s: State) -> State:
         """Chattering: force full contact for one window (logged)."""
-        u, th, ud, thd = self.mdl.split(self.y)
-        y = self.y.copy()
-        if self.phase:
-            y[self.st.n + 1 : 2 * self.st.n + 1] = ud + self.st.H * thd  # paper 001, Eq 10
-        y[self.st.n] = 0.0
-        y[2 * self.st.n + 1] = 0.0
-        loss = self.energy(self.phase, self.y) - self.energy(0, y)
-        self.recorder.end_phase(self.t, self.y, self.phase)
+        n = self.st.n
+        u, th, ud, thd = self.mdl.split(s.y)
+        y = s.y.copy()
+        if s.phase:
+            y[n + 1 : 2 * n + 1] = full_contact_velocities(self.st.H, ud, thd)
+        y[n] = 0.0
+        y[2 * n + 1] = 0.0
+        loss = self.energy(s.phase, s.y) - self.energy(0, y)
+        self.recorder.end_phase(s.t, s.y, s.phase)
         self.recorder.add_loss(loss)
         self.events.append(
             Event(
                 "chatter_guard",
-                self.t,
-                self.phase,
+                s.t,
+                s.phase,
                 0,
                 theta=float(th),
                 thetadot_minus=float(thd),
@@ -265,7 +300,6 @@ class _Run:
                 detail=f"{self.chatter.maxlen} transitions within {self.chatter_window:g} s",
             )
         )
-        self.phase, self.y, self.force = 0, y, None
-        self.recorder.start_phase(0, self.t, y)
-        self.hold_until = self.t + self.chatter_window
+        self.recorder.start_phase(0, s.t, y)
         self.chatter.clear()
+        return s.but(phase=0, y=y, force=None, hold_until=s.t + self.chatter_window)

@@ -34,88 +34,29 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
-import scipy.integrate
 
 from multimass.impact_models import impact_model
 
 from . import validation as v
 from ._newmark_response import check_newmark, simulate_newmark
-from ._run import QUIET_DELAY, _Run
+from ._run import QUIET_DELAY, PhaseLoop
 from .checks import energy_floor, judge
 from .cost import simulation_cost
 from .errors import InputError
 from .excitations import FreeRelease
-from .progress import Progress, budget_seconds
-from .response import Response
+from .progress import Progress
+from .response import Outcome, Response
+from .simulation_options import DEFAULTS, SimulationOptions
 from .structure import Structure, from_specimen
 
-__all__ = ["simulate", "simulate_outcome", "estimate", "Outcome", "DEFAULTS"]
-
-#: Default options (see the module docstring for why).
-DEFAULTS = dict(
-    method="DOP853",
-    rtol=1e-8,
-    atol=1e-10,
-    max_step=5e-3,
-    theta_dot_min=0.01,
-    output_dt=1e-3,
-    chatter_window=5e-3,
-    chatter_count=20,
-    energy_tol=1e-3,
-)
-
-#: Every option of `simulate` and its default (the validated set; see `_options`).
-_OPTIONS = dict(
-    restitution=None,
-    k=None,
-    C_p=None,
-    eps_p=None,
-    seed=None,
-    overturn_angle=math.pi / 2,
-    stop_at_rest=True,
-    stop_when_safe=False,
-    integrator="solve_ivp",
-    dt=1e-3,
-    backend="scipy",
-    max_hours=None,
-    progress=None,
-    **DEFAULTS,
-)
-
-_METHODS = ("RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")
+__all__ = ["simulate", "simulate_outcome", "estimate", "SimulationOptions", "DEFAULTS"]
 
 
 def simulate(
-    structure,
-    excitation,
-    impact="DD2",
-    t_end: float = 10.0,
-    *,
-    restitution=None,
-    k: float | None = None,
-    C_p: float | None = None,
-    eps_p: float | None = None,
-    seed: int | None = None,
-    method=DEFAULTS["method"],
-    rtol: float = DEFAULTS["rtol"],
-    atol: float = DEFAULTS["atol"],
-    max_step: float = DEFAULTS["max_step"],
-    theta_dot_min: float = DEFAULTS["theta_dot_min"],
-    output_dt: float | None = DEFAULTS["output_dt"],
-    overturn_angle: float = math.pi / 2,
-    chatter_window: float = DEFAULTS["chatter_window"],
-    chatter_count: int = DEFAULTS["chatter_count"],
-    stop_at_rest: bool = True,
-    stop_when_safe: bool = False,
-    integrator: str = "solve_ivp",
-    dt: float = 1e-3,
-    backend: str = "scipy",
-    energy_tol: float = DEFAULTS["energy_tol"],
-    max_hours: float | None = None,
-    progress: bool | None = None,
+    structure, excitation, impact="DD2", t_end: float = 10.0, *, options=None, **kw
 ) -> Response:
     """Simulate the nonlinear response of a rocking structure (paper 001, Section 2).
 
@@ -133,58 +74,16 @@ def simulate(
         paper 000: the elastic velocities change at impact too), or a model object.
     t_end : float
         End time (s).
-    restitution, k, C_p : optional
-        Override Table 2's restitution ("mean", "random", "housner",
-        "modified", a number, ...), k of η_M, and C_p.
-    eps_p : float, optional
-        Poisson's ε_P of impact="LCP" (default 0; the engine has no flight
-        phase, so a predicted bounce ends the run as "failed").
-    seed : int, optional
-        Seed (≥ 0) of the random restitution (DD5): same seed, same response.
-    method, rtol, atol, max_step :
-        solve_ivp options (defaults in `DEFAULTS`); `method` is one of RK23,
-        RK45, DOP853, Radau, BDF, LSODA or an ``scipy.integrate.OdeSolver`` subclass.
-    theta_dot_min : float
-        θ̇_min of paper 001, Eqs 9 and 16 (rad/s).
-    output_dt : float or None
-        Sampling step of the recorded series (s); None records nothing but
-        peaks, events and the ledger at transitions (fast sweeps).
-    overturn_angle : float
-        ``|θ|`` at which the structure has overturned (rad, in (0, π/2]; default π/2).
-    chatter_window, chatter_count :
-        The chattering guard: `chatter_count` transitions within
-        `chatter_window` seconds force full contact for one window.
-    stop_at_rest : bool
-        For a rigid block, stop once the excitation is over and the block
-        rests in full contact (nothing can move it again).
-    stop_when_safe : bool
-        For a rigid block, also stop (event "rest") once the excitation is over
-        and the block, with ``|θ|`` < α_cg and less energy than it needs to reach
-        θ = α_cg, can never overturn in free rocking — the early stop that
-        makes overturning maps cheap. Checked at the end of the excitation and
-        at every impact after it.
-    integrator : {"solve_ivp", "newmark"}
-        "newmark": paper 004's Newmark trapezoidal rule with Newton–Raphson
-        and exact impact location (rigid blocks, classical impacts only);
-        `method`, `rtol`, `atol` and `max_step` then do not apply.
-    dt : float
-        Step of the Newmark integrator (s).
-    backend : {"scipy", "compiled"}
-        "scipy" (the reference): one solve_ivp call per phase segment.
-        "compiled": the same explicit Runge–Kutta steps, events and output in
-        numba kernels (`multimass.fast`), for RK23/RK45/DOP853 and the known
-        excitations; compiled once per machine (disk cache), never timed in
-        ``wall_time_s``.
-    energy_tol : float
-        The accuracy check: a run whose energy ledger's balance error exceeds
-        this share of its energy scale gets status "inaccurate" (default 1e-3;
-        see `multimass.checks`).
-    max_hours : float, optional
-        The budget: a run estimated to take longer (`multimass.cost`) is refused
-        before it starts (default 1 h; ``math.inf`` for none).
-    progress : bool, optional
-        Show a progress bar on stderr: True, False, or None (default) for runs
-        estimated to take more than a few seconds.
+    options : SimulationOptions, optional
+        The options as one validated object; keywords in `kw` replace its fields.
+    **kw
+        Any field of `SimulationOptions`, by keyword: ``restitution``, ``k``, ``C_p``,
+        ``eps_p``, ``seed``, ``method``, ``rtol``, ``atol``, ``max_step``,
+        ``thetadot_min``, ``output_dt``, ``overturn_angle``, ``chatter_window``,
+        ``chatter_count``, ``stop_at_rest``, ``stop_when_safe``, ``integrator``
+        (a key of `INTEGRATORS`), ``dt``, ``backend`` (a key of `BACKENDS`),
+        ``energy_tol``, ``max_hours``, ``progress`` — each documented there, with
+        its default and why.
 
     Returns
     -------
@@ -199,58 +98,12 @@ def simulate(
         For invalid arguments (named in the message), an excitation that starts
         after `t_end`, and a run over the budget or the memory.
     """
-    plan = _prepare(
-        structure,
-        excitation,
-        impact,
-        t_end,
-        _options({name: value for name, value in locals().items() if name in _OPTIONS}),
-    )
-    return judge(plan.run(lean=False), plan.options["energy_tol"])
-
-
-@dataclass(frozen=True)
-class Outcome:
-    """What `simulate_outcome` returns: the run without its series.
-
-    Attributes
-    ----------
-    status, message : str
-        As in `Response` ("completed", "overturned", "inaccurate", "failed").
-    events : list of Event
-    peaks : ndarray
-        Absolute peak ``|θ|`` of each half-cycle (rad).
-    n_rhs : int
-    wall_time_s : float
-    energy_balance_error : float
-        Balance error of the ledger at the end of the run, relative to its
-        energy scale (the Response's is the largest over the whole run).
-    outcome, warnings, checks :
-        As in `Response`.
-    """
-
-    status: str
-    message: str
-    events: list
-    peaks: np.ndarray
-    n_rhs: int
-    wall_time_s: float
-    energy_balance_error: float = 0.0
-    outcome: str = ""
-    warnings: tuple[str, ...] = ()
-    checks: dict = field(default_factory=dict)
-
-    @property
-    def theta_max(self) -> float:
-        return float(self.peaks.max()) if self.peaks.size else 0.0
-
-    @property
-    def n_impacts(self) -> int:
-        return sum(e.kind == "impact" for e in self.events)
+    plan = _prepare(structure, excitation, impact, t_end, SimulationOptions.of(options, **kw))
+    return judge(plan.run(lean=False), plan.options.energy_tol)
 
 
 def simulate_outcome(
-    structure, excitation, impact="DD2", t_end: float = 10.0, **options
+    structure, excitation, impact="DD2", t_end: float = 10.0, *, options=None, **kw
 ) -> Outcome:
     """`simulate` without the time series, for sweeps of many runs.
 
@@ -259,12 +112,12 @@ def simulate_outcome(
     status, events, peaks and the end-of-run energy check — what an overturning
     map or a spectrum needs, without building a DataFrame.
     """
-    options = {"progress": False} | options | {"output_dt": None}
-    plan = _prepare(structure, excitation, impact, t_end, _options(options))
-    return judge(plan.run(lean=True), plan.options["energy_tol"])
+    kw = {"progress": False} | kw | {"output_dt": None}
+    plan = _prepare(structure, excitation, impact, t_end, SimulationOptions.of(options, **kw))
+    return judge(plan.run(lean=True), plan.options.energy_tol)
 
 
-def estimate(structure, excitation, impact="DD2", t_end: float = 10.0, **options):
+def estimate(structure, excitation, impact="DD2", t_end: float = 10.0, *, options=None, **kw):
     """Validate the arguments of `simulate` and estimate the run's cost, without running it.
 
     Sweeps call it in the parent process on their most expensive job, so a bad
@@ -280,49 +133,10 @@ def estimate(structure, excitation, impact="DD2", t_end: float = 10.0, **options
     InputError
         As `simulate` would, before it starts.
     """
-    return _prepare(structure, excitation, impact, t_end, _options(options)).cost
+    return _prepare(structure, excitation, impact, t_end, SimulationOptions.of(options, **kw)).cost
 
 
 # ---------------------------------------------------------------------------- validation
-def _options(given: dict) -> dict:
-    """Every option of `simulate`, validated (strict numbers: no bools or strings)."""
-    unknown = sorted(set(given) - set(_OPTIONS))
-    if unknown:
-        raise InputError(
-            f"`{unknown[0]}` is not an option of simulate; the options are "
-            f"{', '.join(sorted(_OPTIONS))}"
-        )
-    o = _OPTIONS | given
-    for name in ("rtol", "atol", "theta_dot_min", "chatter_window", "dt", "energy_tol"):
-        o[name] = v.positive(name, o[name])
-    o["max_step"] = v.positive("max_step", o["max_step"], "s", allow_inf=True)
-    if o["output_dt"] is not None:
-        o["output_dt"] = v.positive("output_dt", o["output_dt"], "the sampling step in s")
-    o["overturn_angle"] = v.number(
-        "overturn_angle", o["overturn_angle"], low=0.0, low_open=True, high=math.pi / 2, what="rad"
-    )
-    o["chatter_count"] = v.integer("chatter_count", o["chatter_count"], low=2)
-    if o["seed"] is not None:
-        o["seed"] = v.integer("seed", o["seed"], low=0, what="the seed of random restitution")
-    for name in ("stop_at_rest", "stop_when_safe"):
-        if not isinstance(o[name], bool):
-            raise InputError(f"`{name}` = {o[name]!r}: expected True or False")
-    if o["progress"] is not None and not isinstance(o["progress"], bool):
-        raise InputError(f"`progress` = {o['progress']!r}: expected True, False or None")
-    o["integrator"] = v.choice("integrator", o["integrator"], ("solve_ivp", "newmark"))
-    o["backend"] = v.choice("backend", o["backend"], ("scipy", "compiled"))
-    method = o["method"]
-    if not (
-        (isinstance(method, str) and method in _METHODS)
-        or (isinstance(method, type) and issubclass(method, scipy.integrate.OdeSolver))
-    ):
-        raise InputError(
-            f"`method` = {method!r}: use one of {', '.join(_METHODS)} or an OdeSolver subclass"
-        )
-    o["budget_s"] = budget_seconds(o.pop("max_hours"))
-    return o
-
-
 def _structure(structure) -> Structure:
     return structure if isinstance(structure, Structure) else from_specimen(structure)
 
@@ -376,7 +190,7 @@ class _Plan:
     model: object
     excitation: object
     t_end: float
-    options: dict
+    options: SimulationOptions
     cost: object
     ground: tuple  # (ü_g, duration, breakpoints)
     start: tuple  # (phase, y0)
@@ -384,84 +198,66 @@ class _Plan:
 
     def describe(self) -> dict:
         o, model, exc = self.options, self.model, self.excitation
-        method = o["method"]
         return dict(
             impact=getattr(model, "name", type(model).__name__),
             restitution=model.restitution.describe(),
-            method=method if isinstance(method, str) else method.__name__,
-            rtol=o["rtol"],
-            atol=o["atol"],
-            max_step=o["max_step"],
-            theta_dot_min=o["theta_dot_min"],
-            seed=o["seed"],
+            method=o.method if isinstance(o.method, str) else o.method.__name__,
+            rtol=o.rtol,
+            atol=o.atol,
+            max_step=o.max_step,
+            thetadot_min=o.thetadot_min,
+            seed=o.seed,
             excitation=exc.describe() if hasattr(exc, "describe") else repr(exc),
-            backend=o["backend"],
+            backend=o.backend,
+            engine=o.engine,
         )
 
     def run(self, lean: bool):
         """Integrate; a `Response` (or an `Outcome` if `lean`) with the raw status."""
         o = self.options
         with Progress(
-            self.t_end, f"simulate {self.st.name}", show=o["progress"], estimate=self.cost.seconds
+            self.t_end, f"simulate {self.st.name}", show=o.progress, estimate=self.cost.seconds
         ) as bar:
-            if o["integrator"] == "newmark":
+            if o.integrator == "newmark":
                 return self._newmark(lean)
-            run = self._solve_ivp_run()
+            loop = self._phase_loop()
             wall = time.perf_counter()
-            run.loop(bar.update)
+            end = loop.run(bar.update)
             wall = time.perf_counter() - wall
+        rec = loop.recorder
         if lean:
             return Outcome(
-                run.status,
-                run.message,
-                run.events,
-                np.array(run.recorder.peaks),
-                run.n_rhs,
+                end.status,
+                end.message,
+                loop.events,
+                np.array(rec.peaks),
+                loop.n_rhs,
                 wall,
-                energy_balance_error=run.end_balance_error(),
+                energy_balance_error=loop.end_balance_error(end),
+                peak_times=np.array(rec.peak_times),
+                engine=o.engine,
             )
-        return run.recorder.response(
-            run.st.name,
-            run.status,
-            run.message,
-            run.events,
+        return rec.response(
+            self.st.name,
+            end.status,
+            end.message,
+            loop.events,
             wall,
             self.describe(),
-            run.n_rhs,
-            run.t_end,
-            run.energy_floor,
-        )
-
-    def _solve_ivp_run(self) -> _Run:
-        o, st = self.options, self.st
-        ag_fn, duration, bps = self.ground
-        phase, y = self.start
-        run = _Run(
-            st,
-            self.model,
-            ag_fn,
-            duration,
-            bps,
+            loop.n_rhs,
             self.t_end,
-            phase,
-            y.copy(),
-            o["seed"],
-            dict(method=o["method"], rtol=o["rtol"], atol=o["atol"], max_step=o["max_step"]),
-            o["theta_dot_min"],
-            o["output_dt"],
-            o["overturn_angle"],
-            o["chatter_window"],
-            o["chatter_count"],
-            o["stop_at_rest"],
-            o["stop_when_safe"],
-            energy_floor(st, o["atol"]),
+            loop.energy_floor,
         )
-        if self.fast is not None:
-            from .fast import warm_up
 
-            run.fast = self.fast
+    def _phase_loop(self) -> PhaseLoop:
+        if self.fast is not None:
+            from .fast import warm_up  # numba loads only for backend="compiled"
+
             warm_up()  # compile or load once per process, before the clock
-        return run
+        phase, y = self.start
+        return PhaseLoop(
+            self.st, self.model, self.ground, self.t_end, phase, y.copy(), self.options, self.fast
+        )
 
     def _newmark(self, lean: bool):
         o, model = self.options, self.model
@@ -473,11 +269,11 @@ class _Plan:
             model,
             self.excitation,
             self.t_end,
-            dt=o["dt"],
-            seed=o["seed"],
-            theta_dot_min=o["theta_dot_min"],
-            overturn_angle=o["overturn_angle"],
-            stop_when_safe=o["stop_when_safe"],
+            dt=o.dt,
+            seed=o.seed,
+            thetadot_min=o.thetadot_min,
+            overturn_angle=o.overturn_angle,
+            stop_when_safe=o.stop_when_safe,
             options=options,
             floor=energy_floor(self.st, DEFAULTS["atol"]),
         )
@@ -490,33 +286,35 @@ class _Plan:
                 r.n_rhs,
                 r.wall_time_s,
                 energy_balance_error=r.energy_balance_error,
+                peak_times=r.peak_times,
+                engine="newmark",
             )
         return r
 
 
-def _prepare(structure, excitation, impact, t_end, o: dict) -> _Plan:
+def _prepare(structure, excitation, impact, t_end, o: SimulationOptions) -> _Plan:
     """Validate a run and estimate its cost; refuse it if over the budget or the memory."""
     st = _structure(structure)
     t_end = v.positive("t_end", t_end, "the end time in s")
     ground = _excitation(excitation, t_end)
-    model = impact_model(impact, st.specimen, o["restitution"], o["k"], o["C_p"], o["eps_p"])
+    model = impact_model(impact, st.specimen, o.restitution, o.k, o.C_p, o.eps_p)
     start = _initial_state(st, excitation)
     fast = None
-    if o["integrator"] == "newmark":
+    if o.integrator == "newmark":
         check_newmark(st, model)
-    elif o["backend"] == "compiled":
-        from .fast import FastPath
+    elif o.backend == "compiled":
+        from .fast import FastPath  # numba loads only for backend="compiled"
 
-        fast = FastPath.of(st, model, excitation, o["method"], QUIET_DELAY)
+        fast = FastPath.of(st, model, excitation, o.method, QUIET_DELAY)
     cost = simulation_cost(
         st,
         t_end,
-        method=o["method"],
-        max_step=o["max_step"],
-        output_dt=o["output_dt"],
-        backend=o["backend"],
-        integrator=o["integrator"],
-        dt=o["dt"],
+        method=o.method,
+        max_step=o.max_step,
+        output_dt=o.output_dt,
+        backend=o.backend,
+        integrator=o.integrator,
+        dt=o.dt,
     )
     duration = ground[1]
     long_pulse = (
@@ -528,6 +326,6 @@ def _prepare(structure, excitation, impact, t_end, o: dict) -> _Plan:
         f"simulate({st.name}, t_end = {t_end:g} s)",
         "shorten t_end, raise output_dt (or pass output_dt=None), or check the "
         f"structure's stiffness and the excitation{long_pulse}",
-        max_seconds=o["budget_s"],
+        max_seconds=o.budget_s,
     )
     return _Plan(st, model, excitation, t_end, o, cost, ground, start, fast)

@@ -1,4 +1,4 @@
-"""`FastPath`: the compiled replacement of `_Run.integrate` (one phase segment).
+"""`FastPath`: the compiled replacement of `PhaseLoop.integrate` (one phase segment).
 
 `multimass.simulate` keeps its Python phase loop — uplift, impacts, the
 restitution draws, the chattering guard and the recorder are the reference
@@ -18,8 +18,9 @@ import numpy as np
 
 from multimass.impact_models.models import DiracDelta
 
+from .._events import handle_event
 from ..errors import InputError
-from ..response import Event
+from ..result import Event
 from . import _maths as mx
 from ._kernel import integrate_phase
 from ._rk import EVENT, FAILED, METHOD_CODES
@@ -54,12 +55,13 @@ _ROCKING = [
 _PEAK = 2
 _EVENTS = {
     "contact": _table(
-        ("uplift_right", mx.EV_UPLIFT_RIGHT, 1.0, 1, -1.0, True),  # paper 001, Eq 8
+        ("uplift_right", mx.EV_UPLIFT_RIGHT, 1.0, 1, -1.0, True),  # equations.uplift_margin
         ("uplift_left", mx.EV_UPLIFT_LEFT, 1.0, 1, -1.0, True),
     ),
     "rocking": _table(*_ROCKING),
-    "activate": _table(*_ROCKING, ("activate", mx.EV_ACTIVATE, -1.0, 1, 1.0, True)),  # Eq 16
-    "deactivate": _table(*_ROCKING, ("deactivate", mx.EV_DEACTIVATE, 1.0, 1, -1.0, True)),  # Eq 17
+    # gaussian_force.activation_margin, gaussian_force.deactivation_margin
+    "activate": _table(*_ROCKING, ("activate", mx.EV_ACTIVATE, -1.0, 1, 1.0, True)),
+    "deactivate": _table(*_ROCKING, ("deactivate", mx.EV_DEACTIVATE, 1.0, 1, -1.0, True)),
 }
 
 
@@ -77,6 +79,7 @@ def check_model(model) -> None:
         isinstance(model, DiracDelta)
         and tp.width is DiracDelta.width
         and tp.threshold is DiracDelta.threshold
+        and tp.release_angle is DiracDelta.release_angle
     ):
         raise InputError(
             f"`impact` = {getattr(model, 'name', tp.__name__)!r}: backend='compiled' "
@@ -113,7 +116,7 @@ class FastPath:
     par: np.ndarray
     samples: np.ndarray
     delay: float
-    dd: tuple = field(default=(0.0, 0.0, 0.0, 1.0))  # C_p, n_min, z, release
+    dd: tuple = field(default=(0.0, 0.0, 0.0))  # C_p, n_min, z
 
     @classmethod
     def of(cls, st, model, excitation, method, delay: float) -> FastPath:
@@ -133,9 +136,9 @@ class FastPath:
         check_model(model)
         kind, par, samples = encode(excitation)
         dd = (
-            (float(model.C_p), float(model.n_min), float(model.z), float(model.release))
+            (float(model.C_p), float(model.n_min), float(model.z))
             if model.has_force
-            else (0.0, 0.0, 0.0, 1.0)
+            else (0.0, 0.0, 0.0)
         )
         arr = lambda a: np.array(a, dtype=np.float64, order="C")  # writable C copies
         return cls(
@@ -154,42 +157,44 @@ class FastPath:
         )
 
     # -- the events of the current phase (multimass._events.phase_events) --------------------
-    def events(self, run):
-        """Names, codes, directions, terminal flags, quiet values, guard ends, ep, fp."""
-        st, t0, d = run.st, run.t, self.delay
+    def events(self, run, s):
+        """Names, codes, directions, terminal flags, quiet values, guard ends, ep, fp of the
+        phase of state `s` in the loop `run`."""
+        st, t0, d = run.st, s.t, self.delay
         ep = np.zeros(mx.EP_SIZE)
-        ep[mx.EP_TDMIN], ep[mx.EP_OVERTURN] = run.theta_dot_min, run.overturn
-        ep[mx.EP_CP], ep[mx.EP_NMIN], ep[mx.EP_Z] = self.dd[:3]
+        ep[mx.EP_TDMIN], ep[mx.EP_OVERTURN] = run.thetadot_min, run.overturn
+        ep[mx.EP_CP], ep[mx.EP_NMIN], ep[mx.EP_Z] = self.dd
         ep[mx.EP_MREF] = st.m_t * st.g * st.B
-        ep[mx.EP_LREF] = st.J_p * run.theta_dot_min
+        ep[mx.EP_LREF] = st.J_p * run.thetadot_min
         fp = np.zeros(mx.FP_SIZE)
-        if run.phase == 0:
-            key, t_on = "contact", t0 + max(d, run.hold_until - t0)
+        if s.phase == 0:
+            key, t_on = "contact", t0 + max(d, s.hold_until - t0)
         else:
             key, t_on = "rocking", t0 + d
-            if run.model.has_force and run.force is None:
+            if run.model.has_force and s.force is None:
                 key = "activate"
-                ep[mx.EP_R_PENDING] = run.r_pending
-            elif run.force is not None:
+                ep[mx.EP_R_PENDING] = s.r_pending
+            elif s.force is not None:
                 key = "deactivate"
-                ep[mx.EP_LIMIT] = self.dd[3] * abs(run.force.theta_i)
-                fp[:] = (1.0, run.force.E_ini, run.force.r, run.force.n)
+                ep[mx.EP_LIMIT] = run.model.release_angle(s.force.theta_i)
+                fp[:] = (1.0, s.force.E_ini, s.force.r, s.force.n)
         names, codes, dirs, term, quiet, guarded = _EVENTS[key]
         t_ons = np.where(guarded, t_on, -math.inf)
         return names, codes, dirs, term, quiet, t_ons, ep, fp
 
     # -- one phase segment --------------------------------------------------------------------
-    def integrate(self, run, t_stop: float) -> None:
-        """Integrate the current phase of `run` to `t_stop` or its first terminal event."""
-        names, codes, dirs, term, quiet, t_on, ep, fp = self.events(run)
-        t_eval = np.ascontiguousarray(run.recorder.grid(run.t, t_stop), dtype=np.float64)
+    def integrate(self, run, s, t_stop: float):
+        """The state of `s` integrated to `t_stop` or past its first terminal event
+        (`multimass._run.PhaseLoop.integrate`, compiled)."""
+        names, codes, dirs, term, quiet, t_on, ep, fp = self.events(run, s)
+        t_eval = np.ascontiguousarray(run.recorder.grid(s.t, t_stop), dtype=np.float64)
         ivp = run.ivp
         status, t, y, ev, nfev, samples, _, nt_t, nt_y = integrate_phase(
-            float(run.t),
+            float(s.t),
             float(t_stop),
-            np.ascontiguousarray(run.y, dtype=np.float64),
+            np.ascontiguousarray(s.y, dtype=np.float64),
             t_eval,
-            int(run.phase),
+            int(s.phase),
             self.m,
             self.H,
             self.K,
@@ -213,26 +218,25 @@ class FastPath:
         run.n_rhs += int(nfev)
         k = len(samples)
         if status == FAILED:
-            t_fail = float(t_eval[k - 1]) if k else run.t
-            run.status = "failed"
-            run.message = f"compiled {self.method} failed at t = {t:.6g} s: {_FAIL_MESSAGE}"
-            run.events.append(Event("failed", t_fail, run.phase, run.phase, detail=_FAIL_MESSAGE))
-            return
-        if not (np.all(np.isfinite(samples)) and np.all(np.isfinite(y))):
-            run.fail(
-                run.t,
-                f"compiled {self.method} produced a non-finite state in the segment "
-                f"starting at t = {run.t:.6g} s",
+            t_fail = float(t_eval[k - 1]) if k else s.t
+            run.events.append(Event("failed", t_fail, s.phase, s.phase, detail=_FAIL_MESSAGE))
+            return s.but(
+                status="failed",
+                message=f"compiled {self.method} failed at t = {t:.6g} s: {_FAIL_MESSAGE}",
             )
-            return
+        if not (np.all(np.isfinite(samples)) and np.all(np.isfinite(y))):
+            return run.fail(
+                s,
+                s.t,
+                f"compiled {self.method} produced a non-finite state in the segment "
+                f"starting at t = {s.t:.6g} s",
+            )
         t_events, y_events = [_NONE] * len(names), [_NONE] * len(names)
-        if run.phase:  # θ̇ = 0, the one non-terminal event (index 2 while rocking)
+        if s.phase:  # θ̇ = 0, the one non-terminal event (index 2 while rocking)
             t_events[_PEAK], y_events[_PEAK] = nt_t, nt_y
         run.recorder.segment(
-            _Segment(t_eval[:k], samples.T, t_events, y_events), None, run.phase, run.force, names
+            _Segment(t_eval[:k], samples.T, t_events, y_events), None, s.phase, s.force, names
         )
         if status == EVENT:
-            run.t, run.y = float(t), y
-            run.handle(names[ev])
-        else:
-            run.t, run.y = t_stop, samples[-1].copy()
+            return handle_event(run, s.but(t=float(t), y=y), names[ev])
+        return s.but(t=t_stop, y=samples[-1].copy())

@@ -37,6 +37,7 @@ from multimass import (
 )
 from multimass._events import phase_events
 from multimass._phase import ActiveForce, Model, full_contact_rhs, rocking_rhs
+from multimass._run import State
 from multimass.fast import CompileReport, encode, warm_up
 from multimass.fast import _maths as mx
 from multimass.impact_models import DiracDelta, FixedRestitution
@@ -145,18 +146,14 @@ def test_compiled_event_functions_equal_reference(name):
         run = types.SimpleNamespace(
             st=st,
             mdl=Model.of(st),
-            t=0.0,
-            phase=phase,
-            hold_until=0.0,
-            theta_dot_min=0.01,
+            thetadot_min=0.01,
             overturn=math.pi / 2,
             ag=exc.acceleration,
             model=model,
-            force=f,
-            r_pending=0.85,
         )
-        names, events = phase_events(run, 1e-9)
-        fnames, codes, _, _, quiet, t_on, ep, _ = fast.events(run)
+        state = State(0.0, phase, np.zeros(2 * st.n + 5), force=f, r_pending=0.85)
+        names, events = phase_events(run, state, 1e-9)
+        fnames, codes, _, _, quiet, t_on, ep, _ = fast.events(run, state)
         assert names == fnames
         for _ in range(20):
             t = rng.uniform(0.01, 0.6)

@@ -14,6 +14,7 @@ import pytest
 from multimass import kinematics as kin
 from multimass._events import phase_events
 from multimass._phase import Model
+from multimass._run import State
 from multimass.fast import _maths as mx
 from multimass.fast.path import FastPath
 from multimass.impact_models import impact_model
@@ -50,19 +51,16 @@ def test_eq8_moments_by_hand():
     assert res_l == pytest.approx(353.16, rel=1e-14)
 
 
-def _uplift_values(st, u, ud, ag, theta_dot_min=0.01):
+def _uplift_values(st, u, ud, ag, thetadot_min=0.01):
     """The uplift event functions of both pivots at a full-contact state (solve_ivp path)."""
     n = st.n
     run = types.SimpleNamespace(
         st=st,
         mdl=Model.of(st),
-        t=0.0,
-        phase=0,
-        hold_until=0.0,
-        theta_dot_min=theta_dot_min,
+        thetadot_min=thetadot_min,
         ag=lambda t: ag,
     )
-    names, events = phase_events(run, 1e-9)
+    names, events = phase_events(run, State(0.0, 0, np.zeros(2 * n + 5)), 1e-9)
     y = np.zeros(2 * n + 5)
     y[:n], y[n + 1 : 2 * n + 1] = u, ud
     return {name: ev(1.0, y) for name, ev in zip(names, events)}

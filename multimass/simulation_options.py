@@ -1,0 +1,204 @@
+"""`SimulationOptions`: every option of `multimass.simulate`, validated once, and the registries
+of integrators, backends and solve_ivp methods they are chosen from.
+
+`simulate`, `simulate_outcome` and `estimate` take these options by keyword (or
+a `SimulationOptions` as ``options=``); the sweeps pass them through. The defaults and
+why they were chosen are in `multimass.simulation`'s module docstring.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import scipy.integrate
+
+from . import validation as v
+from .errors import InputError
+from .progress import budget_seconds
+
+__all__ = ["SimulationOptions", "INTEGRATORS", "BACKENDS", "METHODS", "DEFAULTS"]
+
+#: Integrators of `simulate`: name → what it is.
+INTEGRATORS = {
+    "solve_ivp": "explicit or implicit Runge–Kutta with exact event location (paper 001, Sec 2)",
+    "newmark": "paper 004's Newmark trapezoidal rule with Newton–Raphson (rigid blocks, "
+    "classical impacts)",
+}
+#: Backends of the solve_ivp integrator: name → what it is.
+BACKENDS = {
+    "scipy": "scipy.integrate.solve_ivp, one call per phase segment (the reference)",
+    "compiled": "the same Runge–Kutta steps, events and output in numba kernels (multimass.fast)",
+}
+#: The solve_ivp methods by name (an ``scipy.integrate.OdeSolver`` subclass is accepted too).
+METHODS = ("RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")
+
+
+@dataclass(frozen=True)
+class SimulationOptions:
+    """The options of one simulation, checked when built (strict: no bools or strings
+    for numbers, no NaN), so every engine trusts them.
+
+    Attributes
+    ----------
+    restitution, k, C_p : optional
+        Override paper 001 Table 2's restitution ("mean", "random", "housner",
+        "modified", a number, ...), k of η_M, and C_p.
+    eps_p : float, optional
+        Poisson's ε_P of impact="LCP" (default 0).
+    seed : int, optional
+        Seed (≥ 0) of the random restitution (DD5): same seed, same response.
+    method : str or OdeSolver subclass
+        One of `METHODS` (default DOP853) or an ``scipy.integrate.OdeSolver`` subclass.
+    rtol, atol, max_step : float
+        solve_ivp tolerances and longest step (s; inf for none).
+    thetadot_min : float
+        θ̇_min of paper 001, Eqs 9 and 16 (rad/s).
+    output_dt : float or None
+        Sampling step of the recorded series (s); None records nothing but peaks,
+        events and the ledger at transitions (fast sweeps).
+    overturn_angle : float
+        ``|θ|`` at which the structure has overturned (rad, in (0, π/2]).
+    chatter_window, chatter_count :
+        The chattering guard: `chatter_count` transitions within `chatter_window`
+        seconds force full contact for one window.
+    stop_at_rest : bool
+        For a rigid block, stop once the excitation is over and the block rests
+        in full contact.
+    stop_when_safe : bool
+        For a rigid block, also stop (event "rest") once the excitation is over and
+        the block has too little energy to overturn in free rocking.
+    integrator : str
+        A key of `INTEGRATORS`: "solve_ivp" or "newmark" (`method`, `rtol`, `atol`
+        and `max_step` then do not apply).
+    dt : float
+        Step of the Newmark integrator (s).
+    backend : str
+        A key of `BACKENDS`: "scipy" (the reference) or "compiled" (RK23/RK45/DOP853
+        and the known excitations; compiled once per machine, never timed in
+        ``wall_time_s``).
+    energy_tol : float
+        A run whose energy ledger's balance error exceeds this share of its energy
+        scale gets status "inaccurate" (`multimass.checks`).
+    max_hours : float, optional
+        The budget: a run estimated to take longer is refused before it starts
+        (None: 1 h; ``math.inf`` for none).
+    progress : bool, optional
+        Show a progress bar on stderr: True, False, or None for runs estimated to
+        take more than a few seconds.
+    """
+
+    restitution: object = None
+    k: float | None = None
+    C_p: float | None = None
+    eps_p: float | None = None
+    seed: int | None = None
+    method: object = "DOP853"
+    rtol: float = 1e-8
+    atol: float = 1e-10
+    max_step: float = 5e-3
+    thetadot_min: float = 0.01
+    output_dt: float | None = 1e-3
+    overturn_angle: float = math.pi / 2
+    chatter_window: float = 5e-3
+    chatter_count: int = 20
+    stop_at_rest: bool = True
+    stop_when_safe: bool = False
+    integrator: str = "solve_ivp"
+    dt: float = 1e-3
+    backend: str = "scipy"
+    energy_tol: float = 1e-3
+    max_hours: float | None = None
+    progress: bool | None = None
+
+    def __post_init__(self):
+        put = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731
+        for name in ("rtol", "atol", "thetadot_min", "chatter_window", "dt", "energy_tol"):
+            put(name, v.positive(name, getattr(self, name)))
+        put("max_step", v.positive("max_step", self.max_step, "s", allow_inf=True))
+        if self.output_dt is not None:
+            put("output_dt", v.positive("output_dt", self.output_dt, "the sampling step in s"))
+        put(
+            "overturn_angle",
+            v.number(
+                "overturn_angle",
+                self.overturn_angle,
+                low=0.0,
+                low_open=True,
+                high=math.pi / 2,
+                what="rad",
+            ),
+        )
+        put("chatter_count", v.integer("chatter_count", self.chatter_count, low=2))
+        if self.seed is not None:
+            put("seed", v.integer("seed", self.seed, low=0, what="the seed of random restitution"))
+        for name in ("stop_at_rest", "stop_when_safe"):
+            if not isinstance(getattr(self, name), bool):
+                raise InputError(f"`{name}` = {getattr(self, name)!r}: expected True or False")
+        if self.progress is not None and not isinstance(self.progress, bool):
+            raise InputError(f"`progress` = {self.progress!r}: expected True, False or None")
+        put("integrator", v.choice("integrator", self.integrator, tuple(INTEGRATORS)))
+        put("backend", v.choice("backend", self.backend, tuple(BACKENDS)))
+        method = self.method
+        if not (
+            (isinstance(method, str) and method in METHODS)
+            or (isinstance(method, type) and issubclass(method, scipy.integrate.OdeSolver))
+        ):
+            raise InputError(
+                f"`method` = {method!r}: use one of {', '.join(METHODS)} or an OdeSolver subclass"
+            )
+        budget_seconds(self.max_hours)  # checks it
+
+    @classmethod
+    def of(cls, options=None, **given) -> SimulationOptions:
+        """`options` (a SimulationOptions, or None for the defaults) with `given` replacing fields;
+        an unknown name is an InputError that lists the options."""
+        unknown = sorted(set(given) - set(FIELDS))
+        if unknown:
+            raise InputError(
+                f"`{unknown[0]}` is not an option of simulate; the options are "
+                f"{', '.join(sorted(FIELDS))}"
+            )
+        if options is None:
+            return cls(**given)
+        if not isinstance(options, SimulationOptions):
+            raise InputError(f"`options` = {options!r}: expected a multimass.SimulationOptions")
+        return dataclasses.replace(options, **given) if given else options
+
+    @property
+    def budget_s(self) -> float:
+        """The budget in seconds (`max_hours`; one hour by default)."""
+        return budget_seconds(self.max_hours)
+
+    @property
+    def ivp(self) -> dict:
+        """The keyword arguments of solve_ivp: method, rtol, atol, max_step."""
+        return dict(method=self.method, rtol=self.rtol, atol=self.atol, max_step=self.max_step)
+
+    @property
+    def engine(self) -> str:
+        """ "newmark", "compiled" or "solve_ivp": what integrates the run."""
+        if self.integrator == "newmark":
+            return "newmark"
+        return "compiled" if self.backend == "compiled" else "solve_ivp"
+
+
+#: The option names.
+FIELDS = tuple(f.name for f in dataclasses.fields(SimulationOptions))
+
+#: The solver defaults (method, tolerances, sampling, guard, accuracy check).
+DEFAULTS = {
+    name: getattr(SimulationOptions, name)
+    for name in (
+        "method",
+        "rtol",
+        "atol",
+        "max_step",
+        "thetadot_min",
+        "output_dt",
+        "chatter_window",
+        "chatter_count",
+        "energy_tol",
+    )
+}
