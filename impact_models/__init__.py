@@ -22,7 +22,7 @@ from .sources import (
     RandomRestitution,
     Restitution,
 )
-from .table2 import TABLE_2, impact_model, restitution_source
+from .table2 import IMPACT_MODELS, TABLE_2, impact_model, restitution_source
 
 __all__ = [
     "LCPError",
@@ -43,6 +43,7 @@ __all__ = [
     "RandomRestitution",
     "Restitution",
     "TABLE_2",
+    "IMPACT_MODELS",
     "Transition",
     "housner_eta",
     "impact_model",

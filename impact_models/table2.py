@@ -24,7 +24,7 @@ from .sources import (
     Restitution,
 )
 
-__all__ = ["TABLE_2", "RESTITUTION_NAMES", "impact_model", "restitution_source"]
+__all__ = ["TABLE_2", "IMPACT_MODELS", "RESTITUTION_NAMES", "impact_model", "restitution_source"]
 
 #: Paper 001, Table 2: model, coefficients of restitution, C_p (kg m/rad/s).
 TABLE_2 = {
@@ -35,6 +35,10 @@ TABLE_2 = {
     "DD4": ("dirac", "empirical", 1000.0),
     "DD5": ("dirac", "random", 1750.0),
 }
+
+#: Every impact model by name: Table 2's six, "DD" (Dirac-delta; restitution and C_p as
+#: given, else the means and 1750) and "LCP" (Poisson's law, paper 000, with eps_p).
+IMPACT_MODELS = TABLE_2 | {"DD": ("dirac", "mean", 1750.0), "LCP": ("poisson", None, None)}
 
 RESTITUTION_NAMES = ("mean", "empirical", "random", "r_h", "housner", "modified")
 
@@ -145,19 +149,16 @@ def impact_model(
             f"`impact` = {impact!r}: give a name ({', '.join(TABLE_2)}, DD) or an ImpactModel"
         )
     name = impact.strip().upper()
-    if name == "LCP":
-        return PoissonLCP(eps_p=0.0 if eps_p is None else float(eps_p))
-    if eps_p is not None:
-        raise InputError(f"`eps_p` = {eps_p!r} applies to impact='LCP' only (got {impact!r})")
-    if name == "DD":
-        kind, rest_name, cp = "dirac", "mean", 1750.0
-    elif name in TABLE_2:
-        kind, rest_name, cp = TABLE_2[name]
-    else:
+    if name not in IMPACT_MODELS:
         raise InputError(
             f"`impact` = {impact!r}: unknown impact model; use one of "
             f"{', '.join(TABLE_2)} (paper 001, Table 2), DD, LCP, or an ImpactModel object"
         )
+    kind, rest_name, cp = IMPACT_MODELS[name]
+    if kind == "poisson":
+        return PoissonLCP(eps_p=0.0 if eps_p is None else float(eps_p))
+    if eps_p is not None:
+        raise InputError(f"`eps_p` = {eps_p!r} applies to impact='LCP' only (got {impact!r})")
     if restitution is None and getattr(specimen, "kind", None) == "block":
         restitution = "modified"  # paper 004: η_M(k) with the block's k
     source = restitution_source(rest_name if restitution is None else restitution, specimen, k)

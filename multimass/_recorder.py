@@ -11,7 +11,7 @@ from multimass.impact_models import gaussian_force as gf
 
 from . import equations as eq
 from ._phase import ActiveForce, Model
-from .eom import state_accelerations, total_accelerations
+from .eom import phase_rows
 from .response import Response
 
 __all__ = ["Recorder"]
@@ -113,18 +113,19 @@ class Recorder:
         F = np.zeros_like(t)
         if force is not None:
             F = gf.impact_force(th, float(phase), force.E_ini, force.r, force.n, B)
-        Udd, thdd = state_accelerations(st, phase, U, th, Ud, thd, ag, F)
-        acc = total_accelerations(st, phase, U, th, Udd, thdd, thd, ag)
+        r = phase_rows(st, phase, U, th, Ud, thd, ag, F)
         elastic = 0.5 * np.einsum("ij,jk,ik->i", U, st.K, U) if n else np.zeros_like(t)
         ud_m_ud = (Ud * Ud) @ m
+        col = lambda x: x[:, None]  # a per-row value against the nodes
         if phase == 0:
+            acc = eq.total_acceleration(0, B, st.g, U, r.uddot, H, 0.0, 0.0, col(ag), 1.0, 0.0)
             kinetic = eq.kinetic_energy(ud_m_ud, 0.0, 0.0, 0.0)
             return ag, F, acc, kinetic, np.zeros_like(t), elastic
-        smu, umu = U @ m, np.einsum("ij,ij->i", U, U * m)
-        a_tt = eq.rocking_inertia(st.J_p, umu, phase, B, smu)
-        kinetic = eq.kinetic_energy(ud_m_ud, Ud @ (m * H), a_tt, thd)
-        lever = eq.lever_arm(phase, B, st.m_t, smu)
-        grav = eq.gravitational_energy(st.g, st.static_moment, lever, np.cos(th), np.sin(th))
+        acc = eq.total_acceleration(
+            phase, B, st.g, U, r.uddot, H, col(r.thetaddot), col(thd), col(ag), col(r.c), col(r.sn)
+        )
+        kinetic = eq.kinetic_energy(ud_m_ud, Ud @ (m * H), r.a_tt, thd)
+        grav = eq.gravitational_energy(st.g, st.static_moment, r.lever, r.c, r.sn)
         return ag, F, acc, kinetic, grav, elastic
 
     def response(

@@ -15,6 +15,8 @@ Node 0 may carry its mass at a height h0 above the pivots (h0 = 0 in paper
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from . import equations as eq
@@ -25,6 +27,8 @@ __all__ = [
     "rocking_system",
     "rocking_accelerations",
     "solve_rocking",
+    "PhaseRows",
+    "phase_rows",
     "state_accelerations",
     "total_accelerations",
 ]
@@ -116,47 +120,86 @@ def rocking_accelerations(
     return solve_rocking(structure.m, structure.H, A[-1, -1], b)
 
 
-def state_accelerations(st: Structure, side, u, theta, udot, thetadot, ag, F_i=0.0):
-    """ü and θ̈ of many states at once, in any phase (Eq 3 in full contact, Eqs 4–5 rocking).
+@dataclass(frozen=True, eq=False)
+class PhaseRows:
+    """Many states of one phase: their ü and θ̈, and the terms the energies share.
+
+    Attributes
+    ----------
+    uddot : ndarray, shape (rows, N)
+    thetaddot : ndarray, shape (rows,)
+        0 in full contact.
+    c, sn, smu, umu, lever, a_tt : ndarray, shape (rows,) or None
+        cos θ, sin θ, 1ᵀMu, uᵀMu, `equations.lever_arm` and
+        `equations.rocking_inertia` of each rocking state; None in full contact.
+    """
+
+    uddot: np.ndarray
+    thetaddot: np.ndarray
+    c: np.ndarray | None = None
+    sn: np.ndarray | None = None
+    smu: np.ndarray | None = None
+    umu: np.ndarray | None = None
+    lever: np.ndarray | None = None
+    a_tt: np.ndarray | None = None
+
+
+def phase_rows(st: Structure, side: int, u, theta, udot, thetadot, ag, F_i=0.0) -> PhaseRows:
+    """ü and θ̈ of many states of one phase at once (Eq 3 in full contact, Eqs 4–5 rocking).
 
     Parameters
     ----------
     st : Structure
-    side : int or ndarray, shape (rows,)
-        Phase of each state: 0 full contact, ±1 rocking.
+    side : int
+        The phase of every row: 0 full contact, ±1 rocking.
     u, udot : ndarray, shape (rows, N)
         Elastic displacements and velocities.
     theta, thetadot, ag, F_i : float or ndarray, shape (rows,)
         Rotation, its rate, ü_g and the Dirac-delta force of each state.
-
-    Returns
-    -------
-    uddot : ndarray, shape (rows, N)
-    thetaddot : ndarray, shape (rows,); 0 in full contact.
     """
     m, H, B, g = st.m, st.H, st.B, st.g
-    side, theta, thetadot, ag, F_i = np.broadcast_arrays(
-        *(np.asarray(x, dtype=float) for x in (side, theta, thetadot, ag, F_i))
-    )
     u, udot = np.asarray(u, dtype=float), np.asarray(udot, dtype=float)
+    theta, thetadot, ag, F_i = (np.asarray(x, dtype=float) for x in (theta, thetadot, ag, F_i))
+    rows = np.broadcast_shapes(u.shape[:-1], theta.shape, thetadot.shape, ag.shape)
     col = lambda x: x[..., None]  # a per-state value against the nodes
-    c, sn = np.cos(theta), np.sin(theta)
     cud, ku = udot @ st.C.T, u @ st.K.T
-    smu, umu = u @ m, np.einsum("...i,...i->...", u, u * m)
-    arm = eq.pivot_arm(col(side), B, m, u)
+    if side == 0:
+        return PhaseRows(eq.full_contact_acceleration(cud, ku, m, col(ag)), np.zeros(rows))
+    c, sn = np.cos(theta), np.sin(theta)
+    mu = u * m
+    smu, umu = mu.sum(axis=-1), np.einsum("...i,...i->...", u, mu)
+    arm = eq.pivot_arm(side, B, m, u)
     bu = eq.rocking_forcing_u(arm, col(thetadot), cud, ku, m, col(ag), col(c), col(sn), g)
     lever = eq.lever_arm(side, B, st.m_t, smu)
     ud_arm = np.einsum("...i,...i->...", udot, arm)
     bt = eq.rocking_forcing_theta(thetadot, ud_arm, B, F_i, ag, st.static_moment, lever, c, sn, g)
     a_tt = eq.rocking_inertia(st.J_p, umu, side, B, smu)
-    thdd = eq.rocking_theta_acceleration(bt, bu @ H, a_tt, H @ (m * H))
-    full = side == 0
-    uddot = np.where(
-        col(full),
-        eq.full_contact_acceleration(cud, ku, m, col(ag)),
-        eq.rocking_u_acceleration(bu, m, H, col(thdd)),
-    )
-    return uddot, np.where(full, 0.0, thdd)
+    thdd = np.broadcast_to(eq.rocking_theta_acceleration(bt, bu @ H, a_tt, H @ (m * H)), rows)
+    uddot = eq.rocking_u_acceleration(bu, m, H, col(thdd))
+    return PhaseRows(uddot, thdd, c, sn, smu, umu, lever, a_tt)
+
+
+def state_accelerations(st: Structure, side, u, theta, udot, thetadot, ag, F_i=0.0):
+    """(ü, θ̈) of many states, each in its own phase (`phase_rows` for each phase).
+
+    `side` is an int (every row in that phase) or an array, shape (rows,), of
+    0 / ±1; the other arguments as in `phase_rows`.
+    """
+    if np.ndim(side) == 0:
+        r = phase_rows(st, int(side), u, theta, udot, thetadot, ag, F_i)
+        return r.uddot, r.thetaddot
+    side = np.asarray(side)
+    u, udot = np.asarray(u, dtype=float), np.asarray(udot, dtype=float)
+    per_row = [
+        np.broadcast_to(np.asarray(x, dtype=float), side.shape) for x in (theta, thetadot, ag, F_i)
+    ]
+    uddot, thetaddot = np.empty_like(u), np.zeros(side.shape)
+    for phase in np.unique(side):
+        k = side == phase
+        th, thd, a, f = (x[k] for x in per_row)
+        r = phase_rows(st, int(phase), u[k], th, udot[k], thd, a, f)
+        uddot[k], thetaddot[k] = r.uddot, r.thetaddot
+    return uddot, thetaddot
 
 
 def total_accelerations(

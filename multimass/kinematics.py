@@ -12,6 +12,8 @@ motion acts as the effective force −m ü_g on every mass.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from . import equations as eq
@@ -57,12 +59,27 @@ def elastic_energy(st: Structure, u) -> float:
 
 
 def total_energy(st: Structure, side: int, u, theta, udot, thetadot) -> float:
-    """T + V_g + U relative to rest (E_ini of paper 001, Eqs 14–15)."""
-    return (
-        kinetic_energy(st, side, u, udot, thetadot)
-        + gravitational_energy(st, side, u, theta)
-        + elastic_energy(st, u)
-    )
+    """T + V_g + U relative to rest (E_ini of paper 001, Eqs 14–15) of one state.
+
+    The sum of `kinetic_energy`, `gravitational_energy` and `elastic_energy`, with
+    the node sums formed once (every transition and activation calls it).
+    """
+    if st.n:
+        u, udot = np.asarray(u, dtype=float), np.asarray(udot, dtype=float)
+        m_ud = st.m * udot
+        ud_m_ud, elastic = float(udot @ m_ud), 0.5 * float(u @ (st.K @ u))
+    else:
+        ud_m_ud = elastic = 0.0
+    if side == 0:
+        return eq.kinetic_energy(ud_m_ud, 0.0, 0.0, 0.0) + elastic
+    smu, umu = _sums(st, u)
+    h_m_ud = float(st.H @ m_ud) if st.n else 0.0
+    a_tt = eq.rocking_inertia(st.J_p, umu, side, st.B, smu)
+    lever = eq.lever_arm(side, st.B, st.m_t, smu)
+    theta = float(theta)
+    kinetic = eq.kinetic_energy(ud_m_ud, h_m_ud, a_tt, float(thetadot))
+    grav = eq.gravitational_energy(st.g, st.static_moment, lever, math.cos(theta), math.sin(theta))
+    return float(kinetic + grav + elastic)
 
 
 def ground_power(st: Structure, side: int, u, theta, udot, thetadot, ag: float) -> float:

@@ -65,11 +65,11 @@ OUTCOMES = {
 EVENT_KINDS = frozenset(
     {
         "release",  # the state the run starts from
-        "uplift",  # full contact → rocking (paper 001, Eq 8; paper 000's lift-off)
+        "uplift",  # full contact → rocking (the uplift of paper 001, lift-off in paper 000)
         "impact",  # θ = 0 into a new half-cycle (or a corner striking, paper 000)
-        "full_contact",  # θ = 0 into full contact (paper 001, Eq 10)
-        "dd_activate",  # the Dirac-delta force switches on (paper 001, Eq 16)
-        "dd_deactivate",  # ... and off (Eq 17)
+        "full_contact",  # θ = 0 into full contact
+        "dd_activate",  # the Dirac-delta force switches on
+        "dd_deactivate",  # ... and off
         "chatter_guard",  # chattering stopped by forcing full contact
         "overturn",  # |θ| reached the overturning angle
         "fell_off_beam",  # Moreau–Jean: the block left the beam
