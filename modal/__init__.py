@@ -6,7 +6,7 @@
 [20.5, 45.6]
 """
 
-if __name__ != "multimass.modal":  # one import name (pyproject: package-dir)
+if __name__ != "multimass.modal":  # one import name (multimass/modal links to this folder)
     raise ImportError(
         f"this folder installs as `multimass.modal`; import that, not "
         f"`{__name__}` (is the repository's root on sys.path before site-packages?)"
@@ -14,15 +14,16 @@ if __name__ != "multimass.modal":  # one import name (pyproject: package-dir)
 
 from .analysis import ModalAnalysis, PhaseModes, analyse, default_shape_nodes
 from .assurance import mac
-from .errors import ModalError
-from .linearisation import LinearSystem, full_contact, linearise, rocking
-from .state_space import (
+from .eigen import (
     StateSpaceModes,
     foss,
     frequency_and_damping,
     pair_frequency_and_damping,
     state_matrix,
 )
+from .errors import ModalError
+from .frequency_response import frf, state_space
+from .linearisation import LinearSystem, full_contact, linearise, rocking
 
 __all__ = [
     "LinearSystem",
@@ -33,6 +34,7 @@ __all__ = [
     "analyse",
     "default_shape_nodes",
     "foss",
+    "frf",
     "frequency_and_damping",
     "full_contact",
     "linearise",
@@ -40,4 +42,5 @@ __all__ = [
     "pair_frequency_and_damping",
     "rocking",
     "state_matrix",
+    "state_space",
 ]

@@ -22,11 +22,11 @@ import scipy.linalg as sla
 from multimass.structure import Structure
 
 from .assurance import mac
+from .eigen import foss, frequency_and_damping, pair_frequency_and_damping
 from .errors import ModalError
 from .linearisation import LinearSystem, full_contact, rocking
 from .pairing import pair_modes
 from .shapes import align_to_full_contact, normalise
-from .state_space import foss, frequency_and_damping, pair_frequency_and_damping
 from .validate import validate_shape_nodes, validate_structure
 
 __all__ = [

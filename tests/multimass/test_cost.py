@@ -13,8 +13,8 @@ from multimass.progress import Progress, RunCost, format_bytes, format_duration
 
 def test_spectral_radius_against_the_foss_eigenvalues():
     # an independent implementation of the same state matrix: modal's Foss solver (Eq 24)
+    from multimass.modal.eigen import foss
     from multimass.modal.linearisation import full_contact
-    from multimass.modal.state_space import foss
 
     for name in ("S1", "S2", "S3"):
         st = multimass.column(name)
