@@ -1,9 +1,7 @@
 """What happens at impact: restitution formulas, classical and Dirac-delta impact
 models, and impacts as a linear complementarity problem with Poisson's law."""
 
-if (
-    __name__ != "multimass.impact_models"
-):  # one import name (multimass/impact_models links to this folder)
+if __name__ != "multimass.impact_models":  # one import name (a linked folder)
     raise ImportError(
         f"this folder installs as `multimass.impact_models`; import that, not "
         f"`{__name__}` (is the repository's root on sys.path before site-packages?)"

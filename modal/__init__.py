@@ -6,7 +6,7 @@
 [20.5, 45.6]
 """
 
-if __name__ != "multimass.modal":  # one import name (multimass/modal links to this folder)
+if __name__ != "multimass.modal":  # one import name (a linked folder)
     raise ImportError(
         f"this folder installs as `multimass.modal`; import that, not "
         f"`{__name__}` (is the repository's root on sys.path before site-packages?)"

@@ -10,7 +10,7 @@ validated on loading — its type, its sign and its physical plausibility
 1.93
 """
 
-if __name__ != "multimass.specimens":  # one import name (multimass/specimens links to this folder)
+if __name__ != "multimass.specimens":  # one import name (a linked folder)
     raise ImportError(
         f"this folder installs as `multimass.specimens`; import that, not "
         f"`{__name__}` (is the repository's root on sys.path before site-packages?)"
