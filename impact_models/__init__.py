@@ -14,6 +14,7 @@ from .restitution import housner_eta, modified_eta, r_h
 from .sources import (
     AngularMomentumRestitution,
     CornerRestitution,
+    DrawnRestitution,
     EmpiricalRestitution,
     FixedRestitution,
     HousnerRestitution,
@@ -34,6 +35,7 @@ __all__ = [
     "Classical",
     "CornerRestitution",
     "DiracDelta",
+    "DrawnRestitution",
     "EmpiricalRestitution",
     "FixedRestitution",
     "HousnerRestitution",

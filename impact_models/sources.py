@@ -14,6 +14,7 @@ pivot (θ > 0) and uses paper 001's r̄_er; the left corner uses r̄_el.
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,6 +29,7 @@ __all__ = [
     "FixedRestitution",
     "CornerRestitution",
     "EmpiricalRestitution",
+    "DrawnRestitution",
     "RandomRestitution",
     "AngularMomentumRestitution",
     "HousnerRestitution",
@@ -56,6 +58,10 @@ class ImpactContext:
     u: np.ndarray
     index: int
     rng: np.random.Generator
+
+
+def _is_real(value) -> bool:
+    return isinstance(value, numbers.Real)
 
 
 def _check_r(r: float, what: str) -> float:
@@ -130,6 +136,62 @@ class EmpiricalRestitution(Restitution):
     def value(self, ctx: ImpactContext) -> float:
         if ctx.index < len(self.values):
             return self.values[ctx.index]
+        return self.fallback.value(ctx)
+
+
+@dataclass(frozen=True)
+class DrawnRestitution(Restitution):
+    """Coefficients drawn in advance, per corner: the i-th draw of a run takes
+    ``right[i]`` for an impact on the right corner or ``left[i]`` on the left,
+    then `fallback` once the tables end.
+
+    A random restitution whose values are known before the run (the synthetic
+    traces of `multimass.identify.synthetic` store them as the truth); which entry
+    an impact took is in the response's events (``Event.restitution``).
+
+    Attributes
+    ----------
+    right, left : tuple of float
+        One coefficient in (0, 1] per draw, for each corner; equal lengths.
+    fallback : Restitution
+        The source after the tables (e.g. the per-corner means).
+    """
+
+    right: tuple[float, ...]
+    left: tuple[float, ...]
+    fallback: Restitution
+
+    def __post_init__(self):
+        for key in ("right", "left"):
+            values = getattr(self, key)
+            if isinstance(values, (str, bytes)) or not hasattr(values, "__len__"):
+                raise InputError(
+                    f"`{key}` = {values!r:.60}: give a sequence of coefficients in (0, 1]"
+                )
+            bad = next(
+                (i for i, r in enumerate(values) if isinstance(r, bool) or not _is_real(r)), None
+            )
+            if bad is not None:
+                raise InputError(
+                    f"`{key}[{bad}]` = {values[bad]!r:.60}: give a coefficient of "
+                    "restitution in (0, 1] (a number)"
+                )
+            checked = tuple(_check_r(r, f"{key}[{i}]") for i, r in enumerate(values))
+            object.__setattr__(self, key, checked)
+        if len(self.right) != len(self.left):
+            raise InputError(
+                f"`right` has {len(self.right)} values and `left` {len(self.left)}: "
+                "give one value per draw for each corner (equal lengths)"
+            )
+        if not isinstance(self.fallback, Restitution):
+            raise InputError(
+                f"`fallback` = {self.fallback!r:.60}: give a Restitution, e.g. "
+                "CornerRestitution(right, left)"
+            )
+
+    def value(self, ctx: ImpactContext) -> float:
+        if ctx.index < len(self.right):
+            return self.right[ctx.index] if ctx.side_new > 0 else self.left[ctx.index]
         return self.fallback.value(ctx)
 
 

@@ -35,7 +35,7 @@ class ChannelMetrics:
     ----------
     channel, column : str
         Trace channel (e.g. ``"a_A2"``) and the `Response.series` column it maps to
-        (``"theta"`` or ``"a<node>"``).
+        (``"theta"``, ``"ag"`` or ``"a<node>"``).
     units : str
         SI units of the values below: ``"rad"`` or ``"m/s2"``.
     t_start, t_end : float
@@ -126,8 +126,9 @@ def _check_offset(t_offset) -> float:
 def channel_columns(trace: Trace, structure) -> dict[str, str]:
     """The `Response.series` column matching each trace channel.
 
-    ``theta`` → ``"theta"``; ``a_<sensor>`` → ``"a<node>"`` with the node of the
-    specimen's named sensor; ``a<k>`` / ``a_node<k>`` → ``"a<k>"``.
+    ``theta`` → ``"theta"``; ``ag`` (the table's acceleration) → ``"ag"`` (the
+    simulated ground acceleration); ``a_<sensor>`` → ``"a<node>"`` with the node of
+    the specimen's named sensor; ``a<k>`` / ``a_node<k>`` → ``"a<k>"``.
 
     Raises
     ------
@@ -140,14 +141,14 @@ def channel_columns(trace: Trace, structure) -> dict[str, str]:
     out = {}
     for name in trace.channels:
         kind = _kind(name)
-        if kind[0] == "theta":
-            out[name] = "theta"
+        if kind[0] in ("theta", "ag"):
+            out[name] = kind[0]
             continue
         where = f"{trace.source}, column `{name}`"
         if st.n == 0:
             raise InputError(
-                f"{where}: {st.name!r} is a rigid block without elastic nodes, so "
-                f"only `theta` can be compared; remove the acceleration column"
+                f"{where}: {st.name!r} is a rigid block without elastic nodes, so only "
+                "`theta` can be compared (and the table's `ag`); remove the acceleration column"
             )
         node = kind[1]
         if kind[0] == "sensor":

@@ -2,9 +2,10 @@
 
 A trace is a CSV file with a header row naming each column and its unit in brackets::
 
-    # optional comment lines start with '#'
-    t [s],theta [deg],a_A2 [g],a_A4 [m/s2]
-    0.000,2.8648,0.0012,0.013
+    # specimen: S1
+    # other comment lines start with '#' too
+    t [s],theta [deg],a_A2 [g],a_A4 [m/s2],ag [g]
+    0.000,2.8648,0.0012,0.013,0.0003
     ...
 
 * time: ``t`` or ``time``, in ``s`` or ``ms``; strictly increasing, any spacing
@@ -13,11 +14,18 @@ A trace is a CSV file with a header row naming each column and its unit in brack
   about the right pivot);
 * ``a_<sensor>`` (e.g. ``a_A2``, a named sensor of the specimen), ``a<k>`` or
   ``a_node<k>`` (1-based node k): total lateral acceleration (paper 001 Eq 7) in
-  ``g``, ``m/s2``, ``cm/s2`` (``gal``) or ``mm/s2``.
+  ``g``, ``m/s2``, ``cm/s2`` (``gal``) or ``mm/s2``;
+* ``ag`` (optional): the ground (shake-table) acceleration, in the same units as the
+  ``a_...`` channels; `Trace.ag` is None without it.
+
+A comment line ``# specimen: NAME`` names the specimen tested (`Trace.specimen`); other
+comment lines are ignored.
 
 Names are case-insensitive. Units are never guessed: a column without a unit is an
 error. Values are converted to SI (s, rad, m/s²) on reading.
 
+`read_trace` reads a file, `parse_trace` the same text from a string; `write_trace`
+(and `format_trace`, its text) writes a `Trace` back in the units it was written in.
 `multimass.trace_metrics.compare_trace` measures, per channel, how far a simulation
 is from the trace.
 """
@@ -28,6 +36,7 @@ import math
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from pathlib import Path
 from types import MappingProxyType
 
 import numpy as np
@@ -37,14 +46,15 @@ from .excitations import FreeRelease
 from .samples import finite_float, float_array
 from .textfile import as_path, read_text
 from .units import G, canonical_units, to_mps2
+from .validation import integer
 
-__all__ = ["Trace", "read_trace", "ACCEPTED_COLUMNS"]
+__all__ = ["Trace", "read_trace", "parse_trace", "format_trace", "write_trace", "ACCEPTED_COLUMNS"]
 
 #: What a header may contain (shown in error messages).
 ACCEPTED_COLUMNS = (
     "`t [s]` or `time [s]` (s or ms); `theta [rad]` (rad or deg); "
     "`a_<sensor> [g]` (e.g. a_A2), `a<k>` or `a_node<k>` (1-based node k) "
-    "in g, m/s2, cm/s2 (gal) or mm/s2"
+    "in g, m/s2, cm/s2 (gal) or mm/s2; `ag [g]` (ground or table acceleration, same units)"
 )
 
 _WHAT = "a trace CSV file with units in its header, e.g. `t [s],theta [deg],a_A2 [g]`"
@@ -60,15 +70,18 @@ _ANGLE_UNITS = {
 _HEADER_CELL = re.compile(r"^\s*([^\[\]()]*?)\s*(?:[\[(]\s*([^\[\]()]*?)\s*[\])])?\s*$")
 _NODE = re.compile(r"^a(?:_node)?(\d+)$", re.IGNORECASE)
 _SENSOR = re.compile(r"^a_(\w+)$", re.IGNORECASE)
+_SPECIMEN = re.compile(r"^#\s*specimen\s*:(.*)$", re.IGNORECASE)
 
 
 def _kind(name: str):
-    """("time",), ("theta",), ("node", k), ("sensor", label), or None if unknown."""
+    """("time",), ("theta",), ("ag",), ("node", k), ("sensor", label), or None if unknown."""
     low = name.lower()
     if low in ("t", "time"):
         return ("time",)
     if low == "theta":
         return ("theta",)
+    if low == "ag":
+        return ("ag",)
     m = _NODE.match(name)
     if m:
         return ("node", int(m.group(1)))
@@ -97,7 +110,13 @@ def _si_factor(name: str, kind, unit, where: str, g: float) -> float:
     try:
         return to_mps2(1.0, canonical_units(unit, argument=name), g=g)
     except InputError as err:
-        raise InputError(f"{where}: column {err}") from None
+        hint = (
+            f"; `{name}` is the ground (table) acceleration: write it as `{name} [g]` "
+            f"or `{name} [m/s2]`"
+            if kind[0] == "ag"
+            else ""
+        )
+        raise InputError(f"{where}: column {err}{hint}") from None
 
 
 # ---------------------------------------------------------------------------- the trace
@@ -132,6 +151,18 @@ def _check(time, channels, source, lines=None) -> None:
         )
 
 
+def _specimen_name(name, source: str) -> str | None:
+    """A specimen name: None, or a non-empty one-line string (stripped)."""
+    if name is None:
+        return None
+    if not isinstance(name, str) or not name.strip() or "\n" in name or "\r" in name:
+        raise InputError(
+            f"{source}: `specimen` = {name!r:.60}: give the specimen's name as one "
+            "line of text (e.g. 'S1'), or None"
+        )
+    return name.strip()
+
+
 @dataclass(frozen=True, eq=False)
 class Trace:
     """A recorded test trace in SI units (read it with `read_trace`).
@@ -151,6 +182,8 @@ class Trace:
         The unit the time column was written in.
     g : float
         Acceleration of gravity used to convert ``g`` (m/s²).
+    specimen : str or None
+        The specimen tested, from a ``# specimen: NAME`` comment line (None without one).
     """
 
     time: np.ndarray
@@ -159,6 +192,7 @@ class Trace:
     source: str = "arrays"
     time_units: str = "s"
     g: float = G
+    specimen: str | None = None
     _factors: dict = field(default=None, init=False, repr=False)
 
     def __post_init__(self):
@@ -181,6 +215,7 @@ class Trace:
                 "in m/s^2 (a finite number > 0, e.g. 9.81)"
             )
         object.__setattr__(self, "g", g)
+        object.__setattr__(self, "specimen", _specimen_name(self.specimen, self.source))
         time = float_array(self.source, "time", self.time).copy()
         chans = {
             str(k): float_array(self.source, f"channels[{k!r}]", v).copy()
@@ -219,12 +254,17 @@ class Trace:
         return tuple(self.channels)
 
     @property
+    def ag(self) -> np.ndarray | None:
+        """The ground (table) acceleration channel ``ag`` (m/s²), or None without one."""
+        return next((v for k, v in self.channels.items() if _kind(k)[0] == "ag"), None)
+
+    @property
     def duration(self) -> float:
         """Last minus first sample time (s)."""
         return float(self.time[-1] - self.time[0])
 
     def si_units(self, name: str) -> str:
-        """``"rad"`` for θ, ``"m/s2"`` for an acceleration channel."""
+        """``"rad"`` for θ, ``"m/s2"`` for an acceleration channel (``ag`` included)."""
         return "rad" if _kind(name)[0] == "theta" else "m/s2"
 
     def to_written_units(self, name: str, values):
@@ -242,15 +282,26 @@ class Trace:
         return FreeRelease(theta0=float(theta[0]))
 
 
+def _gravity(g) -> float:
+    g_value = finite_float(g)
+    if g_value is None or g_value <= 0.0:
+        raise InputError(
+            f"`g` = {g!r:.60}: give the acceleration of gravity in m/s^2 (a finite "
+            "number > 0, e.g. 9.81)"
+        )
+    return g_value
+
+
 def read_trace(path, *, g: float = G) -> Trace:
     """Read a recorded trace from a CSV file with units in the header.
 
     Parameters
     ----------
     path : str or Path
-        CSV file: optional ``#`` comment lines, a header row such as
-        ``t [s],theta [deg],a_A2 [g],a_A4 [m/s2]``, then one row of numbers per
-        sample (see the module docstring for the accepted names and units).
+        CSV file: optional ``#`` comment lines (``# specimen: NAME`` names the
+        specimen), a header row such as ``t [s],theta [deg],a_A2 [g],a_A4 [m/s2]``,
+        then one row of numbers per sample (see the module docstring for the
+        accepted names and units).
     g : float, optional
         Acceleration of gravity for values in ``g`` (default 9.81 m/s², DESIGN.md).
 
@@ -265,24 +316,52 @@ def read_trace(path, *, g: float = G) -> Trace:
         Naming the file, line and column: a missing or unknown unit, an unknown or
         repeated column, no time or no channel column, a row with the wrong number
         of cells, an unreadable or non-finite value, fewer than 2 rows, time not
-        strictly increasing.
+        strictly increasing, an empty or repeated ``# specimen:`` line.
     """
-    g_value = finite_float(g)
-    if g_value is None or g_value <= 0.0:
-        raise InputError(
-            f"`g` = {g!r:.60}: give the acceleration of gravity in m/s^2 (a finite "
-            "number > 0, e.g. 9.81)"
-        )
-    g = g_value
+    g = _gravity(g)
     source = str(as_path(path, what=_WHAT))
     text = read_text(path, what=_WHAT, suffixes=(".csv", ".txt"))
-    rows = [(n, line.strip()) for n, line in enumerate(text.splitlines(), start=1)]
-    rows = [(n, line) for n, line in rows if line and not line.startswith("#")]
+    return _parse(text, source, g, "empty file")
+
+
+def parse_trace(text: str, *, source: str = "text", g: float = G) -> Trace:
+    """A trace from the text of a trace CSV file (what `read_trace` reads from a file).
+
+    Parameters
+    ----------
+    text : str
+        The file's text (see the module docstring).
+    source : str, optional
+        Where the text came from, shown in error messages and kept as `Trace.source`.
+    g : float, optional
+        Acceleration of gravity for values in ``g`` (m/s²).
+
+    Returns
+    -------
+    Trace
+
+    Raises
+    ------
+    InputError
+        As `read_trace`, naming `source` and the line.
+    """
+    if not isinstance(text, str):
+        raise InputError(f"`text` = {text!r:.60}: give the text of a trace CSV file (a str)")
+    if not isinstance(source, str):
+        raise InputError(f"`source` = {source!r:.60}: give a string, e.g. the file's name")
+    return _parse(text, source, _gravity(g), "empty text")
+
+
+def _parse(text: str, source: str, g: float, empty: str) -> Trace:
+    """The trace of the text of a CSV file (`read_trace`, `parse_trace`)."""
+    lines = [(n, line.strip()) for n, line in enumerate(text.splitlines(), start=1)]
+    rows = [(n, line) for n, line in lines if line and not line.startswith("#")]
     if not rows:
         raise InputError(
-            f"{source}: empty file; expected a header such as "
+            f"{source}: {empty}; expected a header such as "
             f"`t [s],theta [rad],a_A2 [g]` and rows of numbers"
         )
+    specimen = _specimen_line([(n, line) for n, line in lines if line.startswith("#")], source)
     header_line, header = rows[0]
     names, factors, written = _parse_header(header, f"{source}, line {header_line}", g)
     values, linenos = _parse_rows(rows[1:], names, source)
@@ -298,7 +377,85 @@ def read_trace(path, *, g: float = G) -> Trace:
         source=source,
         time_units=written[names[i_time]],
         g=g,
+        specimen=specimen,
     )
+
+
+def _specimen_line(comments, source: str) -> str | None:
+    """The NAME of the comment line ``# specimen: NAME`` (None without one)."""
+    found = None
+    for n, line in comments:
+        m = _SPECIMEN.match(line)
+        if m is None:
+            continue
+        name = m.group(1).strip()
+        if not name:
+            raise InputError(
+                f"{source}, line {n}: `# specimen:` without a name; write e.g. `# specimen: S1`"
+            )
+        if found is not None and name != found[1]:
+            raise InputError(
+                f"{source}, line {n}: a second `# specimen:` line ({name!r}; line "
+                f"{found[0]} says {found[1]!r}); keep one"
+            )
+        found = found or (n, name)
+    return None if found is None else found[1]
+
+
+def format_trace(trace: Trace, *, digits: int = 10) -> str:
+    """The text of `trace` as a trace CSV file, each channel in the unit it was written in.
+
+    Parameters
+    ----------
+    trace : Trace
+    digits : int, optional
+        Significant digits of each value (1–17; default 10).
+
+    Returns
+    -------
+    str
+        A ``# specimen: NAME`` line if `trace.specimen` is set, the header row
+        (e.g. ``t [s],theta [rad],a_A2 [g]``) and one row per sample: what
+        `parse_trace` and `read_trace` read back (to `digits` significant digits).
+    """
+    if not isinstance(trace, Trace):
+        raise InputError(f"`trace` = {trace!r:.60}: give a Trace (e.g. from read_trace)")
+    digits = integer("digits", digits, low=1, high=17)
+    head = [f"# specimen: {trace.specimen}"] if trace.specimen is not None else []
+    time_name = f"t [{trace.time_units}]"
+    head.append(",".join([time_name, *(f"{k} [{trace.units[k]}]" for k in trace.names)]))
+    columns = [trace.time / _TIME_UNITS[trace.time_units.lower()]]
+    columns += [trace.to_written_units(k, v) for k, v in trace.channels.items()]
+    fmt = f"%.{digits}g"
+    body = np.char.mod(fmt, np.column_stack(columns))
+    return "\n".join([*head, *(",".join(row) for row in body)]) + "\n"
+
+
+def write_trace(trace: Trace, path, *, digits: int = 10) -> Path:
+    """Write `trace` as a trace CSV file (`format_trace`); return the path written.
+
+    Parameters
+    ----------
+    trace : Trace
+    path : str or Path
+        The file to write (``.csv``); its folder must exist. An existing file is replaced.
+    digits : int, optional
+        Significant digits of each value (default 10).
+
+    Raises
+    ------
+    InputError
+        `path` not a usable ``.csv`` path or its folder missing; `trace` or `digits` invalid.
+    """
+    out = as_path(path, what="the trace CSV file to write")
+    if out.suffix.lower() != ".csv":
+        raise InputError(f"`path` = {str(out)!r}: give a file name ending in .csv")
+    if not out.parent.is_dir():
+        raise InputError(
+            f"`path` = {str(out)!r}: the folder {str(out.parent)!r} does not exist; create it first"
+        )
+    out.write_text(format_trace(trace, digits=digits), encoding="utf-8")
+    return out
 
 
 def _parse_rows(rows, names: list[str], source: str) -> tuple[list[list[float]], list[int]]:

@@ -137,3 +137,48 @@ def test_describe_is_json_ready():
     model = impact_model("CIM", specimens.load("S1"))
     text = json.dumps(model.restitution.describe())
     assert "CornerRestitution" in text and "0.93" in text
+
+
+def test_drawn_tables_follow_the_draw_and_the_corner():
+    from multimass.impact_models import DrawnRestitution
+
+    src = DrawnRestitution([0.95, 0.91], (0.85, 0.81), CornerRestitution(0.93, 0.87))
+    assert src.right == (0.95, 0.91)  # stored as a tuple
+    assert [src.value(_ctx(+1, i)) for i in range(3)] == [0.95, 0.91, 0.93]
+    assert [src.value(_ctx(-1, i)) for i in range(3)] == [0.85, 0.81, 0.87]
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        (dict(right=(0.9,), left=()), r"`right` has 1 values and `left` 0"),
+        (dict(right=(1.2,), left=(0.9,)), r"`right\[0\]` = 1.2: .*must lie in \(0, 1\]"),
+        (dict(right=(0.9,), left=(True,)), r"`left\[0\]` = True: give a coefficient"),
+        (dict(right="0.9", left=(0.9,)), r"`right` = '0.9': give a sequence"),
+        (dict(right=(0.9,), left=(0.9,), fallback=0.9), r"`fallback` = 0.9: give a Restitution"),
+    ],
+)
+def test_drawn_tables_are_checked(kwargs, message):
+    from multimass.impact_models import DrawnRestitution
+
+    args = dict(fallback=CornerRestitution(0.93, 0.87)) | kwargs
+    with pytest.raises(ValueError, match=message):
+        DrawnRestitution(**args)
+
+
+def test_a_run_takes_the_drawn_values_in_order():
+    # the classical model draws once per impact into a new half-cycle (paper 001, Eq 11),
+    # so impact i takes entry i of its corner's table and θ̇⁺ = r θ̇⁻
+    from multimass.impact_models import DrawnRestitution
+
+    right = tuple(0.90 + 0.001 * i for i in range(6))
+    left = tuple(0.80 + 0.001 * i for i in range(6))
+    src = DrawnRestitution(right, left, CornerRestitution(0.93, 0.87))
+    resp = multimass.simulate("S1", multimass.FreeRelease(0.08), "CIM", 2.5, restitution=src)
+    impacts = [e for e in resp.events if e.kind == "impact"]
+    assert len(impacts) > 6
+    for i, e in enumerate(impacts):
+        table = right if e.phase_after > 0 else left
+        means = 0.93 if e.phase_after > 0 else 0.87  # the fallback after the tables
+        assert e.restitution == (table[i] if i < 6 else means)
+        assert e.thetadot_plus == pytest.approx(e.restitution * e.thetadot_minus, rel=1e-12)

@@ -404,3 +404,141 @@ def _bytes(folder, name, data: bytes):
     path = folder / name
     path.write_bytes(data)
     return path
+
+
+# ---------------------------------------------------------------------------- table motion, specimen
+def test_ground_acceleration_channel_in_every_unit(tmp_path):
+    path = tmp_path / "table.csv"
+    for unit, si in (("g", G), ("m/s2", 1.0), ("cm/s2", 0.01), ("gal", 0.01), ("mm/s2", 1e-3)):
+        path.write_text(f"t [s],theta [rad],AG [{unit}]\n0,0,1\n0.005,0,-2\n")
+        tr = read_trace(path)
+        # closed form: 1 unit = `si` m/s², the same rules as the a_... channels
+        np.testing.assert_allclose(tr.ag, [si, -2 * si], rtol=1e-15)
+        assert tr.ag is tr.channels["AG"] and tr.units["AG"] == unit
+        assert tr.si_units("AG") == "m/s2"
+    path.write_text("t [s],theta [rad]\n0,0\n1,0\n")
+    assert read_trace(path).ag is None
+    assert Trace(time=[0, 1], channels={"ag": [0, 1]}, units={"ag": "g"}).ag[1] == 1.0  # SI
+
+
+@pytest.mark.parametrize(
+    "header, message",
+    [
+        (
+            "t [s],theta [rad],ag [deg]",
+            r"line 1: column `ag` = 'deg': unknown acceleration unit; accepted: g, m/s2.*"
+            r"ground \(table\) acceleration: write it as `ag \[g\]`",
+        ),
+        ("t [s],theta [rad],ag", r"line 1: column `ag` has no unit.*`ag \[g\]`"),
+        ("t [s],ag [g],Ag [g]", r"line 1: column `Ag` appears twice"),
+    ],
+)
+def test_ground_acceleration_in_a_wrong_unit(tmp_path, header, message):
+    path = tmp_path / "bad_ag.csv"
+    path.write_text(
+        header + "\n" + "\n".join(",".join(["0"] * (header.count(",") + 1)) for _ in "ab")
+    )
+    with pytest.raises(InputError, match=message) as err:
+        read_trace(path)
+    assert str(path) in str(err.value)
+
+
+def test_ground_acceleration_is_compared_with_the_simulated_one(s1, pulse):
+    from multimass.trace_metrics import channel_columns
+
+    grid = grid_samples(pulse)
+    trace = Trace(time=grid.t.to_numpy(), channels={"ag": grid.ag.to_numpy()}, units={"ag": "m/s2"})
+    assert channel_columns(trace, s1) == {"ag": "ag"}
+    assert compare_trace(trace, pulse, s1)["ag"].rms_error == pytest.approx(0.0, abs=1e-12)
+    block = Trace(time=[0.0, 1.0], channels={"ag": [0.0, 0.0]}, units={"ag": "g"})
+    assert channel_columns(block, multimass.rigid_block("B6M")) == {"ag": "ag"}
+
+
+@pytest.mark.parametrize(
+    "comments, specimen",
+    [
+        ("# specimen: S1\n", "S1"),
+        ("#Specimen:  S2 tested twice \n# other\n", "S2 tested twice"),
+        ("# specimen: S3\n# specimen: S3\n", "S3"),
+        ("# a comment\n", None),
+        ("", None),
+    ],
+)
+def test_specimen_comment_line(tmp_path, comments, specimen):
+    path = tmp_path / "named.csv"
+    path.write_text(comments + "t [s],theta [rad]\n0,0\n1,0\n")
+    assert read_trace(path).specimen == specimen
+
+
+@pytest.mark.parametrize(
+    "comments, message",
+    [
+        ("# specimen:\n", r"line 1: `# specimen:` without a name; write e.g. `# specimen: S1`"),
+        (
+            "# specimen: S1\n# x\n# specimen: S2\n",
+            r"line 3: a second `# specimen:` line \('S2'; line 1 says 'S1'\); keep one",
+        ),
+    ],
+)
+def test_bad_specimen_comment_line(tmp_path, comments, message):
+    path = tmp_path / "named.csv"
+    path.write_text(comments + "t [s],theta [rad]\n0,0\n1,0\n")
+    with pytest.raises(InputError, match=message):
+        read_trace(path)
+
+
+@pytest.mark.parametrize("bad", [5, "", "S1\nS2", ["S1"]])
+def test_trace_specimen_is_one_line_of_text(bad):
+    with pytest.raises(InputError, match=r"`specimen` = .*give the specimen's name"):
+        Trace(time=[0, 1], channels={"theta": [0, 1]}, units={"theta": "rad"}, specimen=bad)
+
+
+# ---------------------------------------------------------------------------- writing traces
+def test_written_trace_reads_back(tmp_path):
+    from multimass import traces
+
+    rng = np.random.default_rng(7)
+    t = np.sort(rng.uniform(0.0, 2.0, 50))
+    tr = Trace(
+        time=t * 1e3,
+        channels={"theta": rng.normal(0, 5, 50), "a_A2": rng.normal(0, 1, 50), "ag": t},
+        units={"theta": "deg", "a_A2": "g", "ag": "cm/s2"},
+        time_units="ms",
+        specimen="S1",
+    )
+    path = traces.write_trace(tr, tmp_path / "out.csv")
+    text = path.read_text()
+    assert text.startswith("# specimen: S1\nt [ms],theta [deg],a_A2 [g],ag [cm/s2]\n")
+    back = read_trace(path)
+    assert back.specimen == "S1" and dict(back.units) == dict(tr.units) and back.time_units == "ms"
+    np.testing.assert_allclose(back.time, tr.time, rtol=1e-9)
+    for name in tr.names:
+        np.testing.assert_allclose(back.channels[name], tr.channels[name], rtol=1e-9)
+    # what was read once writes the same text again, and parse_trace reads what read_trace reads
+    assert traces.format_trace(back) == text
+    same = traces.parse_trace(text, source="text")
+    for name in tr.names:
+        np.testing.assert_array_equal(same.channels[name], back.channels[name])
+    assert "a_A2" not in traces.format_trace(
+        Trace(time=[0, 1], channels={"theta": [0, 1]}, units={"theta": "rad"})
+    )
+
+
+def test_writing_and_parsing_arguments(tmp_path):
+    from multimass import traces
+
+    tr = Trace(time=[0, 1], channels={"theta": [0, 1]}, units={"theta": "rad"})
+    with pytest.raises(InputError, match=r"`path` = .*out.txt': give a file name ending in .csv"):
+        traces.write_trace(tr, tmp_path / "out.txt")
+    with pytest.raises(InputError, match=r"the folder .*no_such.* does not exist"):
+        traces.write_trace(tr, tmp_path / "no_such" / "out.csv")
+    with pytest.raises(InputError, match=r"`digits` = 0: must be in 1..17"):
+        traces.format_trace(tr, digits=0)
+    with pytest.raises(InputError, match=r"`trace` = 'x': give a Trace"):
+        traces.format_trace("x")
+    with pytest.raises(InputError, match=r"`text` = 3: give the text of a trace CSV file"):
+        traces.parse_trace(3)
+    with pytest.raises(InputError, match=r"here: empty text; expected a header"):
+        traces.parse_trace("# specimen: S1\n", source="here")
+    with pytest.raises(InputError, match=r"`g` = 0"):
+        traces.parse_trace("t [s],theta [rad]\n0,0\n1,0\n", g=0)
