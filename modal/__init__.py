@@ -22,11 +22,13 @@ from .eigen import (
     state_matrix,
 )
 from .errors import ModalError
-from .frequency_response import frf, state_space
+from .frequency_response import frf, sensor_nodes, state_space
 from .linearisation import LinearSystem, full_contact, linearise, rocking
+from .measured_frf import MeasuredFRF, full_contact_h1, full_contact_segments, h1_estimate
 
 __all__ = [
     "LinearSystem",
+    "MeasuredFRF",
     "ModalAnalysis",
     "ModalError",
     "PhaseModes",
@@ -37,10 +39,14 @@ __all__ = [
     "frf",
     "frequency_and_damping",
     "full_contact",
+    "full_contact_h1",
+    "full_contact_segments",
+    "h1_estimate",
     "linearise",
     "mac",
     "pair_frequency_and_damping",
     "rocking",
+    "sensor_nodes",
     "state_matrix",
     "state_space",
 ]

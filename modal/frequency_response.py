@@ -29,7 +29,7 @@ from .eigen import check_system, state_matrix
 from .errors import ModalError
 from .linearisation import full_contact, rocking
 
-__all__ = ["state_space", "frf", "PHASES"]
+__all__ = ["state_space", "frf", "sensor_nodes", "sensor_label", "PHASES"]
 
 #: The phases a state-space model can be built for.
 PHASES = ("full_contact", "rocking")
@@ -47,6 +47,65 @@ def _sensors(structure: Structure, sensors) -> np.ndarray:
     if idx.min() < 1 or idx.max() > n:
         raise ModalError(f"`sensors` = {list(idx)!r}: node numbers run from 1 to {n}")
     return idx - 1
+
+
+def sensor_nodes(structure: Structure, sensors=None) -> tuple[int, ...]:
+    """1-based nodes of `sensors`: node numbers or the specimen's sensor names (e.g. "A4").
+
+    Parameters
+    ----------
+    structure : Structure
+    sensors : sequence of int or str, optional
+        Node numbers (1..N) or names of the specimen's ``[sensors]`` table, mixed
+        freely. Default: the nodes of the specimen's named sensors, else every node.
+
+    Returns
+    -------
+    tuple of int
+        Distinct nodes, in the order given.
+
+    Raises
+    ------
+    ModalError
+        For an unknown sensor name, a node outside 1..N or a repeated node.
+    """
+    spec = getattr(structure, "specimen", None)
+    named = tuple(getattr(spec, "sensors", ()) or ())
+    if sensors is None:
+        nodes = sorted({node for _, node in named}) or range(1, structure.n + 1)
+        return tuple(int(k) for k in nodes)
+    if isinstance(sensors, (str, int, np.integer)):
+        sensors = [sensors]
+    out = []
+    for item in sensors:
+        if isinstance(item, str) and not item.strip().isdigit():
+            hit = [node for key, node in named if key.lower() == item.strip().lower()]
+            if not hit:
+                known = ", ".join(k for k, _ in named) or "none (the specimen has no [sensors])"
+                raise ModalError(
+                    f"`sensors`: {structure.name!r} has no sensor {item!r}; known sensors: "
+                    f"{known}; or give node numbers 1..{structure.n}"
+                )
+            out.append(int(hit[0]))
+        elif isinstance(item, bool) or not isinstance(item, (str, int, np.integer)):
+            raise ModalError(
+                f"`sensors` holds {item!r}: give node numbers 1..{structure.n} or sensor names"
+            )
+        else:
+            out.append(int(item))
+    bad = [k for k in out if not 1 <= k <= structure.n]
+    if bad:
+        raise ModalError(f"`sensors`: node(s) {bad} outside 1..{structure.n}")
+    if len(set(out)) != len(out):
+        raise ModalError(f"`sensors` = {out}: give each node once")
+    return tuple(out)
+
+
+def sensor_label(structure: Structure, node: int) -> str:
+    """``"A4 (node 5)"`` for a named sensor, else ``"node 5"``."""
+    spec = getattr(structure, "specimen", None)
+    names = [k for k, n in (getattr(spec, "sensors", ()) or ()) if n == node]
+    return f"{'/'.join(names)} (node {node})" if names else f"node {node}"
 
 
 def _matrices(structure: Structure, phase: str, sensors):

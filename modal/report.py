@@ -1,6 +1,6 @@
 """Modal reports: a JSON-ready summary and a Markdown page against published values.
 
-Plotting lives in `modal.plots`; this module only computes and formats.
+Plotting lives in `modal.plots` and `modal.frf_plots`; this module only computes and formats.
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ from multimass.structure import column
 from .analysis import ModalAnalysis, analyse, nodal_points
 from .errors import ModalError
 from .measured import MeasuredShapes
+from .measured_frf import MeasuredFRF
 
 __all__ = ["summary", "markdown", "write_report", "printed_unit", "MIXED_PARTICIPATION"]
 
@@ -428,7 +429,11 @@ def _shapes_section(info: dict) -> list[str]:
 
 
 def markdown(analysis: ModalAnalysis, info: dict, figures: list[str] = ()) -> str:
-    """The Markdown report of one analysis, from its `summary` dict."""
+    """The Markdown report of one analysis, from its `summary` dict.
+
+    With an ``frf`` block in `info` (`write_report` with ``frf=True``), a
+    "Frequency response" section (`modal.frf_report`) shows its figure.
+    """
     s = analysis.structure
     parts = [
         f"# Modal report — {s.name}",
@@ -457,6 +462,12 @@ def markdown(analysis: ModalAnalysis, info: dict, figures: list[str] = ()) -> st
             _mac_table(meas["mac_vs_compound"], "m", "c"),
             "",
         ]
+    if "frf" in info:
+        from .frf_report import frf_markdown
+
+        parts += frf_markdown(info["frf"]) + [""]
+    shown = {info["frf"]["figure"]} if "frf" in info else set()
+    figures = [f for f in figures if Path(f).name not in shown]
     if figures:
         parts += ["## Figures", ""] + [f"![{Path(f).stem}]({Path(f).name})" for f in figures]
     return "\n".join(parts).rstrip("\n") + "\n"
@@ -467,12 +478,42 @@ def write_report(
     out_dir: str | Path,
     measured: MeasuredShapes | None = None,
     figures: bool = True,
+    *,
+    frf: bool = False,
+    frf_sensors=None,
+    measured_frf: MeasuredFRF | None = None,
+    frf_source: str | None = None,
 ) -> dict:
     """Write ``<name>_modal.md``, ``<name>_modal.json`` and figures into `out_dir`.
 
-    Returns the summary dict (the JSON content).
+    Parameters
+    ----------
+    analysis : ModalAnalysis
+    out_dir : str or Path
+    measured : MeasuredShapes, optional
+        Measured shapes, for MAC.
+    figures : bool, optional
+        Write the PNG figures.
+    frf : bool, optional
+        Add the frequency responses of both phases: ``<name>_frf.png``
+        (`modal.frf_plots.frf_figure`), a "Frequency response" section and an
+        ``frf`` block (`modal.frf_report.frf_summary`). Needs `figures`.
+    frf_sensors : sequence of int or str, optional
+        Nodes or sensor names drawn (default: the specimen's named sensors).
+    measured_frf : MeasuredFRF, optional
+        A measured H1 estimate to overlay (rows named ``a<node>``), e.g. from
+        `modal.measured_frf.full_contact_h1`.
+    frf_source : str, optional
+        Where `measured_frf` came from (a trace's file name), for the report.
+
+    Returns
+    -------
+    dict
+        The summary (the JSON content).
     """
     out = Path(out_dir)
+    if (frf or measured_frf is not None) and not figures:
+        raise ModalError("`frf` draws a figure: leave `figures` True, or drop `frf`")
     out.mkdir(parents=True, exist_ok=True)
     info = summary(analysis, measured)
     files = []
@@ -483,6 +524,15 @@ def write_report(
             plot_eigenvalues(analysis, out / f"{analysis.structure.name}_eigenvalues.png"),
             plot_shapes(analysis, out / f"{analysis.structure.name}_shapes.png"),
         ]
+    if frf or measured_frf is not None:
+        from .frf_plots import plot_frf
+        from .frf_report import frf_summary
+
+        path = plot_frf(
+            analysis, out / f"{analysis.structure.name}_frf.png", frf_sensors, measured_frf
+        )
+        files.append(path)
+        info["frf"] = frf_summary(analysis, path.name, frf_sensors, measured_frf, frf_source)
     stem = out / f"{analysis.structure.name}_modal"
     stem.with_suffix(".md").write_text(
         markdown(analysis, info, [str(f) for f in files]), encoding="utf-8"

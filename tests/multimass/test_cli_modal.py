@@ -111,3 +111,112 @@ def test_heavily_damped_column_lists_overdamped_uplifted_modes(tmp_path, capsys)
     data = json.loads((tmp_path / "z09_modal.json").read_text())
     assert data["rocking"]["overdamped"]["mode"] == [1, 3, 4, 5]
     assert data["rocking"]["mode"] == [2]
+
+
+# --- --frf: the state-space FRFs, and a trace's measured H1 over them ---------------------------
+@pytest.fixture(scope="module")
+def s1_trace(tmp_path_factory):
+    """150 s of S1 at 200 Hz: linear full contact but for 60–75 s of rocking."""
+    from tests.frf_synthetic import full_contact_record, with_rocking, write_trace
+
+    t, ag, acc = full_contact_record(multimass.column("S1"), 150.0, sensors=[2, 3, 4, 5])
+    theta, acc = with_rocking(t, ag, acc, [(60.0, 75.0)])
+    path = tmp_path_factory.mktemp("trace") / "s1_table.csv"
+    write_trace(path, t, theta, ag, acc, ["a_A1", "a_A2", "a_A3", "a_A4"])
+    return path
+
+
+def test_modal_frf_writes_the_figure_into_the_report(tmp_path, capsys):
+    assert main(["modal", "S1", "--frf", "--frf-sensors", "A2,5", "--out", str(tmp_path)]) == 0
+    assert (tmp_path / "S1_frf.png").stat().st_size > 50_000
+    data = json.loads((tmp_path / "S1_modal.json").read_text())
+    assert data["frf"]["sensors"] == [3, 5] and data["frf"]["figure"] == "S1_frf.png"
+    assert "measured" not in data["frf"]
+    assert "![frequency response](S1_frf.png)" in (tmp_path / "S1_modal.md").read_text()
+
+
+def test_modal_trace_overlays_the_measured_frf(s1_trace, tmp_path, capsys):
+    argv = ["modal", "S1", "--trace", str(s1_trace), "--out", str(tmp_path), "--json"]
+    assert main(argv) == 0
+    meas = json.loads(capsys.readouterr().out)[0]["frf"]["measured"]
+    assert meas["segments_s"] == [[0.0, 59.995], [75.0, 149.995]]
+    assert (
+        meas["theta_max_rad"] == 2e-4 and meas["nperseg"] == 4096
+    )  # 2^k within 27 000 / 4 samples
+    mode1 = meas["peaks"][0]
+    assert abs(mode1["measured_freq_hz"] - mode1["model_freq_hz"]) < 2 * meas["df_hz"]
+    assert (tmp_path / "S1_frf.png").is_file()
+    assert main(["modal", "S1", "--trace", str(s1_trace), "--out", str(tmp_path)]) == 0
+    assert "2 full-contact segment(s), 135.0 s" in capsys.readouterr().out
+
+
+def _small_trace(tmp_path, header, rows, name="t.csv"):
+    path = tmp_path / name
+    path.write_text(header + "\n" + "\n".join(",".join(map(str, r)) for r in rows) + "\n")
+    return str(path)
+
+
+@pytest.mark.parametrize(
+    "header, rows, extra, fragment",
+    [
+        ("t [s],theta [rad],a_A4 [g]", [(0.005 * k, 0, 0.01) for k in range(20)], [], "`ag`"),
+        ("t [s],ag [g],a_A4 [g]", [(0.005 * k, 0.1, 0.01) for k in range(20)], [], "`theta"),
+        ("t [s],theta [rad],ag [g]", [(0.005 * k, 0, 0.1) for k in range(20)], [], "a_A4 [g]"),
+        (
+            "t [s],theta [rad],ag [g],a_A4 [g]",
+            [(0.05 * k, 0, 0.1, 0.01) for k in range(20)],
+            [],
+            "too slow for the first full-contact mode",
+        ),
+        (
+            "t [s],theta [rad],ag [g],a_A4 [g]",
+            [(0.005 * k + 0.001 * (k == 7), 0, 0.1, 0.01) for k in range(400)],
+            [],
+            "sampling is not uniform",
+        ),
+        (
+            "t [s],theta [rad],ag [g],a_A4 [g]",
+            [(0.005 * k, 0.01, 0.1, 0.01) for k in range(400)],
+            [],
+            "no full-contact segment",
+        ),
+        (
+            "t [s],theta [rad],ag [g],a_A4 [g]",
+            [(0.005 * k, 0, 0.1, 0.01) for k in range(400)],
+            ["--nperseg", "4"],
+            "`--nperseg` = 4",
+        ),
+        (
+            "t [s],theta [rad],ag [g],a_A9 [g]",
+            [(0.005 * k, 0, 0.1, 0.01) for k in range(20)],
+            [],
+            "no sensor 'A9'",
+        ),
+    ],
+)
+def test_bad_traces_exit_2_with_one_line(tmp_path, capsys, header, rows, extra, fragment):
+    trace = _small_trace(tmp_path, header, rows)
+    assert main(["modal", "S1", "--trace", trace, "--out", str(tmp_path), *extra]) == 2
+    err = capsys.readouterr().err
+    assert fragment in err and err.count("\n") == 1, err
+
+
+@pytest.mark.parametrize(
+    "argv, fragment",
+    [
+        (["--frf", "--no-figures"], "drop `--no-figures`"),
+        (["--frf", "--json"], "give the folder with `--out DIR`"),
+        (["--frf-sensors", "A2"], "add `--frf`"),
+        (["--theta-max", "1e-3"], "add `--trace CSV`"),
+        (["--frf", "--frf-sensors", "B9"], "no sensor 'B9'"),
+        (["--frf", "--frf-sensors", "2;3"], "`--frf-sensors` = '2;3'"),
+        (["--frf", "--frf-sensors", "2,9"], "outside 1..5"),
+        (["S2", "--trace", "x.csv"], "a trace belongs to one specimen"),
+        (["--trace", "x.csv", "--theta-max", "-1"], "`--theta-max` = -1.0"),
+    ],
+)
+def test_bad_frf_flags_exit_2_with_one_line(tmp_path, capsys, argv, fragment):
+    out = [] if "--json" in argv else ["--out", str(tmp_path)]
+    assert main(["modal", "S1", *argv, *out]) == 2
+    err = capsys.readouterr().err
+    assert fragment in err and err.count("\n") == 1, err
