@@ -91,15 +91,19 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
+def _comma_items(text: str, flag: str, pattern: str, what: str) -> list[str]:
+    """The comma-separated items of `text`, each matching `pattern`, or one clear error."""
+    items = [x.strip() for x in text.split(",")]
+    if not all(re.fullmatch(pattern, x) for x in items):
+        raise InputError(f"`{flag}` = {text!r}: give comma-separated {what}")
+    return items
+
+
 def _nodes(text: str | None):
     """Parse ``--shape-nodes 2,3,4``: integers separated by commas, nothing else."""
     if text is None:
         return None
-    items = [x.strip() for x in text.split(",")]
-    if not all(re.fullmatch(r"[0-9]+", x) for x in items):
-        raise InputError(
-            f"`--shape-nodes` = {text!r}: give comma-separated integer node numbers, e.g. 2,3,4,5"
-        )
+    items = _comma_items(text, "--shape-nodes", r"[0-9]+", "integer node numbers, e.g. 2,3,4,5")
     return tuple(int(x) for x in items)
 
 
@@ -144,12 +148,8 @@ def _sensor_list(text: str | None):
     """Parse ``--frf-sensors A2,A4`` or ``2,5``: names or node numbers, by commas."""
     if text is None:
         return None
-    items = [x.strip() for x in text.split(",")]
-    if not all(re.fullmatch(r"[A-Za-z0-9_]+", x) for x in items):
-        raise InputError(
-            f"`--frf-sensors` = {text!r}: give comma-separated sensor names or node numbers, "
-            "e.g. A2,A4 or 3,5"
-        )
+    what = "sensor names or node numbers, e.g. A2,A4 or 3,5"
+    items = _comma_items(text, "--frf-sensors", r"[A-Za-z0-9_]+", what)
     return [int(x) if x.isdigit() else x for x in items]
 
 
