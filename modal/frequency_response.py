@@ -2,7 +2,7 @@
 
 The linearised system of a phase (`multimass.modal.linearisation`: paper 001's
 Eq 3 in full contact, Eqs 19–20 rocking), M z̈ + C ż + K z = −r ü_g, is written
-as a first-order model with state x = [z; ż] (A of paper 001, Eq 24), input the
+as a first-order model with state x = [z; ż] (A of `multimass.modal.eigen.state_matrix`), input the
 ground acceleration ü_g and outputs what a shake-table test records:
 
 * the total horizontal acceleration of each sensor node, linearised from paper
@@ -116,7 +116,7 @@ def _matrices(structure: Structure, phase: str, sensors):
     check_system(system)
     idx = _sensors(structure, sensors)
     n, N = system.n, structure.n
-    A = state_matrix(system)  # paper 001, Eq 24
+    A = state_matrix(system)
     B = np.zeros((2 * n, 1))
     B[n:, 0] = -sla.solve(system.M, system.r, assume_a="pos")  # z̈ = … − M⁻¹ r ü_g
     # z̈ = A[n:] x + B[n:] ü_g, so any output linear in z̈, z and ü_g is a row of C, D

@@ -108,6 +108,7 @@ from .errors import InputError, SolverError
 from .result import EVENT_KINDS, OUTCOMES, Event, Result, status_of
 
 __all__ = [
+    "ContactView",
     "ContactEvent",
     "ContactResponse",
     "FrictionDemand",
@@ -389,6 +390,78 @@ class ContactResponse(Result):
             "t_end": float(self.t[-1]) if self.t.size else None,
             "final_energy": float(self.energy[-1]) if self.energy.size else None,
         }
+
+
+class ContactView(Result):
+    """A model's view of a `ContactResponse` (`raw`): the shared contract passed through,
+    and the samples named after the model's coordinates (`COORDINATES`).
+
+    ``status``, ``outcome``, ``message``, ``checks``, ``warnings``, ``friction``,
+    ``events``, ``peaks``, ``peak_times``, ``t``, ``theta``, ``thetadot`` and ``ledger``
+    are those of `raw`; a subclass holds ``raw`` and names its coordinates.
+    """
+
+    #: Names of the generalized coordinates q, in order (their rates get a "dot").
+    COORDINATES: tuple[str, ...] = ()
+    engine = "contact"
+
+    t = property(lambda self: self.raw.t, doc="Sample times (s); event times appear twice.")
+    theta = property(lambda self: self.raw.theta, doc="θ = −φ (rad; θ > 0 on the right pivot).")
+    thetadot = property(lambda self: self.raw.thetadot, doc="θ̇ = −φ̇ (rad/s).")
+    status = property(
+        lambda self: self.raw.status,
+        doc='``outcome``\'s status when every check passed, else "inaccurate".',
+    )
+    outcome = property(
+        lambda self: self.raw.outcome,
+        doc='How the run ended: "completed", "overturned", "max_events" or "failed".',
+    )
+    message = property(lambda self: self.raw.message)
+    checks = property(
+        lambda self: self.raw.checks,
+        doc="Energy balance, housekeeping and (with ``mu``) friction checks.",
+    )
+    warnings = property(lambda self: self.raw.warnings)
+    friction = property(
+        lambda self: self.raw.friction,
+        doc="Largest friction demand ``|λ_T|/λ_N``, smooth phases and impacts (`FrictionDemand`).",
+    )
+    events = property(
+        lambda self: self.raw.events,
+        doc='The `ContactEvent` log (kinds "impact", "uplift", "rest", "overturn", "failed").',
+    )
+    peaks = property(
+        lambda self: self.raw.peaks,
+        doc="Largest ``|θ|`` of each half-cycle (rad); a release from rest gives ``|θ0|`` first.",
+    )
+    peak_times = property(lambda self: self.raw.peak_times)
+    ledger = property(lambda self: self.raw.ledger, doc="The energy ledger (J).")
+
+    def coordinate(self, name: str) -> np.ndarray:
+        """The samples of coordinate `name` (one of `COORDINATES`)."""
+        return self.raw.q[:, self.COORDINATES.index(name)]
+
+    @property
+    def phase(self) -> np.ndarray:
+        """Per sample: "full", "rock_left", "rock_right" or "flight" (the series' ``phase``
+        column holds the same as 0, −1, +1, <NA>)."""
+        return _PHASE_NAMES[self.raw.closed]
+
+    @property
+    def series(self) -> pd.DataFrame:
+        """The samples: ``t``, ``theta``, ``thetadot``, ``phase`` (0, ±1, <NA> in flight),
+        then each of `COORDINATES` and its rate (``<name>dot``)."""
+        raw = self.raw
+        df = pd.DataFrame({"t": raw.t, "theta": self.theta, "thetadot": self.thetadot})
+        df["phase"] = raw.phase.array
+        for j, name in enumerate(self.COORDINATES):
+            df[name] = raw.q[:, j]
+        for j, name in enumerate(self.COORDINATES):
+            df[f"{name}dot"] = raw.v[:, j]
+        return df
+
+
+_PHASE_NAMES = np.array(["flight", "rock_left", "rock_right", "full"])  # by closed-set mask
 
 
 class _Driver:

@@ -26,14 +26,12 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
-import pandas as pd
 import sympy as sp
 
 from ._contact_checks import ground_excitation
-from .contact_dynamics import ContactResponse, simulate_contacts
+from .contact_dynamics import ContactResponse, ContactView, simulate_contacts
 from .errors import InputError
 from .flexible_oscillator_eom import numeric, symbolic
-from .result import Result
 from .validation import number, positive
 
 __all__ = ["FlexibleOscillator", "OscillatorResponse", "simulate_oscillator"]
@@ -254,13 +252,12 @@ class _OscillatorModel:
 
 
 @dataclass(frozen=True, eq=False)
-class OscillatorResponse(Result):
+class OscillatorResponse(ContactView):
     """Response of `simulate_oscillator` with named views of the coordinates.
 
-    A `multimass.result.Result` (engine "contact"): ``status``, ``outcome``,
-    ``message``, ``checks``, ``warnings``, ``events``, ``peaks``, ``peak_times``,
-    ``theta``, ``thetadot`` (of the base, θ = −φ) and ``ledger`` are those of `raw`
-    (`multimass.contact_dynamics.ContactResponse`); ``series`` names the coordinates.
+    A `multimass.result.Result` (engine "contact") through
+    `multimass.contact_dynamics.ContactView` (θ, θ̇ and the peaks are the base's);
+    ``series`` names the coordinates u, x, y and φ.
 
     Attributes
     ----------
@@ -273,58 +270,11 @@ class OscillatorResponse(Result):
     eps_p: float
     raw: ContactResponse
 
-    engine = "contact"
-
-    t = property(lambda self: self.raw.t, doc="Sample times (s); event times appear twice.")
-    u = property(lambda self: self.raw.q[:, 0], doc="Deflection of the column top (m).")
-    x = property(lambda self: self.raw.q[:, 1])
-    y = property(lambda self: self.raw.q[:, 2])
-    phi = property(lambda self: self.raw.q[:, 3], doc="Rotation, counter-clockwise positive.")
-    theta = property(lambda self: self.raw.theta, doc="Toolkit convention θ = −φ (rad).")
-    thetadot = property(lambda self: self.raw.thetadot, doc="θ̇ = −φ̇ (rad/s).")
-    status = property(
-        lambda self: self.raw.status,
-        doc='``outcome``\'s status when every check passed, else "inaccurate".',
-    )
-    outcome = property(
-        lambda self: self.raw.outcome,
-        doc='How the run ended: "completed", "overturned", "max_events", "failed".',
-    )
-    message = property(lambda self: self.raw.message)
-    checks = property(
-        lambda self: self.raw.checks,
-        doc="Energy balance, housekeeping and (with ``mu``) friction checks.",
-    )
-    warnings = property(lambda self: self.raw.warnings)
-    friction = property(
-        lambda self: self.raw.friction,
-        doc="Largest friction demand ``|λ_T|/λ_N`` (`FrictionDemand`).",
-    )
-    events = property(lambda self: self.raw.events, doc="The `ContactEvent` log.")
-    peaks = property(
-        lambda self: self.raw.peaks, doc="Largest ``|θ|`` of each half-cycle of the base (rad)."
-    )
-    peak_times = property(lambda self: self.raw.peak_times)
-    ledger = property(lambda self: self.raw.ledger, doc="The energy ledger (J).")
-
-    @property
-    def phase(self) -> np.ndarray:
-        """Per sample: "full", "rock_left", "rock_right" or "flight" (the series' ``phase``
-        column holds the same as 0, −1, +1, <NA>)."""
-        return np.array(["flight", "rock_left", "rock_right", "full"])[self.raw.closed]
-
-    @property
-    def series(self) -> pd.DataFrame:
-        """The samples: ``t``, ``theta``, ``thetadot``, ``phase`` (0, ±1, <NA> in flight),
-        ``u``, ``x``, ``y``, ``phi`` and the rates ``udot``, ``xdot``, ``ydot``, ``phidot``."""
-        raw = self.raw
-        df = pd.DataFrame({"t": raw.t, "theta": self.theta, "thetadot": self.thetadot})
-        df["phase"] = raw.phase.array
-        for j, name in enumerate(("u", "x", "y", "phi")):
-            df[name] = raw.q[:, j]
-        for j, name in enumerate(("udot", "xdot", "ydot", "phidot")):
-            df[name] = raw.v[:, j]
-        return df
+    COORDINATES = ("u", "x", "y", "phi")
+    u = property(lambda self: self.coordinate("u"), doc="Deflection of the column top (m).")
+    x = property(lambda self: self.coordinate("x"))
+    y = property(lambda self: self.coordinate("y"))
+    phi = property(lambda self: self.coordinate("phi"), doc="Rotation, counter-clockwise.")
 
     def _summary_extra(self) -> dict:
         osc = self.oscillator

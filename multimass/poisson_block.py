@@ -27,12 +27,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import pandas as pd
 
 from ._contact_checks import ground_excitation
-from .contact_dynamics import ContactResponse, simulate_contacts
+from .contact_dynamics import ContactResponse, ContactView, simulate_contacts
 from .errors import InputError
-from .result import Result
 from .validation import number, positive
 
 __all__ = ["PoissonBlock", "BlockResponse", "simulate_block", "housner_theta"]
@@ -168,18 +166,13 @@ class _BlockModel:
         return -self.bl.mass * self.ag(t) * v[0], 0.0
 
 
-_PHASE_NAMES = np.array(["flight", "rock_left", "rock_right", "full"])
-
-
 @dataclass(frozen=True, eq=False)
-class BlockResponse(Result):
+class BlockResponse(ContactView):
     """Response of `simulate_block`: the contact response with the block's views.
 
-    A `multimass.result.Result` (engine "contact"): ``status``, ``outcome``,
-    ``message``, ``checks``, ``warnings``, ``events``, ``peaks``, ``peak_times``,
-    ``theta``, ``thetadot`` and ``ledger`` are those of `raw`
-    (`multimass.contact_dynamics.ContactResponse`); ``series`` names the block's
-    coordinates.
+    A `multimass.result.Result` (engine "contact") through
+    `multimass.contact_dynamics.ContactView`; ``series`` names the block's
+    coordinates x, y (centre of mass, m) and φ (counter-clockwise, rad).
 
     Attributes
     ----------
@@ -192,104 +185,10 @@ class BlockResponse(Result):
     eps_p: float
     raw: ContactResponse
 
-    engine = "contact"
-
-    @property
-    def t(self) -> np.ndarray:
-        """Sample times (s); event times appear twice (before and after)."""
-        return self.raw.t
-
-    @property
-    def x(self) -> np.ndarray:
-        """Horizontal displacement of the centre of mass relative to the ground (m)."""
-        return self.raw.q[:, 0]
-
-    @property
-    def y(self) -> np.ndarray:
-        """Height of the centre of mass above the ground (m; h at rest)."""
-        return self.raw.q[:, 1]
-
-    @property
-    def phi(self) -> np.ndarray:
-        """Rotation, counter-clockwise positive (paper 000, rad)."""
-        return self.raw.q[:, 2]
-
-    @property
-    def theta(self) -> np.ndarray:
-        """Rotation in the toolkit's convention θ = −φ (rad; θ > 0 rocks on the right pivot)."""
-        return self.raw.theta
-
-    @property
-    def thetadot(self) -> np.ndarray:
-        """θ̇ = −φ̇ (rad/s)."""
-        return self.raw.thetadot
-
-    @property
-    def phase(self) -> np.ndarray:
-        """Per sample: "full", "rock_left", "rock_right" or "flight" (the series' ``phase``
-        column holds the same as 0, −1, +1, <NA>)."""
-        return _PHASE_NAMES[self.raw.closed]
-
-    @property
-    def status(self) -> str:
-        """``outcome``'s status when every check passed, else "inaccurate" (`ContactResponse`)."""
-        return self.raw.status
-
-    @property
-    def outcome(self) -> str:
-        """How the run ended: "completed", "overturned", "max_events" or "failed"."""
-        return self.raw.outcome
-
-    @property
-    def message(self) -> str:
-        return self.raw.message
-
-    @property
-    def checks(self) -> dict:
-        """Energy balance, housekeeping and (with ``mu``) friction checks."""
-        return self.raw.checks
-
-    @property
-    def warnings(self) -> tuple[str, ...]:
-        return self.raw.warnings
-
-    @property
-    def friction(self):
-        """Largest friction demand ``|λ_T|/λ_N``, smooth phases and impacts (`FrictionDemand`)."""
-        return self.raw.friction
-
-    @property
-    def events(self):
-        """The `ContactEvent` log (kinds "impact", "uplift", "rest", "overturn", "failed")."""
-        return self.raw.events
-
-    @property
-    def peaks(self) -> np.ndarray:
-        """Largest ``|θ|`` of each half-cycle (rad); a release from rest at φ0 ≠ 0 gives
-        ``|φ0|`` first."""
-        return self.raw.peaks
-
-    @property
-    def peak_times(self) -> np.ndarray:
-        return self.raw.peak_times
-
-    @property
-    def ledger(self) -> pd.DataFrame:
-        """The energy ledger (`ContactResponse.ledger`)."""
-        return self.raw.ledger
-
-    @property
-    def series(self) -> pd.DataFrame:
-        """The samples: ``t``, ``theta``, ``thetadot``, ``phase`` (0, ±1, <NA> in flight),
-        ``x``, ``y``, ``phi`` and the rates ``xdot``, ``ydot``, ``phidot``."""
-        raw = self.raw
-        df = pd.DataFrame({"t": raw.t, "theta": self.theta, "thetadot": self.thetadot})
-        df["phase"] = raw.phase.array
-        for j, name in enumerate(("x", "y", "phi")):
-            df[name] = raw.q[:, j]
-        for j, name in enumerate(("xdot", "ydot", "phidot")):
-            df[name] = raw.v[:, j]
-        return df
+    COORDINATES = ("x", "y", "phi")
+    x = property(lambda self: self.coordinate("x"), doc="Centre of mass, horizontal (m).")
+    y = property(lambda self: self.coordinate("y"), doc="Centre of mass height (m; h at rest).")
+    phi = property(lambda self: self.coordinate("phi"), doc="Rotation, counter-clockwise (rad).")
 
     def _summary_extra(self) -> dict:
         bl = self.block
