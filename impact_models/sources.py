@@ -51,6 +51,13 @@ class ImpactContext:
     index : int
         0-based count of restitution values drawn so far in this run.
     rng : numpy.random.Generator
+    impact : int
+        0-based index of the impact the value is for: the impacts logged so far in
+        this run (events of kind "impact"; an impact that ends in full contact is not
+        one). A Dirac-delta model draws the value of its next impact when rocking
+        starts, so a value drawn at an impact that is followed by full contact and
+        uplift is drawn again at the uplift: `index` counts both draws, `impact` is
+        the same for both.
     """
 
     structure: object
@@ -58,6 +65,7 @@ class ImpactContext:
     u: np.ndarray
     index: int
     rng: np.random.Generator
+    impact: int
 
 
 def _is_real(value) -> bool:
@@ -123,7 +131,9 @@ class EmpiricalRestitution(Restitution):
     """Impact-specific coefficients r_e in impact order, then a fallback.
 
     Paper 001 (Section 4.3) used impact-specific values for the large
-    half-cycles and the per-corner means once they ran out.
+    half-cycles and the per-corner means once they ran out. The k-th value is
+    the k-th impact's (`ImpactContext.impact`), whichever impact model draws it
+    and whenever; `multimass.identify.restitution` writes such lists.
     """
 
     values: tuple[float, ...]
@@ -134,8 +144,8 @@ class EmpiricalRestitution(Restitution):
             _check_r(r, f"values[{i}]")
 
     def value(self, ctx: ImpactContext) -> float:
-        if ctx.index < len(self.values):
-            return self.values[ctx.index]
+        if ctx.impact < len(self.values):
+            return self.values[ctx.impact]
         return self.fallback.value(ctx)
 
 

@@ -24,7 +24,9 @@ def _restitution(st, model, rng):
     count = [0]
 
     def r(thetadot_minus, side_new):
-        ctx = ImpactContext(st, int(side_new), np.zeros(0), count[0], rng)
+        ctx = ImpactContext(
+            st, int(side_new), np.zeros(0), count[0], rng, count[0]
+        )  # a draw per impact
         count[0] += 1
         return float(model.restitution.value(ctx))
 

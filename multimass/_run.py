@@ -142,7 +142,10 @@ class PhaseLoop:
     # -- restitution draws -------------------------------------------------
     def draw(self, side_new: int, y: np.ndarray) -> float:
         """The restitution of the next impact onto pivot `side_new` at state `y` (one draw)."""
-        ctx = ImpactContext(self.st, side_new, y[: self.st.n].copy(), self.n_draws, self.rng)
+        n_impacts = sum(e.kind == "impact" for e in self.events)
+        ctx = ImpactContext(
+            self.st, side_new, y[: self.st.n].copy(), self.n_draws, self.rng, n_impacts
+        )
         self.n_draws += 1
         return float(self.model.restitution.value(ctx))
 

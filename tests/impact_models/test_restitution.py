@@ -79,7 +79,7 @@ def test_k_outside_unit_interval():
 
 def _ctx(side, index=0, seed=0):
     return ImpactContext(
-        multimass.column("S1"), side, np.zeros(5), index, np.random.default_rng(seed)
+        multimass.column("S1"), side, np.zeros(5), index, np.random.default_rng(seed), index
     )
 
 
@@ -100,7 +100,7 @@ def test_random_restitution_is_clipped_and_seeded():
 
     def draws(seed):
         rng = np.random.default_rng(seed)
-        return [src.value(ImpactContext(s1, 1, np.zeros(5), i, rng)) for i in range(200)]
+        return [src.value(ImpactContext(s1, 1, np.zeros(5), i, rng, i)) for i in range(200)]
 
     vals = draws(5)
     assert all(0 < v <= 1.0 for v in vals) and max(vals) == 1.0  # clipped to (0, 1]
