@@ -4,10 +4,17 @@
   restitution drawn and stored, an anti-alias filter and 200 Hz sampling, sensor
   noise, sensor bias and a clock offset; its truth goes to a sidecar file
   (`SyntheticTrace.write`, `read_truth`), never into the trace;
-* `multimass.identify.sampling` — the anti-alias filter and the sampling it uses.
+* `multimass.identify.sampling` — the anti-alias filter and the sampling it uses;
+* `segment_trace` — a trace cut into rocking half-cycles, impacts and full contact;
+* `restitution` — each impact's coefficient of restitution, by the paper's energy
+  estimate and by fitting the impact model (paper 001, Section 4.3), with the corner
+  means and a ``[restitution]`` specimen fragment.
 """
 
+from .impacts import RestitutionEstimate, energy_restitution, restitution
+from .impacts_plots import plot_restitution
 from .sampling import anti_alias_fir, fir_figures, resample
+from .segments import HalfCycle, ImpactMark, Segments, segment_trace
 from .synthetic import SyntheticTrace, read_truth, synthetic_trace, truth_path
 
 __all__ = [
@@ -18,4 +25,12 @@ __all__ = [
     "anti_alias_fir",
     "fir_figures",
     "resample",
+    "segment_trace",
+    "Segments",
+    "HalfCycle",
+    "ImpactMark",
+    "restitution",
+    "RestitutionEstimate",
+    "energy_restitution",
+    "plot_restitution",
 ]
