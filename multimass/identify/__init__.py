@@ -8,11 +8,15 @@
 * `segment_trace` — a trace cut into rocking half-cycles, impacts and full contact;
 * `restitution` — each impact's coefficient of restitution, by the paper's energy
   estimate and by fitting the impact model (paper 001, Section 4.3), with the corner
-  means and a ``[restitution]`` specimen fragment.
+  means and a ``[restitution]`` specimen fragment;
+* `operational_modes` — vibration frequencies, damping and operational shapes of the
+  rocking half-cycles and full-contact stretches, against `multimass.modal.analyse`
+  (paper 001, Section 4.2, Fig 5).
 """
 
 from .impacts import RestitutionEstimate, energy_restitution, restitution
 from .impacts_plots import plot_restitution
+from .modes import IdentifiedModes, OperationalModes, operational_modes
 from .sampling import anti_alias_fir, fir_figures, resample
 from .segments import HalfCycle, ImpactMark, Segments, segment_trace
 from .synthetic import SyntheticTrace, read_truth, synthetic_trace, truth_path
@@ -33,4 +37,7 @@ __all__ = [
     "RestitutionEstimate",
     "energy_restitution",
     "plot_restitution",
+    "operational_modes",
+    "OperationalModes",
+    "IdentifiedModes",
 ]
