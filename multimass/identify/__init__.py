@@ -11,9 +11,12 @@
   means and a ``[restitution]`` specimen fragment;
 * `operational_modes` — vibration frequencies, damping and operational shapes of the
   rocking half-cycles and full-contact stretches, against `multimass.modal.analyse`
-  (paper 001, Section 4.2, Fig 5).
+  (paper 001, Section 4.2, Fig 5);
+* `calibrate` — restitution means, C_p and damping fitted to one or more traces by
+  least squares, with uncertainties and an honest status (paper 001, Sections 2.4, 4.3).
 """
 
+from .calibration import FITTABLE, Calibration, calibrate
 from .impacts import RestitutionEstimate, energy_restitution, restitution
 from .impacts_plots import plot_restitution
 from .modes import IdentifiedModes, OperationalModes, operational_modes
@@ -40,4 +43,7 @@ __all__ = [
     "operational_modes",
     "OperationalModes",
     "IdentifiedModes",
+    "calibrate",
+    "Calibration",
+    "FITTABLE",
 ]

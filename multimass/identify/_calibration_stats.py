@@ -1,0 +1,136 @@
+"""Uncertainties, flags and status of a calibration (`multimass.identify.calibrate`).
+
+Covariance: stage 2's residuals are whitened by per-channel scales re-estimated from
+the fit (each channel's residual RMS), so the residual variance per channel is 1;
+what remains is their correlation in time. A misfit (a model that cannot follow the
+trace) leaves residuals that are smooth, not white, and each of them then carries
+less than one sample's information: the rows of a channel are down-weighted by the
+AR(1) variance inflation (1 + ρ₁) / (1 − ρ₁), ρ₁ its residuals' lag-1
+autocorrelation, before cov = (J̃ᵀJ̃)⁻¹ (the per-impact deviations' prior rows keep
+weight 1). White noise has ρ₁ ≈ 0 and no inflation.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._calibration_params import PARAMETERS
+
+__all__ = ["covariance", "lag1", "flags", "status_of", "STATUSES", "LIMITS"]
+
+#: Statuses of a calibration and what they mean.
+STATUSES = {
+    "converged": "the fit converged, every fitted parameter is constrained and the "
+    "residuals are close to white noise: the model reproduces the traces",
+    "misfit": "the fit converged and the parameters are constrained, but the residuals "
+    "are structured (lag-1 autocorrelation above `LIMITS['rho_misfit']` in some "
+    "channel): the model cannot reproduce the traces, the values are the best this "
+    "model can do, not the test's truth",
+    "ill-posed": "some fitted parameter is not constrained by the traces (its "
+    "uncertainty is too large, it sits on a bound, or it is nearly collinear with "
+    "another): see each parameter's `constrained` flag; fix it or give better traces",
+    "failed": "a simulation failed or could not be run; `message` says why (the values "
+    "are the starts)",
+}
+
+#: Thresholds of the flags: a restitution mean with std above `r_std`, a log-fitted
+#: parameter (C_p, ζ) with relative std above `rel_std`, a pair correlated beyond
+#: `correlation` is not constrained; residuals with ρ₁ above `rho_misfit` are a misfit.
+LIMITS = {"r_std": 0.02, "rel_std": 0.25, "correlation": 0.98, "rho_misfit": 0.5}
+
+
+def lag1(e: np.ndarray) -> float:
+    """Lag-1 autocorrelation of a residual series (0 for fewer than 3 samples)."""
+    e = np.asarray(e, dtype=float)
+    if e.size < 3:
+        return 0.0
+    e = e - e.mean()
+    den = float(e @ e)
+    return float(e[1:] @ e[:-1]) / den if den > 0.0 else 0.0
+
+
+def covariance(J: np.ndarray, rows: dict, scales: np.ndarray) -> tuple[np.ndarray, dict]:
+    """(covariance of the unknowns, per-group (ρ₁, inflation)).
+
+    Parameters
+    ----------
+    J : ndarray
+        Jacobian of the weighted residuals (rows in the order of `rows`).
+    rows : dict
+        (case, group) → weighted residuals at the solution (``prior`` groups are not
+        inflated).
+    scales : ndarray
+        The unknowns' typical sizes, to condition the inversion.
+    """
+    weights, info, start = [], {}, 0
+    for key, r in rows.items():
+        n = r.size
+        if key[1] == "prior":
+            w, rho, infl = 1.0, 0.0, 1.0
+        else:
+            rho = lag1(r)
+            infl = float(np.clip((1.0 + rho) / (1.0 - rho), 1.0, 1e3)) if rho < 1.0 else 1e3
+            var = float(np.mean(r * r)) if n else 1.0
+            w = 1.0 / math.sqrt(infl * max(var, 1e-300))
+        weights.append(np.full(n, w))
+        info[key] = {"rho1": rho, "inflation": infl}
+        start += n
+    Jw = J * np.concatenate(weights)[:, None]
+    A = (Jw * scales).T @ (Jw * scales)
+    lam, V = np.linalg.eigh(A)
+    floor = max(lam.max(), 1e-300) * 1e-12
+    inv = (V / np.maximum(lam, floor)) @ V.T
+    cov = inv * np.outer(scales, scales)
+    bad = lam < floor
+    if np.any(bad):  # directions the data do not see: infinite variance
+        weak = np.abs(V[:, bad]).max(axis=1) > 1e-3
+        cov[weak, :] = np.inf
+        cov[:, weak] = np.inf
+    return cov, info
+
+
+def flags(names, x, std, corr, bounds) -> dict:
+    """Per fitted parameter: bound hit ("lower"/"upper"/None) and constrained (bool), with
+    the reason when it is not."""
+    out = {}
+    for i, name in enumerate(names):
+        p = PARAMETERS[name]
+        lo, hi = (p.to_x(b) for b in bounds[name])
+        span = hi - lo
+        hit = "lower" if x[i] - lo < 1e-3 * span else "upper" if hi - x[i] < 1e-3 * span else None
+        reasons = []
+        s = std[i]
+        limit = LIMITS["rel_std"] if p.log else LIMITS["r_std"]
+        if not math.isfinite(s):
+            reasons.append("the traces do not constrain it (singular Jacobian)")
+        elif s > limit:
+            what = f"relative std {s:.2g}" if p.log else f"std {s:.2g}"
+            reasons.append(f"{what} above {limit:g}")
+        if hit:
+            reasons.append(f"on its {hit} bound")
+        for j, other in enumerate(names):
+            if j != i and math.isfinite(corr[i, j]) and abs(corr[i, j]) > LIMITS["correlation"]:
+                reasons.append(f"correlated with {other} ({corr[i, j]:+.3f})")
+        out[name] = {"bound_hit": hit, "constrained": not reasons, "reason": "; ".join(reasons)}
+    return out
+
+
+def status_of(ok: bool, flagged: dict, rho: dict) -> tuple[str, str]:
+    """(status, message) from the flags and the residuals' ρ₁; `ok` False (the least
+    squares stopped at its evaluation budget) is said in the message."""
+    note = "" if ok else "; the least squares stopped at its evaluation budget"
+    loose = [n for n, f in flagged.items() if not f["constrained"]]
+    if loose:
+        why = "; ".join(f"{n}: {flagged[n]['reason']}" for n in loose)
+        return "ill-posed", f"not constrained by the traces: {why}{note}"
+    worst = max(rho.items(), key=lambda kv: kv[1], default=(None, 0.0))
+    if worst[0] is not None and worst[1] > LIMITS["rho_misfit"]:
+        bad = sorted(k for k, r in rho.items() if r > LIMITS["rho_misfit"])
+        return "misfit", (
+            f"the residuals are structured, not noise (lag-1 autocorrelation up to "
+            f"{worst[1]:.2f} in {', '.join(f'{c}:{ch}' for c, ch in bad[:4])}): the model "
+            f"cannot reproduce the traces{note}"
+        )
+    return "converged", f"converged; every fitted parameter is constrained{note}"

@@ -1,0 +1,252 @@
+"""`multimass.identify.calibrate`: calibration of a column model against test traces (issue 14,
+item 4), on synthetic S1 traces whose truth is known (`synthetic_trace`).
+
+Kept short: 2.6 s of a 0.11 rad free release of S1 (paper 001 Section 4.3, Fig 6), DD2
+(Table 2), 200 Hz, 2 % noise — five large half-cycles. The full 10 s measurements on
+S1–S3 are in benchmarks/calibration.py.
+"""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+import multimass
+from multimass import FreeRelease
+from multimass.errors import InputError
+from multimass.identify import synthetic_trace
+from multimass.identify.calibration import FITTABLE, STATUSES, Calibration, calibrate
+from multimass.identify.calibration_report import markdown, write_report
+from multimass.traces import Trace, parse_trace
+
+THETA0 = 0.11  # rad: paper 001 Section 4.3's large free-vibration test of S1
+T_END = 2.6  # s: five impacts of S1 released from 0.11 rad
+CP = 1750.0  # kg m/rad/s: paper 001 Table 2, DD2
+
+
+def window_means(cal, truth, label):
+    """The drawn restitution of the impacts in the fitted window, averaged per corner."""
+    drawn = [i["r"] for i in truth["impacts"]]
+    out = {}
+    for corner in ("right", "left"):
+        rs = [drawn[i["index"]] for i in cal.nuisance[label]["impacts"] if i["corner"] == corner]
+        out[corner] = float(np.mean(rs))
+    return out
+
+
+@pytest.fixture(scope="module")
+def syn():
+    return synthetic_trace("S1", FreeRelease(theta0=THETA0), "DD2", T_END, seed=11)
+
+
+@pytest.fixture(scope="module")
+def dd2(syn):
+    # start 20 % off: the means 20 % low, C_p 20 % high
+    start = {"r_er": 0.8 * 0.93, "r_el": 0.8 * 0.87, "cp": 1.2 * CP}
+    return calibrate(syn.trace, impact="DD2", fit="r_er,r_el,cp", start=start, progress=False)
+
+
+@pytest.fixture(scope="module")
+def cim(syn):
+    return calibrate(syn.trace, "S1", "CIM", fit=("r_er", "r_el"), progress=False)
+
+
+def test_recovers_the_truth_of_a_dd2_trace(dd2, syn):
+    truth = syn.truth
+    assert isinstance(dd2, Calibration) and dd2.status == "converged", dd2.message
+    label = next(iter(dd2.nuisance))
+    drawn = window_means(dd2, truth, label)
+    for name, corner in (("r_er", "right"), ("r_el", "left")):
+        p = dd2.parameters[name]
+        # the mean of the impacts the trace shows, to 0.005
+        assert abs(p["value"] - drawn[corner]) < 0.005
+        # the corner mean itself, within the std a corner mean of n impacts has
+        assert abs(p["value"] - truth["restitution"]["means"][corner]) < 3.0 * p["std"]
+        assert p["constrained"] and p["bound_hit"] is None and p["start"] < 0.8
+    cp = dd2.parameters["cp"]
+    assert abs(cp["value"] - CP) < 0.1 * CP
+    assert abs(cp["value"] - CP) < 3.0 * cp["std"] + 1.0
+    nu = dd2.nuisance[label]
+    assert nu["kind"] == "free"
+    assert abs(nu["t_offset"] - truth["t_offset"]) < 2e-3
+    assert abs(nu["theta0"] - THETA0) < 1e-3
+    # every impact of the window: its fitted r is the drawn one
+    fitted = [i["r"] for i in nu["impacts"]]
+    assert (
+        np.max(
+            np.abs(np.subtract(fitted, [truth["impacts"][i["index"]]["r"] for i in nu["impacts"]]))
+        )
+        < 0.01
+    )
+    # residuals at the noise: whitened scales near the noise level (2 % of each peak)
+    for key, r in dd2.residuals.items():
+        ch = key.split(":")[1]
+        assert 0.8 < r["scale"] / truth["noise"]["std"][ch] < 1.3
+        assert abs(r["rho1"]) < 0.2
+
+
+def test_metrics_before_and_after(dd2):
+    label = next(iter(dd2.nuisance))
+    before = dd2.metrics["before"][label]["trace"]
+    after = dd2.metrics["after"][label]["trace"]
+    fit = dd2.metrics["fit"][label]["window"]
+    assert set(before) == set(after) == set(fit) == {"theta", "a_A1", "a_A2", "a_A3", "a_A4"}
+    assert after["theta"].rms_error < 0.5 * before["theta"].rms_error
+    for m in fit.values():  # with each impact's restitution: the noise, 2 % of the peak
+        assert m.nrmse < 0.2
+    fb, fa = dd2.features["before"][label], dd2.features["after"][label]
+    assert fa["rms_peak_error"] < 0.5 * fb["rms_peak_error"]
+    assert fa["rms_impact_time_error"] < fb["rms_impact_time_error"]
+    assert dd2.features["fit"][label]["missing_impacts"] == 0
+    assert dd2.features["fit"][label]["rms_impact_time_error"] < 0.01
+
+
+def test_cim_on_a_dd2_trace_reports_its_misfit(cim, dd2, tmp_path):
+    # paper 001 Section 4.3: the classical impact over-predicts the vibration at impact
+    assert cim.status in ("misfit", "ill-posed")
+    label = next(iter(cim.nuisance))
+    worst = max(r["rho1"] for r in cim.residuals.values())
+    assert worst > 0.5
+    for ch in ("a_A2", "a_A4"):
+        assert (
+            cim.metrics["fit"][label]["window"][ch].rms_error
+            > 1.5 * dd2.metrics["fit"][label]["window"][ch].rms_error
+        )
+    files = write_report(cim, tmp_path)
+    assert (tmp_path / f"{label}_residuals.png").is_file()
+    assert cim.status in (tmp_path / "calibration.md").read_text()
+    assert {p.suffix for p in files} == {".png", ".md", ".json", ".toml"}
+
+
+def test_json_table_and_specimen_round_trip(dd2, tmp_path):
+    data = json.loads(dd2.to_json())
+    assert data["status"] == "converged" and data["impact"] == "DD2"
+    assert set(data["parameters"]) == {"r_er", "r_el", "cp"}
+    for p in data["parameters"].values():
+        assert {"value", "std", "start", "bound_hit", "constrained"} <= set(p)
+    table = dd2.to_pandas()
+    assert list(table.index) == ["r_er", "r_el", "cp"] and "std" in table
+    path = dd2.write_specimen(tmp_path / "S1_fit.toml", name="S1-fit")
+    spec = multimass.specimens.load(path)
+    assert spec.name == "S1-fit"
+    assert spec.r_right == pytest.approx(dd2.values["r_er"], abs=1e-6)
+    assert spec.r_left == pytest.approx(dd2.values["r_el"], abs=1e-6)
+    assert (spec.zeta_1, spec.zeta_2) == (0.005, 0.015)  # not fitted: kept
+    assert "C_p = " in path.read_text()
+    assert "Status: converged" in markdown(dd2)
+
+
+def test_two_traces_fitted_jointly():
+    a = synthetic_trace("S1", FreeRelease(theta0=0.11), "DD2", 1.8, seed=21)
+    b = synthetic_trace("S1", FreeRelease(theta0=-0.09), "DD2", 1.8, seed=22)
+    cal = calibrate([a.trace, b.trace], fit=("r_er", "r_el"), progress=False)
+    assert cal.status == "converged", cal.message
+    assert len(cal.nuisance) == 2
+    (la, na), (lb, nb) = cal.nuisance.items()
+    assert la != lb
+    assert na["theta0"] == pytest.approx(0.11, abs=1e-3)
+    assert nb["theta0"] == pytest.approx(-0.09, abs=1e-3)
+    drawn = {"right": [], "left": []}
+    for syn, label in ((a, la), (b, lb)):
+        for i in cal.nuisance[label]["impacts"]:
+            drawn[i["corner"]].append(syn.truth["impacts"][i["index"]]["r"])
+    assert abs(cal.values["r_er"] - np.mean(drawn["right"])) < 0.005
+    assert abs(cal.values["r_el"] - np.mean(drawn["left"])) < 0.005
+
+
+def test_unconstrained_parameter_is_flagged(syn):
+    # ζ2 from θ alone: mode 2 barely moves the base rotation
+    cal = calibrate(syn.trace, "S1", "DD2", fit=("r_er", "r_el", "zeta2"), channels=(),
+                    progress=False)  # fmt: skip
+    z = cal.parameters["zeta2"]
+    assert cal.status == "ill-posed" and not z["constrained"] and z["reason"]
+    assert "zeta2" in cal.message
+    assert not math.isfinite(z["std"]) or z["std"] > 0.25 * z["value"]
+
+
+# ---------------------------------------------------------------------------- bad input
+def _trace_text(syn, columns=None, ag=None):
+    tr = syn.trace
+    names = columns or tr.names
+    head = "# specimen: S1\nt [s]," + ",".join(f"{n} [{tr.units[n]}]" for n in names)
+    cols = [tr.time] + [tr.to_written_units(n, tr.channels[n]) for n in names]
+    if ag is not None:
+        head += f",ag [{ag[0]}]"
+        cols.append(ag[1])
+    rows = "\n".join(",".join(f"{x:.9g}" for x in row) for row in np.column_stack(cols))
+    return head + "\n" + rows + "\n"
+
+
+def test_unknown_fit_name(syn):
+    with pytest.raises(InputError, match="'r_right'.*r_er, r_el, cp, zeta1, zeta2"):
+        calibrate(syn.trace, fit=("r_right",))
+    assert set(FITTABLE) == {"r_er", "r_el", "cp", "zeta1", "zeta2"}
+    assert {"converged", "misfit", "ill-posed", "failed"} == set(STATUSES)
+
+
+def test_cp_with_cim(syn):
+    with pytest.raises(InputError, match="'cp'.*CIM"):
+        calibrate(syn.trace, impact="CIM", fit="r_er,cp")
+
+
+def test_missing_sensors(syn):
+    trace = parse_trace(_trace_text(syn, ["theta", "a_A2"]), source="two_channels.csv")
+    with pytest.raises(InputError, match=r"two_channels.csv.*A1, A3, A4.*\[sensors\]"):
+        calibrate(trace, fit="r_er")
+
+
+def test_nan_samples(syn, tmp_path):
+    text = _trace_text(syn).splitlines()
+    cells = text[40].split(",")
+    cells[1] = "nan"  # θ
+    text[40] = ",".join(cells)
+    path = tmp_path / "nan.csv"
+    path.write_text("\n".join(text) + "\n")
+    with pytest.raises(InputError, match="nan.csv, line 41, column `theta`.*not a finite"):
+        calibrate(path, fit="r_er")
+
+
+def test_table_acceleration_in_the_wrong_unit(syn):
+    t = syn.trace.time
+    pulse = 0.5 * 9.81 * np.sin(15.0 * t) * (t < 0.42)  # m/s2 written under a g header
+    trace = parse_trace(_trace_text(syn, ag=("g", pulse)), source="table.csv")
+    with pytest.raises(InputError, match=r"table.csv, column `ag`.*4.9 g.*m/s2 under a `g`"):
+        calibrate(trace, fit="r_er")
+    trace = parse_trace(_trace_text(syn, ag=("m/s2", pulse / 9.81)), source="table.csv")
+    with pytest.raises(InputError, match=r"table.csv, column `ag`.*in g under an `m/s2`"):
+        calibrate(trace, fit="r_er")
+
+
+def test_a_trace_without_rocking():
+    rng = np.random.default_rng(0)
+    t = np.arange(400) / 200.0
+    chans = {"theta": 1e-4 * rng.standard_normal(t.size)}
+    chans |= {f"a_A{k}": 0.01 * rng.standard_normal(t.size) for k in range(1, 5)}
+    trace = Trace(time=t, channels=chans, units={k: ("rad" if k == "theta" else "m/s2") for k in chans},
+                  source="still.csv", specimen="S1")  # fmt: skip
+    with pytest.raises(InputError, match="still.csv: no rocking"):
+        calibrate(trace, fit="r_er")
+
+
+def test_options_the_calibration_sets(syn):
+    with pytest.raises(InputError, match="`C_p` is set by calibrate"):
+        calibrate(syn.trace, fit="r_er", C_p=1000.0)
+    with pytest.raises(InputError, match="`start` gives 'cp'"):
+        calibrate(syn.trace, impact="CIM", fit="r_er", start={"cp": 1000.0})
+    with pytest.raises(InputError, match="`impact` = 'LCP'"):
+        calibrate(syn.trace, impact="LCP", fit="r_er")
+
+
+def test_a_trace_with_table_motion():
+    # paper 001 Section 4.4: the cosine pulse of Fig 9 (ω = 15 rad/s, A = 0.4 g) on S1
+    from multimass.excitations import CosinePulse
+
+    syn = synthetic_trace("S1", CosinePulse(amplitude=0.4 * 9.81, omega=15.0), "DD2", 2.0, seed=5)
+    cal = calibrate(syn.trace, fit=("r_er", "r_el"), progress=False)
+    nu = next(iter(cal.nuisance.values()))
+    assert nu["kind"] == "table" and nu["theta0"] is None and nu["t_offset"] == 0.0
+    assert cal.status in STATUSES and len(nu["impacts"]) >= 3
+    # the excitation is the recorded (filtered, noisy) table motion: within a few hundredths
+    for i in nu["impacts"]:
+        assert abs(i["r"] - syn.truth["impacts"][i["index"]]["r"]) < 0.05
