@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from pathlib import Path
 
 from ..errors import InputError
@@ -50,15 +51,31 @@ def register(sub) -> None:
         "release from the trace's θ at its first sample, up to its last sample. "
         "Each --impact model may carry its own options, MODEL:key=value (keys cp, "
         "restitution or r, k, seed), e.g. --impact CIM,DD2,DD2:cp=3000 (paper 001 "
-        "Fig 8).",
+        "Fig 8). The specimen is SPECIMEN or --specimen if given, else the one the "
+        "trace names in its `# specimen: NAME` line.",
     )
-    p.add_argument("specimen", metavar="SPECIMEN", help="bundled name (S1, B6M, ...) or TOML file")
+    p.add_argument(
+        "specimen",
+        nargs="?",
+        default=None,
+        metavar="SPECIMEN",
+        help="bundled name (S1, B6M, ...) or TOML file; optional (as --specimen): "
+        "default the trace's `# specimen:` line",
+    )
     p.add_argument(
         "trace",
         type=Path,
         metavar="TRACE.csv",
         help="recorded trace; columns t|time [s|ms], theta [rad|deg], a_<sensor>, "
-        "a<k> or a_node<k> [g|m/s2|cm/s2|mm/s2]",
+        "a<k> or a_node<k> [g|m/s2|cm/s2|mm/s2]; a comment line `# specimen: NAME` "
+        "names its specimen",
+    )
+    p.add_argument(
+        "--specimen",
+        dest="specimen_option",
+        default=None,
+        metavar="NAME",
+        help="the specimen, as the SPECIMEN argument (as in restitution, identify, calibrate)",
     )
     add_impact_args(p, multiple=True)
     add_excitation_args(p)
@@ -85,6 +102,31 @@ def register(sub) -> None:
     )
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=run)
+    _options_between_positionals(p)
+
+
+def _options_between_positionals(parser) -> None:
+    """Let options stand between SPECIMEN and TRACE.csv, as when SPECIMEN was required.
+
+    ``multimass compare S1 --impact CIM trace.csv`` worked while both positionals were
+    required; with SPECIMEN optional, argparse (of Python 3.11 at least) gives TRACE.csv
+    an empty match at ``S1`` and rejects ``trace.csv`` as unrecognized. Parsing the options first and
+    the positionals after them (argparse's `parse_known_intermixed_args`) keeps it working.
+    """
+
+    class Intermixed(type(parser)):
+        _inner = False
+
+        def parse_known_args(self, args=None, namespace=None):
+            if self._inner:  # the two passes of parse_known_intermixed_args
+                return super().parse_known_args(args, namespace)
+            self._inner = True
+            try:
+                return self.parse_known_intermixed_args(args, namespace)
+            finally:
+                self._inner = False
+
+    parser.__class__ = Intermixed
 
 
 # per-model option -> the type of its flag (--cp, --k, --seed), so the same mistake gets
@@ -145,14 +187,65 @@ def _excitation(args, structure, trace):
     return exc, float(trace.time[0]) if release else 0.0
 
 
+def _specimen_and_trace(args):
+    """(Structure, Trace): the specimen given (SPECIMEN or --specimen), else the trace's own.
+
+    A specimen given that differs from the trace's ``# specimen:`` line is used, with a
+    warning: comparing a trace with another model of its column (e.g. the TOML file
+    that ``multimass restitution`` writes, named ``S1_r_DD``) is what the command is for.
+    """
+    from multimass.structure import from_specimen
+    from multimass.traces import read_trace
+
+    given = [x for x in (args.specimen, args.specimen_option) if x is not None]
+    if len(given) == 2 and given[0].lower() != given[1].lower():
+        raise InputError(
+            f"the specimen is given twice, as SPECIMEN = {given[0]!r} and `--specimen` = "
+            f"{given[1]!r}; give one"
+        )
+    if given:  # as before: the specimen first, then the trace in its g
+        st = from_specimen(given[0])
+        trace = read_trace(args.trace, g=st.g)
+        if trace.specimen is not None and trace.specimen.lower() not in (
+            st.name.lower(),
+            str(given[0]).lower(),
+        ):
+            print(
+                f"multimass compare: warning: {trace.source} says `# specimen: "
+                f"{trace.specimen}`; comparing with {st.name} as given",
+                file=sys.stderr,
+            )
+        return st, trace
+    if args.specimen is None and not args.trace.exists() and not args.trace.suffix:
+        raise InputError(
+            f"TRACE.csv = {str(args.trace)!r}: no such file; to name the specimen, give "
+            f"the trace after it: `multimass compare {args.trace} TRACE.csv`"
+        )
+    trace = read_trace(args.trace)
+    if trace.specimen is None:
+        raise InputError(
+            f"{trace.source} has no `# specimen: NAME` line, so the specimen is unknown; "
+            f"give it (`multimass compare SPECIMEN {args.trace}` or `--specimen NAME`) or "
+            "add the line `# specimen: NAME` above the trace's header"
+        )
+    try:
+        st = from_specimen(trace.specimen)
+    except InputError as err:
+        raise InputError(
+            f"{trace.source} names its specimen `# specimen: {trace.specimen}`: {err}; or "
+            "give the specimen's TOML file with --specimen FILE"
+        ) from None
+    if st.g != trace.g:
+        trace = read_trace(args.trace, g=st.g)
+    return st, trace
+
+
 def run(args) -> int:
     import multimass
     from multimass.impact_models import impact_model
     from multimass.trace_metrics import channel_columns, compare_trace
-    from multimass.traces import read_trace
 
-    st = multimass.from_specimen(args.specimen)
-    trace = read_trace(args.trace, g=st.g)
+    st, trace = _specimen_and_trace(args)
     columns = channel_columns(trace, st)  # fail before simulating
     specs = model_specs(args)
     for kw in specs.values():  # unknown names / options: fail early too

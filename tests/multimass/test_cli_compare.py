@@ -197,3 +197,68 @@ def test_block_only_theta(tmp_path, capsys):
     data = json.loads(capsys.readouterr().out)
     assert data["excitation"]["theta0"] == pytest.approx(math.radians(1.0), rel=1e-15)
     assert set(data["models"]["CIM"]["metrics"]) == {"theta"}
+
+
+# --- the specimen from the trace's `# specimen:` line ---------------------------------------
+
+
+def _named(path, name):
+    path.write_text(f"# specimen: {name}\n" + path.read_text())
+    return path
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["{trace}"],
+        ["{trace}", "--specimen", "S1"],
+        ["S1", "{trace}"],
+        # options between SPECIMEN and TRACE.csv, as before SPECIMEN became optional
+        ["S1", "--impact", "DD2", "{trace}"],
+        ["s1", "{trace}", "--specimen", "S1"],  # the same specimen twice
+    ],
+)
+def test_specimen_from_the_trace_or_given(argv, trace_file, capsys):
+    trace = _named(trace_file, "S1")
+    assert main(["compare", *(a.format(trace=trace) for a in argv), "--json"]) == 0
+    out, err = capsys.readouterr()
+    data = json.loads(out)
+    assert data["specimen"] == "S1" and err == ""
+    assert all(m["nrmse"] < 1e-6 for m in data["models"]["DD2"]["metrics"].values())
+
+
+def test_trace_without_specimen_line_and_none_given(trace_file, capsys):
+    assert main(["compare", str(trace_file), "--json"]) == 2
+    err = capsys.readouterr().err
+    assert "has no `# specimen: NAME` line" in err and err.count("\n") == 1
+    assert "multimass compare SPECIMEN" in err and "--specimen NAME" in err
+
+
+def test_specimen_given_twice_differently(trace_file, capsys):
+    assert main(["compare", "S1", str(trace_file), "--specimen", "S2", "--json"]) == 2
+    err = capsys.readouterr().err
+    assert "SPECIMEN = 'S1' and `--specimen` = 'S2'" in err and err.count("\n") == 1
+
+
+def test_specimen_given_wins_over_the_trace_with_a_warning(trace_file, capsys):
+    # e.g. the trace of S1 against the specimen file `multimass restitution` fitted to it
+    trace = _named(trace_file, "S2")
+    assert main(["compare", "S1", str(trace), "--json"]) == 0
+    out, err = capsys.readouterr()
+    assert json.loads(out)["specimen"] == "S1"
+    assert err.startswith("multimass compare: warning:") and "`# specimen: S2`" in err
+    assert "comparing with S1 as given" in err
+
+
+def test_specimen_alone_is_not_taken_for_a_trace(capsys):
+    assert main(["compare", "S1", "--json"]) == 2
+    err = capsys.readouterr().err
+    assert "give the trace after it: `multimass compare S1 TRACE.csv`" in err
+
+
+def test_specimen_the_trace_names_is_unknown(trace_file, capsys):
+    trace = _named(trace_file, "MyColumn")
+    assert main(["compare", str(trace), "--json"]) == 2
+    err = capsys.readouterr().err
+    assert "names its specimen `# specimen: MyColumn`" in err and "--specimen FILE" in err
+    assert err.count("\n") == 1
