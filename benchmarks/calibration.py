@@ -52,8 +52,10 @@ def one(spec: str, seed: int, impact: str, fit, history: int) -> dict:
         if name not in cal.parameters:
             continue
         p = cal.parameters[name]
-        window = [
-            drawn[i["index"]] for i in cal.nuisance[label]["impacts"] if i["corner"] == corner
+        window = [  # None: a Dirac-delta force that never switched on (no r drawn)
+            drawn[i["index"]]
+            for i in cal.nuisance[label]["impacts"]
+            if i["corner"] == corner and drawn[i["index"]] is not None
         ]
         row[name] = {
             "value": p["value"], "std": p["std"], "constrained": p["constrained"],
