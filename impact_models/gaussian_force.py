@@ -52,11 +52,14 @@ def activation_margin(theta, theta_i, side, L, l_ref, thetadot, thetadot_min):
     """The three activation conditions as one value, negative once all hold.
 
     ±θ > ±θ_i (``|θ|`` below ``|θ_i|``), ±L'_p > 0 and ±θ̇ > θ̇_min with ± the
-    impending pivot −side; L scaled by `l_ref`, θ̇ by θ̇_min.
+    impending pivot −side; L scaled by `l_ref`, θ̇ by θ̇_min. The angle enters signed
+    (side·θ, positive on the current pivot), so the margin changes sign when θ passes
+    θ_i even if a step jumps over the whole window −θ_i … θ_i (S2, r → 1: θ_i ≈ 2e-4
+    rad against ~2e-3 rad per step); with ``|θ|`` such an impact lost no energy.
     """
     side_imp = -side
     return max(
-        abs(theta) / theta_i - 1.0,
+        side * theta / theta_i - 1.0,
         -side_imp * L / l_ref,
         (thetadot_min - side_imp * thetadot) / thetadot_min,
     )  # paper 001, Eq 16
