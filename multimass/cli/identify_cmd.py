@@ -93,7 +93,7 @@ def _line(pm) -> list[str]:
     out = [f"{name}:"]
     for k, j in enumerate(pm.mode):
         out.append(
-            f"  mode {j}: {pm.freq_hz[k]:.3f} ± {pm.freq_spread_hz[k]:.3f} Hz "
+            f"  mode {j}: {pm.with_spread(k)} Hz "
             f"(model {pm.model_freq_hz[k]:.3f}, {100 * (pm.freq_hz[k] / pm.model_freq_hz[k] - 1):+.2f} %)"
             f", ζ {100 * pm.damping[k]:.2f} % (model {100 * pm.model_damping[k]:.2f} %), "
             f"MAC {pm.mac[k]:.4f}, {pm.n_segments[k]} segment(s)"

@@ -2,7 +2,10 @@
 
 * `Case` — one trace made ready: its channels, its segments (`segment_trace`), the
   large half-cycles and the window fitted, the first guesses of its nuisance
-  parameters; `cases` checks every trace against the specimen.
+  parameters; `cases` checks every trace against the specimen (the checks the trace
+  tools share are `multimass.identify._trace_checks`) and against what is fitted: a
+  corner mean needs an impact on its corner between two large half-cycles, C_p an
+  impact, and each damping ratio a mode the traces' sampling rates show.
 """
 
 from __future__ import annotations
@@ -15,21 +18,15 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..modal import analyse
 from ..records import Record
 from ..structure import Structure, from_specimen
 from ..trace_metrics import channel_columns
 from ..traces import Trace, read_trace
+from ._trace_checks import above_passband, check_ag, no_rocking, require_sensors
 from .segments import segment_trace
 
-__all__ = ["Case", "cases", "structure_of", "AG_MAX_G", "AG_MIN_SHARE"]
-
-#: Largest table acceleration believed (in g): a shake-table record above this was
-#: almost surely written in m/s² under a `g` header.
-AG_MAX_G = 3.0
-#: A table that rocks the column reaches at least this share of g tan α_cg (the rigid
-#: column's uplift; a flexible one uplifts earlier, but not at a tenth of it): below,
-#: the values were almost surely written in g under an `m/s2` header.
-AG_MIN_SHARE = 0.25
+__all__ = ["Case", "cases", "structure_of"]
 
 
 # ---------------------------------------------------------------------------- the traces
@@ -178,40 +175,11 @@ def _channels(trace: Trace, st: Structure, wanted) -> tuple[tuple, dict]:
             )
         chosen = ["theta"] + [c for c in wanted if c in accel]
     else:
-        sensors = [name for name, _ in st.specimen.sensors]
-        have = {c[2:].lower() for c in accel if c.lower().startswith("a_")}
-        lacking = [s for s in sensors if s.lower() not in have]
-        if lacking:
-            raise InputError(
-                f"{trace.source}: the trace has no column for sensor(s) "
-                f"{', '.join(lacking)}, which specimen {st.name!r} names in its [sensors] "
-                f"table; add the columns (a_{lacking[0]} [g], ...) or choose the channels "
-                f"to fit (channels=('theta', ...), --channels theta,a_A2)"
-            )
+        listed = ",".join(accel) if accel else "theta"
+        fix = f"choose the channels to fit (channels={accel!r}, --channels {listed})"
+        require_sensors(trace, st, st.specimen.sensors, fix)
         chosen = ["theta"] + accel
     return tuple(chosen), columns
-
-
-def _check_ag(trace: Trace, st: Structure) -> None:
-    """The table acceleration must be plausible: a wrong unit shows as ×9.81 or ÷9.81."""
-    ag = trace.ag
-    peak = float(np.max(np.abs(ag)))
-    g = st.g
-    unit = trace.units.get("ag", "?")
-    if peak > AG_MAX_G * g:
-        raise InputError(
-            f"{trace.source}, column `ag`: the table acceleration peaks at {peak / g:.3g} g "
-            f"(written in {unit}), beyond any shake-table test ({AG_MAX_G:g} g); were the "
-            "values written in m/s2 under a `g` header? Fix the unit in the header"
-        )
-    needed = g * math.tan(st.alpha_cg)  # uplift of the rigid column (Housner): g tan α
-    if peak < AG_MIN_SHARE * needed:
-        raise InputError(
-            f"{trace.source}, column `ag`: the table acceleration peaks at {peak:.3g} m/s2 "
-            f"(written in {unit}), under {AG_MIN_SHARE:.0%} of what uplifts {st.name!r} (g tan α_cg = "
-            f"{needed:.3g} m/s2), yet the trace rocks; were the values written in g under "
-            "an `m/s2` header? Fix the unit in the header"
-        )
 
 
 def _label(trace: Trace, seen: set) -> str:
@@ -260,16 +228,11 @@ def cases(loaded: list, st: Structure, fit: tuple, channels, theta_min: float) -
     for trace in loaded:
         chosen, columns = _channels(trace, st, channels)
         seg = segment_trace(trace, theta_min=theta_min)
+        check_ag(trace, st, seg)
         free = trace.ag is None
         large, first_impact = _large_run(seg, free)
-        top = max((h.peak for h in seg.half_cycles), default=0.0)
         if not large or max(h.peak for h in large) < theta_min:
-            raise InputError(
-                f"{trace.source}: no rocking: no half-cycle reaches theta_min = "
-                f"{theta_min:g} rad (largest {top:.3g} rad; θ noise {seg.noise:.2g} rad); "
-                "calibration needs a test that rocks: give a trace with rocking, or lower "
-                "theta_min"
-            )
+            raise no_rocking(trace, seg, theta_min, "calibration fits the large half-cycles")
         if free and large[0].begins != "release":
             raise InputError(
                 f"{trace.source}: the trace starts while rocking and has no `ag` channel; a "
@@ -281,7 +244,6 @@ def cases(loaded: list, st: Structure, fit: tuple, channels, theta_min: float) -
         idx = slice(0, int(np.searchsorted(t, t1, side="right")))
         record = None
         if not free:
-            _check_ag(trace, st)
             try:
                 record = Record(
                     t - t[0], np.asarray(trace.ag), name="table (ag)", source=trace.source
@@ -303,4 +265,79 @@ def cases(loaded: list, st: Structure, fit: tuple, channels, theta_min: float) -
         else:
             case = replace(case, tau=float(t[0]))
         out.append(case)
+    _check_fit(out, fit, st, theta_min)
     return out
+
+
+def _corner_impacts(case: Case) -> dict:
+    """How many impacts on each corner join two large half-cycles of the case."""
+    seen = {"right": 0, "left": 0}
+    for a, b in zip(case.large, case.large[1:]):
+        if a.ends == "impact" and not (a.small or b.small):
+            seen["right" if b.sign > 0 else "left"] += 1
+    return seen
+
+
+def _check_fit(out: list, fit, st: Structure, theta_min: float) -> None:
+    """InputError if the traces cannot show what `fit` asks for: a corner mean without an
+    impact on its corner between two large half-cycles, C_p without an impact, more
+    damping ratios than the modes below the traces' anti-alias passbands."""
+    per = {c.label: _corner_impacts(c) for c in out}
+    for name, corner in (("r_er", "right"), ("r_el", "left")):
+        if name in fit and not any(seen[corner] for seen in per.values()):
+            found = "; ".join(
+                f"{c.trace.source}: {sum(not h.small for h in c.large)} large half-cycle(s), "
+                f"{per[c.label]['right']} right and {per[c.label]['left']} left impact(s) "
+                "between them"
+                for c in out
+            )
+            raise InputError(
+                f"`fit` has {name}, the mean restitution of impacts on the {corner} corner, "
+                f"but no trace has such an impact between two half-cycles of at least "
+                f"theta_min = {theta_min:g} rad ({found}); give a test that rocks longer, "
+                f"lower theta_min (--theta-min), or leave {name} out of `fit` (--fit)"
+            )
+    if "cp" in fit and not any(c.n_impacts for c in out):
+        raise InputError(
+            f"`fit` has cp, the Dirac-delta force of an impact, but no trace has an impact "
+            f"ending a half-cycle of at least theta_min = {theta_min:g} rad; give a test that "
+            "rocks longer, lower theta_min (--theta-min), or leave cp out of `fit` (--fit)"
+        )
+    _check_damping(out, [n for n in ("zeta1", "zeta2") if n in fit], st)
+
+
+def _check_damping(out: list, asked: list, st: Structure) -> None:
+    """Rayleigh damping sets each mode's decay from ζ1 and ζ2: fitting k of them needs k
+    modes that the traces show (below `PASSBAND` × their sampling rates; the uplifted
+    modes in the rocking, the full-contact ones with table motion or in a free trace's
+    stretches of full contact after the rocking has died out, where `multimass identify`
+    finds them too)."""
+    if not asked:
+        return
+    model = analyse(st)
+    shown, hidden = set(), {}
+    for c in out:
+        phases = [("uplifted", model.rocking)] + (
+            [("full-contact", model.full_contact)]
+            if not c.free or c.segments.full_contact
+            else []
+        )
+        for label, pm in phases:
+            for j, f in zip(pm.mode, pm.freq_hz):
+                why = above_passband(float(f), c.fs)
+                key = (float(f), f"{label} mode {int(j)}")
+                if why is None:
+                    shown.add(key)
+                else:
+                    hidden.setdefault(key, f"{c.trace.source}: {why}")
+    if len(shown) >= len(asked):
+        return
+    seen = ", ".join(f"{name} ({f:.4g} Hz)" for f, name in sorted(shown)) or "none"
+    rest = sorted((k, w) for k, w in hidden.items() if k not in shown)
+    (_, name), why = rest[0] if rest else ((0.0, "mode"), "none: the model has no more modes")
+    raise InputError(
+        f"`fit` has {', '.join(asked)}: the Rayleigh damping ratios set the decay of the "
+        f"column's modes, so fitting {len(asked)} needs {len(asked)} mode(s) the traces show, "
+        f"but they show {seen}; the next, {name} in {why}; fit fewer damping ratios (--fit), "
+        "or record faster"
+    )

@@ -5,6 +5,8 @@
 * **Modes**: the model's underdamped modes of a phase (`multimass.modal.analyse`);
   one above `PASSBAND` × the sampling rate is not identifiable: the anti-alias filter
   of a recorder attenuates it (flat to 0.4 fs on the toolkit's synthetic recorder).
+  Such a mode is listed as not identifiable when every mode is asked, and is an error
+  when asked by number (`check_modes`).
 * **Half-cycles** (`Segments.half_cycles` with a peak ≥ theta_min): the samples where
   ``|θ|`` ≥ `EDGE` × the half-cycle's peak, which keeps out the impacts at both ends
   (and the Dirac-delta impact force acting before them, paper 001 Eqs 14–17); a free
@@ -31,20 +33,20 @@ from ..structure import Structure
 from ..trace_metrics import channel_columns
 from ..traces import Trace
 from . import _modes_fit as fitting
+from ._trace_checks import PASSBAND, above_passband, no_rocking, require_sensors
 
 __all__ = [
     "PASSBAND",
     "EDGE",
     "sensor_channels",
     "model_modes",
+    "check_modes",
     "half_cycle_ranges",
     "settled_start",
     "rocking_ranges",
     "contact_ranges",
 ]
 
-#: Modes above this fraction of the sampling rate are not identifiable (anti-alias filter).
-PASSBAND = 0.4
 #: Half-cycle samples kept: ``|θ|`` at least this fraction of the half-cycle's peak.
 EDGE = 0.1
 #: Shortest full-contact stretch fitted, and the window of its settling test, in periods
@@ -80,17 +82,10 @@ def sensor_channels(trace: Trace, st: Structure, sensors=None) -> tuple[list[str
         want = [(k, n) for k, n in named] if named else [(by_node[n], n) for n in sorted(by_node)]
     else:
         want = _asked(sensors, st, named)
-    missing = [(k, n) for k, n in want if n not in by_node]
-    if missing:
-        have = ", ".join(columns) or "none"
-        labels = {k for k, _ in named}
-        cols = ", ".join(f"a_{k}" if k in labels else f"a{n}" for k, n in missing)
-        missing = [k for k, _ in missing]
-        raise InputError(
-            f"{trace.source}: no column for sensor(s) {', '.join(map(str, missing))} of "
-            f"{st.name!r} ({cols} missing; the trace has {have}); add the column(s), or name "
-            "the sensors to use (sensors=[...], --sensors A1,A2)"
-        )
+    present = [k for k, n in named if n in by_node] or [str(n) for n in sorted(by_node)]
+    example = ",".join(present) if len(present) >= 2 else "A1,A2"
+    fix = f"name the sensors to use (sensors=[...], --sensors {example})"
+    require_sensors(trace, st, want, fix)
     want = sorted(want, key=lambda kn: kn[1])
     if len(want) < 2:
         raise InputError(
@@ -148,17 +143,40 @@ def model_modes(phase_modes, asked, fs: float):
             skip[j] = f"overdamped in the model ({over[j]:.4g} Hz): no vibration to identify"
         elif j not in under:
             skip[j] = "no such mode in the model"
-        elif under[j][0] > PASSBAND * fs:
-            skip[j] = (
-                f"{under[j][0]:.4g} Hz in the model, above {PASSBAND:g} × the sampling rate "
-                f"{fs:g} Hz = {PASSBAND * fs:.4g} Hz (the anti-alias passband): not identifiable; "
-                f"record at {under[j][0] / PASSBAND:.0f} Hz or more"
-            )
+        elif why := above_passband(under[j][0], fs):
+            skip[j] = why
         else:
             keep.append(j)
     f = np.array([under[j][0] for j in keep])
     z = np.array([under[j][1] for j in keep])
     return np.array(keep, dtype=int), f, z, skip
+
+
+def check_modes(source: str, phase: str, keep, skip: dict, asked) -> None:
+    """InputError if no mode of `phase` is left to identify, or if a mode asked by number
+    (`asked` not None) is not identifiable (`model_modes`' `skip`): the reasons and the fix."""
+    if keep.size and (asked is None or not skip):
+        return
+    name, other = phase.replace("_", "-"), "full_contact" if phase == "rocking" else "rocking"
+    alone = (
+        f"identify the {other.replace('_', '-')} modes alone (phases='{other}', --phase {other})"
+    )
+    if asked is None:  # every mode of the model: the lowest says why
+        j, why = min(skip.items()) if skip else ("-", "the model has none")
+        raise InputError(
+            f"{source}: no {name} mode to identify (the lowest, mode {j}: {why}); record "
+            f"faster, or {alone}"
+        )
+    why = "; ".join(f"mode {j}: {s}" for j, s in skip.items())
+    if not keep.size:
+        raise InputError(
+            f"{source}: no {name} mode to identify ({why}); ask for other modes, or {alone}"
+        )
+    listed = ",".join(str(j) for j in keep)
+    raise InputError(
+        f"{source}: mode(s) {', '.join(map(str, skip))} asked cannot be identified in the "
+        f"{name} phase ({why}); ask for fewer modes (modes=[{listed}], --modes {listed})"
+    )
 
 
 def half_cycle_ranges(seg, min_samples: int) -> tuple[list[tuple[int, int, int]], int]:
@@ -210,13 +228,10 @@ def rocking_ranges(trace, seg, f_m, K: int, min_periods: float):
     """The half-cycle ranges to fit (`half_cycle_ranges`) and what was left out."""
     large = [h for h in seg.half_cycles if not h.small]
     if not large:
-        top = max((h.peak for h in seg.half_cycles), default=0.0)
-        raise InputError(
-            f"{trace.source}: no rocking half-cycle reaches theta_min = {seg.theta_min:g} rad "
-            f"(largest {top:.3g} rad, θ noise {seg.noise:.2g} rad), so no uplifted mode can be "
-            "identified; give a test that rocks, lower theta_min, or identify the "
-            "full-contact modes alone (phases='full_contact', --phase full_contact)"
+        alone = (
+            "identify the full-contact modes alone (phases='full_contact', --phase full_contact)"
         )
+        raise no_rocking(trace, seg, seg.theta_min, "no uplifted mode can be identified", [alone])
     need = max(
         math.ceil(min_periods * seg.fs / float(f_m.min())), 2 * K + fitting.DEGREE["rocking"] + 4
     )

@@ -399,7 +399,10 @@ def calibrate(
     InputError
         Naming the field: an unknown fit name, "cp" with CIM, start or bounds out of
         range, a trace without θ, without the sensors the specimen names, with NaN
-        samples (`read_trace`), an ``ag`` in an implausible unit, or without rocking.
+        samples (`read_trace`), sampled too slowly to segment θ, an ``ag`` in an
+        implausible unit, or without rocking; a corner mean asked without an impact on
+        its corner between two half-cycles ≥ `theta_min`, "cp" without an impact, more
+        damping ratios than modes below the traces' anti-alias passbands.
     """
     wall = time.perf_counter()
     st, loaded = structure_of(traces, structure)

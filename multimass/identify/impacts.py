@@ -63,7 +63,8 @@ from ..simulation import simulate
 from ..structure import Structure, from_specimen
 from ..trace_metrics import channel_columns
 from ..traces import Trace
-from .segments import THETA_MIN, Segments, segment_trace
+from ._trace_checks import check_ag
+from .segments import THETA_MIN, Segments, require_trace, segment_trace
 
 __all__ = ["RestitutionEstimate", "restitution", "energy_restitution", "IMPACT_DEFAULT"]
 
@@ -442,9 +443,13 @@ def restitution(
     ------
     InputError
         No θ channel, no specimen, no rocking, no impact between half-cycles above
-        `theta_min` (the message says what was found and the fix).
+        `theta_min`, a sampling rate too low to segment θ, an ``ag`` column in an
+        implausible unit (the message says what was found and the fix). Acceleration
+        columns are not needed: the fit is on θ.
     """
-    st = _structure(trace, structure)
+    st = _structure(require_trace(trace), structure)
+    if trace.ag is not None:  # the table motion drives the model: its unit must be plausible
+        check_ag(trace, st, segment_trace(trace, theta_min=theta_min))
     if not isinstance(impact, str) or impact.strip().upper() not in (
         "DD", "CIM", "DD1", "DD2", "DD3", "DD4",
     ):  # fmt: skip

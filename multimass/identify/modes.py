@@ -81,7 +81,8 @@ from . import _modes_combine as combining
 from . import _modes_fit as fitting
 from . import _modes_select as select
 from ._modes_combine import MIN_ENERGY
-from .segments import THETA_MIN, Segments, segment_trace
+from ._trace_checks import check_ag
+from .segments import THETA_MIN, Segments, require_trace, segment_trace
 
 __all__ = ["OperationalModes", "IdentifiedModes", "operational_modes", "METHODS", "MIN_ENERGY"]
 
@@ -156,6 +157,19 @@ class IdentifiedModes:
     not_identified: dict
     segments: pd.DataFrame
     skipped: dict = field(default_factory=dict)
+
+    def with_spread(self, k: int, what: str = "freq", scale: float = 1.0, digits: int = 3):
+        """Mode ``k``'s frequency (``what="freq"``) or damping as text, ``x ± spread`` over
+        its segments, or ``x`` alone where one segment leaves no spread to show."""
+        value, spread = (
+            (self.freq_hz[k], self.freq_spread_hz[k])
+            if what == "freq"
+            else (self.damping[k], self.damping_spread[k])
+        )
+        text = f"{scale * value:.{digits}f}"
+        if self.n_segments[k] < 2:
+            return text
+        return f"{text} ± {scale * spread:.{digits}f}"
 
     def to_pandas(self) -> pd.DataFrame:
         """The Fig 5 table of this phase: one row per identified mode."""
@@ -316,11 +330,7 @@ def _structure(trace: Trace, structure) -> Structure:
 
 
 def _args(trace, method, phases, modes, theta_min, min_periods):
-    if not isinstance(trace, Trace):
-        raise InputError(
-            f"`trace` = {type(trace).__name__}: give a multimass.traces.Trace "
-            "(read one with multimass.read_trace)"
-        )
+    require_trace(trace)
     method = v.choice("method", method, METHODS)
     if isinstance(phases, str):
         phases = (phases,)
@@ -367,7 +377,9 @@ def operational_modes(
         an error, which names the other phase to ask for alone.
     modes : sequence of int, optional
         Model mode numbers to identify (default: every underdamped mode; those above
-        0.4 × the sampling rate are listed as not identifiable, not fitted).
+        0.4 × the sampling rate are listed as not identifiable, not fitted). A mode
+        asked here that cannot be identified (above 0.4 × the sampling rate,
+        overdamped, or not in the model) is an error.
     sensors : sequence of str or int, optional
         Sensor names of the specimen or 1-based nodes (default: every named sensor of
         the specimen, all of which the trace must have; for a specimen without named
@@ -389,9 +401,11 @@ def operational_modes(
     ------
     InputError
         Naming the cause and the fix: no θ channel or specimen, a named sensor missing
-        from the trace, no half-cycle above `theta_min` (rocking asked), every
+        from the trace, a sampling rate too low to segment θ, an ``ag`` channel in an
+        implausible unit, no half-cycle above `theta_min` (rocking asked), every
         half-cycle too short for the modes asked, no full-contact stretch with a free
-        decay (full contact asked), every mode of a phase above the anti-alias passband.
+        decay (full contact asked), every mode of a phase (or one asked by number)
+        above the anti-alias passband.
     """
     method, phases, modes, theta_min, min_periods = _args(
         trace, method, phases, modes, theta_min, min_periods
@@ -401,6 +415,7 @@ def operational_modes(
     if not isinstance(seg, Segments) or seg.trace.time.size != trace.time.size:
         raise InputError("`segments`: give the Segments of this trace (segment_trace(trace))")
     names, nodes = select.sensor_channels(trace, st, sensors)
+    check_ag(trace, st, seg)
     Y = np.column_stack([np.asarray(trace.channels[k], dtype=float) for k in names])
     warnings = []
     if trace.ag is not None:
@@ -410,7 +425,9 @@ def operational_modes(
             "the table adds no vibration of its own within a segment"
         )
     analysis = analyse(st, tuple(nodes))
-    out = {p: _phase(p, trace, seg, Y, analysis, modes, method, min_periods) for p in phases}
+    # every phase's modes and samples are chosen (and checked) before any is fitted
+    plans = {p: _plan(p, trace, seg, Y, analysis, modes, min_periods) for p in phases}
+    out = {p: _phase(p, trace, seg, Y, analysis, plans[p], method) for p in phases}
     return OperationalModes(
         rocking=out.get("rocking"),
         full_contact=out.get("full_contact"),
@@ -426,16 +443,21 @@ def operational_modes(
     )
 
 
-def _phase(phase, trace, seg, Y, analysis, modes, method, min_periods) -> IdentifiedModes:
+def _plan(phase, trace, seg, Y, analysis, modes, min_periods):
+    """(modes, freq_hz, damping, not identifiable, ranges, skipped) of a phase: the model's
+    modes to identify and the samples to fit them in; InputError naming why there are none."""
     pm = analysis.rocking if phase == "rocking" else analysis.full_contact
     numbers, f_m, z_m, skip = select.model_modes(pm, modes, seg.fs)
-    if numbers.size == 0:
-        why = "; ".join(f"mode {j}: {s}" for j, s in skip.items())
-        raise InputError(f"{trace.source}: no {phase.replace('_', '-')} mode to identify ({why})")
+    select.check_modes(trace.source, phase, numbers, skip, modes)
     if phase == "rocking":
         ranges, skipped = select.rocking_ranges(trace, seg, f_m, numbers.size, min_periods)
     else:
         ranges, skipped = select.contact_ranges(trace, seg, Y, f_m, z_m)
+    return numbers, f_m, z_m, skip, ranges, skipped
+
+
+def _phase(phase, trace, seg, Y, analysis, plan, method) -> IdentifiedModes:
+    numbers, f_m, z_m, skip, ranges, skipped = plan
     fits, table = combining.estimate(
         trace.time, Y, ranges, numbers, f_m, z_m, method, fitting.DEGREE[phase], seg.fs
     )

@@ -104,10 +104,10 @@ def _phase_table(result: OperationalModes, pm: IdentifiedModes) -> list[str]:
     for k, j in enumerate(pm.mode):
         fp = paper[j - 1] if j - 1 < len(paper) else None
         lines.append(
-            f"| {j} | {pm.freq_hz[k]:.3f} ± {pm.freq_spread_hz[k]:.3f} | {pm.model_freq_hz[k]:.3f} "
+            f"| {j} | {pm.with_spread(k)} | {pm.model_freq_hz[k]:.3f} "
             f"| {100 * (pm.freq_hz[k] / pm.model_freq_hz[k] - 1):+.2f} % | "
             f"{'–' if fp is None else f'{fp:g}'} | "
-            f"{100 * pm.damping[k]:.2f} ± {100 * pm.damping_spread[k]:.2f} | "
+            f"{pm.with_spread(k, 'damping', 100.0, 2)} | "
             f"{100 * pm.model_damping[k]:.2f} | {pm.mac[k]:.4f} | {pm.n_segments[k]} |"
         )
     return lines

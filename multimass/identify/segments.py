@@ -43,6 +43,7 @@ kept but flagged `small`; identification steps decide what to do with it.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -55,13 +56,14 @@ from ..modal.errors import ModalError
 from ..modal.measured_frf import sampling_rate
 from ..traces import Trace
 
-__all__ = ["HalfCycle", "ImpactMark", "Segments", "segment_trace", "THETA_MIN"]
+__all__ = ["HalfCycle", "ImpactMark", "Segments", "segment_trace", "require_trace", "THETA_MIN"]
 
 #: Paper 001, Section 4.3: half-cycles below this peak (rad) take the corner means.
 THETA_MIN = 0.01
 _K_BAND = 4.0  # the quiet band is this many smoothed-noise standard deviations
 _PEAK_SHARE = 0.6  # the parabola through the samples above this share of the peak
 _MIN_EXCURSION = 0.02  # s: shorter runs outside the band are noise
+_CUTOFF_SHARE = 0.45  # θ's low-pass stays below this share of the sampling rate
 
 
 @dataclass(frozen=True)
@@ -175,13 +177,18 @@ class Segments:
         return pd.DataFrame(rows, columns=cols)
 
 
-def _theta(trace: Trace) -> np.ndarray:
+def require_trace(trace) -> Trace:
+    """`trace` if it is a `Trace`, else the InputError every trace tool gives."""
     if not isinstance(trace, Trace):
         raise InputError(
             f"`trace` = {type(trace).__name__}: give a multimass.traces.Trace "
             "(read one with multimass.read_trace)"
         )
-    th = trace.channels.get("theta")
+    return trace
+
+
+def _theta(trace: Trace) -> np.ndarray:
+    th = require_trace(trace).channels.get("theta")
     if th is None:
         raise InputError(
             f"{trace.source}: no `theta` column; the half-cycles and impacts are found from "
@@ -209,7 +216,7 @@ def segment_trace(
         001 Section 4.3).
     cutoff_hz : float, optional
         Cut-off of the zero-phase low-pass applied to θ (Hz; below 0.45 × the
-        sampling rate; default 20).
+        sampling rate, so the default 20 needs a trace sampled at 45 Hz or more).
     min_rest : float, optional
         Shortest quiet stretch (s) counted as full contact (default 0.1).
     theta_floor : float, optional
@@ -222,8 +229,8 @@ def segment_trace(
     Raises
     ------
     InputError
-        No θ channel, non-uniform sampling, too few samples, or an argument out of
-        range (named).
+        No θ channel, non-uniform sampling, a sampling rate too low for `cutoff_hz`, too
+        few samples, or an argument out of range (named).
     """
     th = _theta(trace)
     theta_min = v.positive("theta_min", theta_min, "rad")
@@ -233,10 +240,15 @@ def segment_trace(
         fs = sampling_rate(trace.time)
     except ModalError as err:
         raise InputError(f"{trace.source}: {err}") from None
-    cutoff_hz = v.number(
-        "cutoff_hz", cutoff_hz, low=0.0, high=0.45 * fs, low_open=True,
-        what=f"Hz, below 0.45 × the sampling rate {fs:g} Hz",
-    )  # fmt: skip
+    cutoff_hz = v.positive("cutoff_hz", cutoff_hz, "Hz")
+    if cutoff_hz > _CUTOFF_SHARE * fs:  # the trace is too slow for θ's low-pass
+        raise InputError(
+            f"{trace.source}: sampled at {fs:.4g} Hz, too slow to cut θ into half-cycles: "
+            f"θ is low-passed at cutoff_hz = {cutoff_hz:g} Hz, which must stay below "
+            f"{_CUTOFF_SHARE:g} × the sampling rate = {_CUTOFF_SHARE * fs:.3g} Hz; record at "
+            f"{math.ceil(cutoff_hz / _CUTOFF_SHARE)} Hz or more (or, in Python, give "
+            "segment_trace a lower cutoff_hz)"
+        )
     if th.size < 32:
         raise InputError(
             f"{trace.source}: {th.size} samples; segmenting needs at least 32 (a longer record)"

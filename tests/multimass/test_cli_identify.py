@@ -49,6 +49,9 @@ def test_out_writes_a_report_that_modal_measured_reads(trace_file, tmp_path, cap
     assert main(["identify", str(trace_file), "--specimen", "S1", "--out", str(out)]) == 0
     text = capsys.readouterr().out
     assert "rocking (compound shapes):" in text and "mode 1: 20." in text
+    # a spread over the segments only where there are two or more (one gives no "± 0.000")
+    for line in (x for x in text.splitlines() if " segment(s)" in x):
+        assert ("±" in line) == (not line.endswith(" 1 segment(s)")), line
     names = {p.name for p in out.iterdir()}
     assert {"s1_free_modes.md", "s1_free_modes.png", "s1_free_modes.json"} <= names
     for phase, model_key in (("rocking", "mac_vs_compound"), ("full_contact", None)):
