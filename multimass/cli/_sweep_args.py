@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from ._types import count as _count
+from ._types import positive as _positive
 
 __all__ = ["add_executor_args", "executor_kwargs"]
 
@@ -22,7 +23,14 @@ def add_executor_args(p) -> None:
         "--dask-address",
         default=None,
         metavar="ADDR",
-        help="scheduler address of a Dask cluster (with --executor dask)",
+        help="scheduler address of a Dask cluster, e.g. tcp://10.0.0.5:8786 (with --executor dask)",
+    )
+    g.add_argument(
+        "--dask-timeout",
+        type=_positive,
+        default=None,
+        metavar="SECONDS",
+        help="seconds to wait for the scheduler at --dask-address (default 10)",
     )
     g.add_argument("--no-progress", action="store_true", help="hide the progress bar")
 
@@ -33,8 +41,12 @@ def executor_kwargs(args) -> dict:
 
     if args.dask_address and args.executor != "dask":
         raise InputError(f"`--dask-address` = {args.dask_address!r} needs `--executor dask`")
+    if args.dask_timeout is not None and not args.dask_address:
+        raise InputError(f"`--dask-timeout` = {args.dask_timeout:g} needs `--dask-address`")
     if args.executor == "dask" and args.dask_address:
-        ex = get_executor("dask", args.workers, address=args.dask_address)
+        timeout = {} if args.dask_timeout is None else {"connect_timeout": args.dask_timeout}
+        ex = get_executor("dask", args.workers, address=args.dask_address, **timeout)
+        ex.connect()  # an unreachable scheduler is reported now, before any simulation runs
     else:
         ex = args.executor
     return dict(

@@ -2,19 +2,31 @@
 
 dask is an optional dependency (extra ``multimass[dask]``), imported only
 when a `DaskExecutor` is created.
+
+What a lost worker costs: the scheduler runs the tasks that were on it again
+elsewhere (up to ``distributed.scheduler.allowed-failures`` deaths per task,
+default 3); finished results the driver has taken are released at once, so
+they are not recomputed when the worker that held them dies; and each task's
+result is yielded once, however often it ran (jobs are deterministic, so a
+rerun gives the same cells).
 """
 
 from __future__ import annotations
 
+import sys
+import time
+import weakref
 from typing import Any
 
 from ..errors import InputError
-from ..validation import positive
+from ..validation import integer, positive
 from .base import Executor, available_workers, validate_workers
 
 __all__ = ["DaskExecutor"]
 
 _DASK_HINT = 'install the extra with  pip install "multimass[dask]"'
+#: While no worker has joined the scheduler, say so on stderr every this many seconds.
+WAIT_REPORT_S = 30.0
 
 
 def _import_distributed():
@@ -25,6 +37,14 @@ def _import_distributed():
             f"the `dask` executor needs dask.distributed, which is not installed; {_DASK_HINT}"
         ) from exc
     return distributed
+
+
+def _close_owned(client, cluster) -> None:
+    """Close what a `DaskExecutor` started: its client, then its LocalCluster."""
+    if client is not None:
+        client.close()
+    if cluster is not None:
+        cluster.close()
 
 
 class DaskExecutor(Executor):
@@ -50,6 +70,16 @@ class DaskExecutor(Executor):
     connect_timeout : float
         Seconds to wait for the scheduler at `address` (default 10) before
         giving up with an `InputError` that names the address.
+    retries : int
+        Times a task that raised on its worker is run again (default 2), e.g.
+        on a mixed cluster where one worker cannot unpickle it. Through
+        `run_jobs`, a job's own exception is caught inside its task and
+        reported as a `JobError`, never retried; a task whose worker died is
+        rerun by the scheduler whatever `retries`.
+    worker_timeout : float, optional
+        Seconds to wait for a first worker when the scheduler has none (e.g.
+        batch jobs still queued); default None waits as long as it takes,
+        saying so on stderr every 30 s. Then an `InputError`.
     **cluster_options
         Passed to ``LocalCluster`` (e.g. ``processes=False``); defaults are
         ``threads_per_worker=1, processes=True, dashboard_address=":0"`` (any free port).
@@ -64,6 +94,8 @@ class DaskExecutor(Executor):
         address: str | None = None,
         client: Any = None,
         connect_timeout: float = 10.0,
+        retries: int = 2,
+        worker_timeout: float | None = None,
         **cluster_options,
     ):
         self._distributed = _import_distributed()
@@ -74,6 +106,10 @@ class DaskExecutor(Executor):
             )
 
         self._timeout = positive("connect_timeout", connect_timeout, "s")
+        self.retries = integer("retries", retries, low=0, what="reruns of a task that raised")
+        self._worker_timeout = (
+            None if worker_timeout is None else positive("worker_timeout", worker_timeout, "s")
+        )
         self._n_local = validate_workers(workers)
         if client is not None and address is not None:
             raise InputError("`client` and `address` both given: pass one of them")
@@ -87,6 +123,7 @@ class DaskExecutor(Executor):
         self._client = client
         self._cluster_options = cluster_options
         self._own_client = self._own_cluster = None
+        self._finalizer = None  # closes what was started here, if `close` is never called
 
     @property
     def client(self):
@@ -94,6 +131,15 @@ class DaskExecutor(Executor):
         if self._client is None:
             self._client = self._connect()
         return self._client
+
+    def connect(self):
+        """Connect now (or start the LocalCluster) and return the client.
+
+        A sweep connects on first use; call this first to learn of an
+        unreachable scheduler (an `InputError` naming the address) before any
+        other work.
+        """
+        return self.client
 
     def _connect(self):
         d = self._distributed
@@ -109,15 +155,17 @@ class DaskExecutor(Executor):
                     pass
         if address is not None:
             try:
-                self._own_client = d.Client(address, set_as_default=False, timeout=self._timeout)
+                client = d.Client(address, set_as_default=False, timeout=self._timeout)
             except (OSError, TimeoutError, ValueError) as exc:
-                raise InputError(
-                    f"no Dask scheduler answered at `address` (--dask-address) = {address!r} "
-                    f"within {self._timeout:g} s ({type(exc).__name__}: {exc}); start one with "
-                    "`dask scheduler` and workers with `dask worker ADDRESS`, or check the "
-                    "address"
-                ) from None
-            return self._own_client
+                reason = f"{type(exc).__name__}: {exc}"
+            else:
+                return self._own(client, None)
+            raise InputError(  # outside the except block: the failed client is not kept alive
+                f"no Dask scheduler answered at `address` (--dask-address) = {address!r} "
+                f"within {self._timeout:g} s ({reason}); start one with "
+                "`dask scheduler` and workers with `dask worker ADDRESS`, or check the "
+                "address"
+            )
         options = dict(
             n_workers=self._n_local or available_workers(),
             threads_per_worker=1,
@@ -125,13 +173,62 @@ class DaskExecutor(Executor):
             dashboard_address=":0",
         )
         options.update(self._cluster_options)
-        self._own_cluster = d.LocalCluster(**options)
-        self._own_client = d.Client(self._own_cluster, set_as_default=False)
-        return self._own_client
+        cluster = d.LocalCluster(**options)
+        try:
+            client = d.Client(cluster, set_as_default=False)
+        except BaseException:
+            cluster.close()
+            raise
+        return self._own(client, cluster)
+
+    def _own(self, client, cluster):
+        """Keep the client (and cluster) started here; closed by `close`, or when this
+        executor is collected or the interpreter exits, whichever comes first."""
+        self._own_client, self._own_cluster = client, cluster
+        self._finalizer = weakref.finalize(self, _close_owned, client, cluster)
+        return client
 
     @property
     def workers(self) -> int:
-        return max(1, sum(self.client.nthreads().values()))
+        """Worker threads of the cluster; waits for a first worker if it has none."""
+        n = sum(self.client.nthreads().values())
+        return n if n > 0 else self._wait_for_workers()
+
+    def _wait_for_workers(self) -> int:
+        client = self.client
+        where = self._address or getattr(client.scheduler, "address", "the scheduler")
+        limit = self._worker_timeout
+        t0 = last = time.monotonic()
+        print(
+            f"multimass: no Dask worker has joined the scheduler at {where}; waiting "
+            f"(start workers with `dask worker {where}`; Ctrl-C stops)",
+            file=sys.stderr,
+            flush=True,
+        )
+        while True:
+            n = sum(client.nthreads().values())
+            now = time.monotonic()
+            if n > 0:
+                print(
+                    f"multimass: {n} Dask worker thread(s) after {now - t0:.0f} s",
+                    file=sys.stderr,
+                    flush=True,
+                )
+                return n
+            if limit is not None and now - t0 >= limit:
+                raise InputError(
+                    f"no Dask worker joined the scheduler at {where} within `worker_timeout` = "
+                    f"{limit:g} s; start workers with `dask worker {where}` (or check that "
+                    "the cluster's batch jobs are running)"
+                )
+            if now - last >= WAIT_REPORT_S:
+                last = now
+                print(
+                    f"multimass: still no Dask worker at {where} after {now - t0:.0f} s",
+                    file=sys.stderr,
+                    flush=True,
+                )
+            time.sleep(0.2)
 
     def prepare(self, func):
         from distributed.protocol.pickle import (
@@ -147,23 +244,31 @@ class DaskExecutor(Executor):
 
     def map_unordered(self, fn, args):
         client = self.client
-        futures = client.map(fn, list(args), pure=False)
-        position = {fut.key: i for i, fut in enumerate(futures)}
+        futures = client.map(fn, list(args), pure=False, retries=self.retries)
+        pending = {fut.key: (i, fut) for i, fut in enumerate(futures)}
+        finished = self._distributed.as_completed(futures, loop=client.loop)
+        del futures
         try:
-            for fut in self._distributed.as_completed(futures, loop=client.loop):
-                yield position[fut.key], fut.result()
+            for fut in finished:
+                i, _ = pending.pop(fut.key, (None, None))
+                if i is None:
+                    continue  # reported already: a task that ran twice yields once
+                result = fut.result()
+                # Released at once: were the worker that holds it to die later in
+                # the sweep, the scheduler would otherwise compute it again for us.
+                fut.release()
+                yield i, result
         finally:
-            client.cancel([f for f in futures if not f.done()])
+            if pending:
+                client.cancel([f for _, f in pending.values()])
 
     def close(self):
-        if self._own_client is not None:
-            self._own_client.close()
-            if self._client is self._own_client:
-                self._client = None
-            self._own_client = None
-        if self._own_cluster is not None:
-            self._own_cluster.close()
-            self._own_cluster = None
+        if self._finalizer is not None:
+            self._finalizer()  # runs once: closes the client, then the cluster
+            self._finalizer = None
+        if self._own_client is not None and self._client is self._own_client:
+            self._client = None
+        self._own_client = self._own_cluster = None
 
     def __repr__(self):
         where = self._address or ("client" if self._client is not None else "local")
