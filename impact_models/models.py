@@ -25,6 +25,7 @@ __all__ = [
     "Classical",
     "DiracDelta",
     "next_phase_is_rocking",
+    "classical_rebound",
     "full_contact_velocities",
 ]
 
@@ -62,6 +63,11 @@ def next_phase_is_rocking(
 ) -> bool:
     """Paper 001, Eq 9: ±L_p^r ≥ 0 and ±θ̇⁻ > θ̇_min (± = the new pivot)."""
     return side_new * L_new >= 0.0 and side_new * thetadot > thetadot_min  # paper 001, Eq 9
+
+
+def classical_rebound(thetadot: float, r: float) -> float:
+    """θ̇⁺ = r θ̇⁻ of the classical impact (paper 001, Eq 11; the elastic velocities are kept)."""
+    return r * thetadot  # paper 001, Eq 11
 
 
 def full_contact_velocities(H, udot, thetadot):
@@ -128,7 +134,7 @@ class Classical(ImpactModel):
     uses_restitution_at_zero = True
 
     def rebound(self, thetadot, udot, r):
-        return r * thetadot, udot.copy()  # paper 001, Eq 11
+        return classical_rebound(thetadot, r), udot.copy()
 
 
 @dataclass(frozen=True)

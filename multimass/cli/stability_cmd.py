@@ -24,9 +24,10 @@ def register(sub) -> None:
     p.add_argument("block", metavar="BLOCK", help="bundled block (B6M, B3L, ...) or TOML file")
     p.add_argument(
         "--pulse",
-        choices=("sine", "cosine"),
+        choices=("sine", "cosine", "ricker"),
         default="sine",
-        help="single sine or cosine wave of paper 004, Fig 2 (default sine)",
+        help="single sine or cosine wave of paper 004, Fig 2 (default sine), or a Ricker "
+        "wavelet (ω its ω_p, a0 its peak)",
     )
     p.add_argument(
         "--restitution",

@@ -8,10 +8,15 @@ two backends give the same events and the same `Response` up to round-off.
 
 * `FastPath` — replaces one solve_ivp call (`multimass.fast.path`);
 * `encode` — the excitations the kernels know (`multimass.fast.excitation`);
-* `warm_up` — compile or load the kernels once per process, timed apart
-  (`multimass.fast.compile`).
+* `warm_up` — compile or load the kernels once per process, timed apart,
+  with a notice and a progress bar when it compiles (`multimass.fast.compile`).
+
+`multimass.fast.compile` is imported first, on purpose: it decides where numba
+caches the kernels (``NUMBA_CACHE_DIR`` when the package folder is read-only)
+before any kernel module defines its ``cache=True`` functions.
 """
 
+from . import compile as _compile  # noqa: F401  (first: the cache folder, before any kernel)
 from .compile import CompileReport, warm_up
 from .excitation import KNOWN, encode
 from .path import FastPath, check_model

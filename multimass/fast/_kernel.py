@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._maths import event_value, rhs
+from ._maths import event_value, rhs_call
 from ._rk import (
     _A3,
     _A5,
@@ -174,7 +174,10 @@ def _push(buf, n, k, tr, method, t_old, h, y_old, Q):
             np.empty(2 * n),
             np.empty((2 * n, ys.shape[1])),
         )
-        idx2[:n], ts2[:n], ys2[:n] = idx, ts, ys
+        for i in range(n):  # loops, not slices: no shape-check messages to compile
+            idx2[i], ts2[i] = idx[i], ts[i]
+            for j in range(ys.shape[1]):
+                ys2[i, j] = ys[i, j]
         idx, ts, ys = idx2, ts2, ys2
     idx[n], ts[n] = k, tr
     _dense_eval(method, tr, t_old, h, y_old, Q, ys[n])
@@ -250,8 +253,8 @@ def integrate_phase(
     g, g_new, active, roots = np.empty(ne), np.empty(ne), np.empty(ne, np.int64), np.empty(ne)
     samples = np.empty((t_eval.size, ny))
     buf = (np.empty(8, np.int64), np.empty(8), np.empty((8, ny)))
-    t, i_eval, n_nt = t0, 0, 0
-    rhs(t, y, f, side, m, H, K, C_, mp, fp, kind, par, smp)
+    t, i_eval, n_nt = t0, 0, np.int64(0)  # int64, not the literal 0: _push compiles once
+    rhs_call(t, y, f, side, m, H, K, C_, mp, fp, kind, par, smp)
     h_abs = _first_step(
         t,
         y,
@@ -294,9 +297,10 @@ def integrate_phase(
                 buf[2][:n_nt],
             )
         t_old, t = t, t_new
-        y_old[:] = y
-        y[:] = ynew
-        f[:] = Kst[ns]
+        for j in range(ny):  # loops, not slices: no shape-check messages to compile
+            y_old[j] = y[j]
+            y[j] = ynew[j]
+            f[j] = Kst[ns, j]
         finished = t - t_stop >= 0.0
         dense, terminal = False, -1
         # events: sign changes over the step, roots on the dense output (earliest first)
@@ -335,7 +339,8 @@ def integrate_phase(
                     break
                 buf = _push(buf, n_nt, active[i], roots[i], method, t_old, h, y_old, Q)
                 n_nt += 1
-        g[:] = g_new
+        for k in range(ne):
+            g[k] = g_new[k]
         # output grid up to t (the end of the step or the terminal root)
         while i_eval < t_eval.size and t_eval[i_eval] <= t:
             if not dense:

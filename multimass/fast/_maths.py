@@ -41,6 +41,7 @@ __all__ = [
     "rocking_rhs",
     "full_contact_rhs",
     "rhs",
+    "rhs_call",
     "event_value",
     "EXC_NONE",
     "EXC_SINE",
@@ -109,8 +110,8 @@ def ground_acc(t, kind, par, samples):
         return par[0] * math.sin(par[1] * t)  # paper 004, Fig 2
     if kind == EXC_COSINE:
         return par[0] * math.cos(par[1] * t)  # paper 004, Fig 2; paper 001, Sec 4.4
-    x2 = (par[1] * (t - par[2])) ** 2  # Ricker wavelet
-    return par[0] * (1.0 - 0.5 * x2) * math.exp(-0.25 * x2)
+    x2 = (par[1] * (t - par[2])) ** 2  # Ricker wavelet, in Ricker._shape_scalar's order of
+    return par[0] * ((1.0 - 0.5 * x2) * math.exp(-0.25 * x2))  # operations (same rounding)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -192,6 +193,17 @@ def rhs(t, y, out, side, m, H, K, C, mp, fp, kind, par, samples):
         full_contact_rhs(t, y, out, m, K, C, kind, par, samples)
     else:
         rocking_rhs(t, y, out, side, m, H, K, C, mp, fp, kind, par, samples)
+
+
+@njit(cache=True, error_model="numpy")
+def rhs_call(t, y, out, side, m, H, K, C, mp, fp, kind, par, samples):
+    """`rhs` as a function call, for the few calls off the hot loop.
+
+    `rhs` is inlined where it is called (numba IR inlining, the fastest code), but
+    each inlined copy costs ~2 s of compile time: the hot RK stage loop inlines it
+    once, every other caller calls this one compiled copy.
+    """
+    rhs(t, y, out, side, m, H, K, C, mp, fp, kind, par, samples)
 
 
 @njit(cache=True, error_model="numpy")

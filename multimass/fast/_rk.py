@@ -40,7 +40,7 @@ from numba import njit
 from scipy.integrate._ivp import dop853_coefficients as _dop
 from scipy.integrate._ivp.rk import RK23, RK45
 
-from ._maths import event_value, rhs
+from ._maths import event_value, rhs, rhs_call
 
 __all__ = ["METHOD_CODES", "OK", "EVENT", "FAILED"]
 
@@ -97,19 +97,24 @@ def _rk_step(t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, m, H, K, C_, mp, f
     ny = y.size
     for j in range(ny):
         Kst[0, j] = f[j]
-    for s in range(1, ns):
-        for j in range(ny):
-            acc = 0.0
-            for k in range(s):
-                acc += Kst[k, j] * A[s, k]
-            ytmp[j] = y[j] + acc * h
-        rhs(t + C[s] * h, ytmp, Kst[s], side, m, H, K, C_, mp, fp, kind, par, smp)
-    for j in range(ny):
-        acc = 0.0
-        for k in range(ns):
-            acc += Kst[k, j] * Bw[k]
-        ynew[j] = y[j] + h * acc
-    rhs(t + h, ynew, Kst[ns], side, m, H, K, C_, mp, fp, kind, par, smp)
+    # stages 1 … ns-1, then (s = ns) the solution and its slope: one call site of the
+    # inlined rhs (each inlined copy costs seconds of compile time)
+    for s in range(1, ns + 1):
+        if s < ns:
+            for j in range(ny):
+                acc = 0.0
+                for k in range(s):
+                    acc += Kst[k, j] * A[s, k]
+                ytmp[j] = y[j] + acc * h
+            ts, ys = t + C[s] * h, ytmp
+        else:
+            for j in range(ny):
+                acc = 0.0
+                for k in range(ns):
+                    acc += Kst[k, j] * Bw[k]
+                ynew[j] = y[j] + h * acc
+            ts, ys = t + h, ynew
+        rhs(ts, ys, Kst[s], side, m, H, K, C_, mp, fp, kind, par, smp)
 
 
 @njit(cache=True, error_model="numpy")
@@ -161,7 +166,7 @@ def _dense_prepare(
             for k in range(s):
                 acc += Kst[k, j] * _A8[s, k]
             ytmp[j] = y_old[j] + acc * h
-        rhs(t_old + _C8[s] * h, ytmp, Kst[s], side, m, H, K, C_, mp, fp, kind, par, smp)
+        rhs_call(t_old + _C8[s] * h, ytmp, Kst[s], side, m, H, K, C_, mp, fp, kind, par, smp)
     for j in range(ny):
         dy = ynew[j] - y_old[j]
         Q[0, j] = dy
@@ -318,7 +323,7 @@ def _first_step(
     h0 = min(h0, span)
     for j in range(ny):
         ytmp[j] = y0[j] + h0 * f0[j]
-    rhs(t0 + h0, ytmp, f1, side, m, H, K, C_, mp, fp, kind, par, smp)
+    rhs_call(t0 + h0, ytmp, f1, side, m, H, K, C_, mp, fp, kind, par, smp)
     d2 = 0.0
     for j in range(ny):
         sc = atol + abs(y0[j]) * rtol

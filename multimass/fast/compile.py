@@ -1,40 +1,314 @@
-"""One-off compilation of the kernels, cached on disk, timed apart from the runs.
+"""One-off compilation of the kernels: where it is cached, what the user sees, how long.
 
-The kernels are ``numba.njit(cache=True)``: the first process that calls them
-compiles them (tens of seconds) and writes the machine code to numba's cache
-(``__pycache__`` beside the sources, or ``NUMBA_CACHE_DIR``); later
-processes load it (well under a second). `warm_up` does that once per
-process, on a tiny problem whose argument types are those of every real call,
-and says how long it took and whether the code came from the cache.
+The kernels are ``numba.njit(cache=True)``: the first process on a machine that
+calls them compiles them (~17 s) and writes the machine code to numba's disk
+cache; later processes load it (~0.3 s). `warm_up` does that once per process,
+on a tiny problem whose argument types are those of every real call, and says
+how long it took and whether the code came from the cache.
 `multimass.simulate` calls it before starting its clock, so
-``Response.wall_time_s`` never includes compilation.
+``Response.wall_time_s`` never includes compilation; ``multimass warm-up``
+calls it (and the other kernels' warm-ups) from the shell.
 
-Numba keys a cached function on the file that defines it, not on the files of
-the functions it calls: after an edit of `._maths` or `._rk` (or an upgrade)
-the cached `._kernel.integrate_phase` would be stale. `warm_up` therefore keeps
-a fingerprint of the kernel sources, of the equations they compile
-(`multimass.equations`, `multimass.impact_models.gaussian_force`) and of
-numba's version beside the cache, and drops the cached kernels when it changes.
+**What the user sees.** Loading from the cache is silent. Compiling prints on
+stderr, once::
+
+    multimass: compiling the fast kernels once for this machine (~17 s; cached in DIR) ...
+    multimass: compiling:  45%|████▌     | 9/20 kernels [00:06<00:07]
+    multimass: compiled the fast kernels in 17 s (20 kernels); later runs load them in ~0.3 s
+
+The notice comes from numba's own compile events (`watch_compiles`), so it
+appears whenever numba really compiles — an empty cache, a stale one, a numba
+upgrade — and never when it loads. Quiet mode, for services and batch logs:
+set the environment variable ``MULTIMASS_QUIET=1``, or call
+``warm_up(progress=False)`` once at start-up (later calls find the kernels in
+memory).
+
+**Where the machine code goes** (decided when `multimass.fast` is imported,
+before numba compiles anything, see `choose_cache_dir`): ``NUMBA_CACHE_DIR``
+if the user set it; else numba's default, ``__pycache__`` beside the sources;
+if that folder is not writable (a system-wide install, a read-only container),
+the per-user cache ``$XDG_CACHE_HOME/multimass/numba`` (``~/.cache/...``;
+``~/Library/Caches/...`` on macOS, ``%LOCALAPPDATA%\\...`` on Windows), set
+through ``NUMBA_CACHE_DIR`` for this process and its children (numba functions
+of other packages defined later in the process are cached there too); if that
+is not writable either, a fresh private temporary folder (compiled again by each
+process). numba reads ``NUMBA_CACHE_DIR`` when it is imported and each
+``cache=True`` function picks its cache folder when it is defined, so the
+variable is set, and numba's configuration reloaded if numba was already
+imported, before the kernel modules are.
+
+**Stale caches.** numba keys a cached function on the file that defines it, not
+on the files of the functions it calls: after an edit of `._maths` or `._rk`
+(or an upgrade) the cached `._kernel.integrate_phase` would be stale.
+`compile_once` therefore keeps a fingerprint of the kernel sources, of the
+equations they compile (`multimass.equations`,
+`multimass.impact_models.gaussian_force`) and of numba's version beside the
+cache, and drops the cached kernels when it changes.
 """
 
 from __future__ import annotations
 
 import hashlib
+import importlib
+import os
+import sys
+import tempfile
 import time
+from collections.abc import Callable, Iterable
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
-import numba
-import numpy as np
+from ..progress import Progress, format_duration
 
-from . import _maths as mx
+__all__ = [
+    "warm_up",
+    "compile_once",
+    "watch_compiles",
+    "CompileReport",
+    "CacheChoice",
+    "choose_cache_dir",
+    "user_cache_dir",
+    "CACHE",
+    "QUIET_ENV",
+    "COLD_COMPILE_S",
+    "LOAD_S",
+]
 
-__all__ = ["warm_up", "CompileReport"]
+#: Set this environment variable to 1 to silence the one-off compile notice.
+QUIET_ENV = "MULTIMASS_QUIET"
+#: Wall time of a cold compile of the fast kernels (s; 2-core machine, idle), shown up front.
+COLD_COMPILE_S = 17.0
+#: Wall time to load them from the disk cache (s).
+LOAD_S = 0.3
+
+_HERE = Path(__file__).resolve().parent
+_KERNEL_MODULES = ("_maths", "_rk", "_kernel")  # the modules holding njit(cache=True) code
+_STAMP = "multimass_fast.sources"
+
+
+# ---------------------------------------------------------------------------- cache folder
+def user_cache_dir() -> Path:
+    """The per-user folder for multimass's compiled kernels (``.../multimass/numba``)."""
+    home = Path(os.path.expanduser("~"))
+    if sys.platform == "win32":
+        base = Path(os.environ.get("LOCALAPPDATA") or home / "AppData" / "Local")
+    elif sys.platform == "darwin":
+        base = home / "Library" / "Caches"
+    else:  # XDG: a relative XDG_CACHE_HOME is invalid and ignored
+        xdg = os.environ.get("XDG_CACHE_HOME", "")
+        base = Path(xdg) if os.path.isabs(xdg) else home / ".cache"
+    return base / "multimass" / "numba"
+
+
+def _writable(folder: Path) -> bool:
+    """numba's own test of a cache folder: create it, then a temporary file in it."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        tempfile.TemporaryFile(dir=folder).close()
+        return True
+    except OSError:
+        return False
 
 
 @dataclass(frozen=True)
+class CacheChoice:
+    """Where numba keeps the compiled kernels, and why.
+
+    Attributes
+    ----------
+    path : str or None
+        The ``NUMBA_CACHE_DIR`` in force; None: numba's default, ``__pycache__``
+        beside the sources.
+    reason : str
+        Why, in words for the user.
+    set_here : bool
+        True when multimass set ``NUMBA_CACHE_DIR`` itself (read-only package folder).
+    """
+
+    path: str | None
+    reason: str
+    set_here: bool = False
+
+
+def choose_cache_dir(package_dir: Path = _HERE) -> CacheChoice:
+    """Decide where numba caches the kernels of `package_dir` (see the module docstring).
+
+    Reads the environment (``NUMBA_CACHE_DIR``, ``XDG_CACHE_HOME``) and may create
+    the cache folder; changes nothing else.
+
+    Parameters
+    ----------
+    package_dir : Path
+        The folder of the kernel sources (numba's default cache is its ``__pycache__``).
+    """
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return CacheChoice(os.environ["NUMBA_CACHE_DIR"], "NUMBA_CACHE_DIR is set")
+    if _writable(Path(package_dir) / "__pycache__"):
+        return CacheChoice(None, "beside the package's sources")
+    user = user_cache_dir()
+    if _writable(user):
+        return CacheChoice(str(user), "per-user cache: the package folder is read-only", True)
+    private = tempfile.mkdtemp(prefix="multimass-numba-")  # never a shared, guessable folder
+    return CacheChoice(
+        private,
+        "a temporary folder, not kept: neither the package folder nor "
+        f"{user} is writable (set NUMBA_CACHE_DIR to keep the kernels)",
+        True,
+    )
+
+
+def _use(choice: CacheChoice) -> None:
+    """Point numba at `choice` before any kernel module defines its functions."""
+    if not choice.set_here:
+        return
+    os.environ["NUMBA_CACHE_DIR"] = choice.path
+    if "numba" in sys.modules:  # imported already: it read the variable then; read it again
+        from numba.core import config
+
+        config.reload_config()
+
+
+#: Where this process caches the kernels (decided on import, before numba compiles).
+CACHE = choose_cache_dir()
+_use(CACHE)
+
+
+# ---------------------------------------------------------------------------- the notice
+def _quiet_env() -> bool:
+    return os.environ.get(QUIET_ENV, "").strip().lower() in ("1", "true", "yes", "on")
+
+
+def _kernels_of(modules: Iterable[str]) -> list:
+    """The numba dispatchers compiled as units in `modules` (not the ones inlined)."""
+    from numba.core.registry import CPUDispatcher
+
+    out = []
+    for name in modules:
+        for obj in vars(importlib.import_module(name)).values():
+            if (
+                isinstance(obj, CPUDispatcher)
+                and obj.py_func.__module__ == name
+                and obj.targetoptions.get("inline", "never") != "always"
+            ):
+                out.append(obj)
+    return out
+
+
+class _Watch:
+    """Counts (and, if `show`, announces with a progress bar) the kernels numba compiles."""
+
+    def __init__(self, what, modules: tuple, show: bool, cache_dir: str, estimate, load):
+        self.what, self.modules, self.show = what, modules, show
+        self.cache_dir, self.estimate, self.load = cache_dir, estimate, load
+        self.total = len(_kernels_of(modules))
+        self.compiled = 0  # kernels of `modules` compiled (not loaded)
+        self.started: float | None = None
+        self.seconds = 0.0
+        self._bar: Progress | None = None
+
+    def _ours(self, event) -> bool:
+        disp = event.data.get("dispatcher") if isinstance(event.data, dict) else None
+        return getattr(getattr(disp, "py_func", None), "__module__", None) in self.modules
+
+    def start(self, event) -> None:
+        if self.started is not None or not self._ours(event):
+            return
+        self.started = time.perf_counter()
+        if self.show:
+            where = f" — {CACHE.reason}" if CACHE.set_here else ""
+            print(
+                f"multimass: compiling {self.what} once for this machine "
+                f"(~{format_duration(self.estimate)}; cached in {self.cache_dir}{where}) ...",
+                file=sys.stderr,
+                flush=True,
+            )
+            self._bar = Progress(
+                max(self.total, 1), "multimass: compiling", show=True, unit="kernels"
+            )
+
+    def end(self, event) -> None:
+        if self._ours(event):
+            self.compiled += 1
+            if self._bar is not None:
+                self._bar.update(self.compiled)
+
+    def close(self, failed: bool = False) -> None:
+        if self._bar is not None:
+            self._bar.close()
+        if self.started is None:
+            return
+        self.seconds = time.perf_counter() - self.started
+        if self.show and not failed:  # a failure speaks for itself (its exception)
+            print(
+                f"multimass: compiled {self.what} in {format_duration(self.seconds)} "
+                f"({self.compiled} kernels); later runs load them in ~{self.load:g} s",
+                file=sys.stderr,
+                flush=True,
+            )
+
+
+@contextmanager
+def watch_compiles(
+    what: str,
+    modules: Iterable[str],
+    cache_dir: str,
+    progress: bool | None = None,
+    estimate: float = COLD_COMPILE_S,
+    load: float = LOAD_S,
+):
+    """Announce and count the kernels of `modules` numba compiles inside the block.
+
+    Loading from the disk cache is silent; the first real compilation prints one
+    line naming `what`, the estimated time and the cache folder, then a progress
+    bar per compiled kernel, then the time it took (all on stderr).
+
+    Parameters
+    ----------
+    what : str
+        The kernels, as the user reads them (e.g. "the fast kernels").
+    modules : iterable of str
+        Full names of the modules whose numba functions are counted.
+    cache_dir : str
+        Where they are cached (shown).
+    progress : bool, optional
+        False: silent; True or None: the notice, unless ``MULTIMASS_QUIET`` is set
+        (None) — True shows it even then.
+    estimate, load : float
+        The expected compile time (s), shown up front, and the time to load the
+        kernels from the cache (s), shown at the end.
+
+    Yields
+    ------
+    watch
+        ``.compiled`` (kernels compiled), ``.total`` (kernels in `modules`) and,
+        after the block, ``.seconds`` from the first compilation to the end.
+    """
+    from numba.core import event
+
+    show = progress if progress is not None else not _quiet_env()
+    watch = _Watch(what, tuple(modules), bool(show), str(cache_dir), estimate, load)
+
+    class _Listener(event.Listener):
+        def on_start(self, ev):
+            watch.start(ev)
+
+        def on_end(self, ev):
+            watch.end(ev)
+
+    try:
+        with event.install_listener("numba:compile", _Listener()):
+            yield watch
+    except BaseException:
+        watch.close(failed=True)
+        raise
+    watch.close()
+
+
+# ---------------------------------------------------------------------------- compile once
+@dataclass(frozen=True)
 class CompileReport:
-    """How the compiled kernels became ready in this process.
+    """How a group of compiled kernels became ready in this process.
 
     Attributes
     ----------
@@ -45,38 +319,45 @@ class CompileReport:
         loaded from it; "in memory": this process had them already.
     cache_dir : str
         Where numba keeps the cached machine code.
+    kernels : int
+        How many kernels were compiled (0 when loaded).
+    what : str
+        The group of kernels.
     """
 
     seconds: float
     source: str
     cache_dir: str
+    kernels: int = 0
+    what: str = "the fast kernels"
 
     def to_dict(self) -> dict:
-        return {"seconds": self.seconds, "source": self.source, "cache_dir": self.cache_dir}
+        return {
+            "what": self.what,
+            "seconds": self.seconds,
+            "source": self.source,
+            "kernels_compiled": self.kernels,
+            "cache_dir": self.cache_dir,
+        }
 
 
-_REPORT: CompileReport | None = None
-_MODULES = ("_maths", "_rk", "_kernel")  # the modules holding njit(cache=True) code
-_STAMP = "multimass_fast.sources"
+def _fingerprint(sources: Iterable[Path]) -> str:
+    import numba
 
-
-def _fingerprint() -> str:
     h = hashlib.sha256(numba.__version__.encode())
-    for mod in _MODULES:
-        h.update((Path(__file__).parent / f"{mod}.py").read_bytes())
-    for mod in (mx.eq, mx.gf):  # the equations the kernels compile
-        h.update(Path(mod.__file__).read_bytes())
+    for path in sources:
+        h.update(Path(path).read_bytes())
     return h.hexdigest()
 
 
-def _drop_stale_cache(cache_dir: Path, stamp: str) -> None:
-    """Delete the cached kernels if the sources changed since they were compiled."""
+def _drop_stale_cache(cache_dir: Path, stamp_file: str, stamp: str, own: Iterable[str]) -> None:
+    """Delete the cached kernels of the modules `own` if their sources changed."""
     try:
-        if (cache_dir / _STAMP).read_text() == stamp:
+        if (cache_dir / stamp_file).read_text() == stamp:
             return
     except OSError:
         pass
-    for mod in _MODULES:
+    for mod in own:
         for f in cache_dir.glob(f"{mod}.*.nb[ic]"):
             try:
                 f.unlink()
@@ -84,8 +365,77 @@ def _drop_stale_cache(cache_dir: Path, stamp: str) -> None:
                 pass
 
 
+def compile_once(
+    what: str,
+    call: Callable[[], object],
+    modules: Iterable[str],
+    sources: Iterable[Path] = (),
+    stamp_file: str | None = None,
+    progress: bool | None = None,
+    estimate: float = COLD_COMPILE_S,
+    load: float = LOAD_S,
+) -> CompileReport:
+    """Compile (or load) a group of kernels by running `call`, visibly and timed.
+
+    With a `stamp_file`, drops the group's cached machine code first if any of
+    `sources` or numba's version changed since it was compiled (numba itself
+    checks only the file that defines each function).
+
+    Parameters
+    ----------
+    what : str
+        The group, as the user reads it.
+    call : callable
+        Calls the kernels once with the argument types of every real call.
+    modules : iterable of str
+        Full names of the modules holding the group's ``cache=True`` functions
+        (counted in the notice; their cache files are dropped when stale).
+    sources : iterable of Path
+        Every source file the group compiles (for the fingerprint).
+    stamp_file : str, optional
+        Name of the fingerprint file kept in the cache folder; None: no check.
+    progress, estimate, load :
+        As in `watch_compiles`.
+
+    Returns
+    -------
+    CompileReport
+        "compiled" if numba compiled any kernel of the group, "disk cache" if it
+        loaded them, "in memory" if this process had them already.
+    """
+    modules = tuple(modules)
+    kernels = _kernels_of(modules)
+    cache_dir = Path(kernels[0].stats.cache_path) if kernels else Path(CACHE.path or "")
+    stamp = _fingerprint(sources) if stamp_file else ""
+    hits = lambda: sum(sum(k.stats.cache_hits.values()) for k in kernels)  # noqa: E731
+    start, hits_before = time.perf_counter(), hits()
+    if stamp_file:  # numba names its cache files after the source file's stem
+        stems = [Path(importlib.import_module(m).__file__).stem for m in modules]
+        _drop_stale_cache(cache_dir, stamp_file, stamp, stems)
+    with watch_compiles(what, modules, str(cache_dir), progress, estimate, load) as watch:
+        call()
+    seconds = time.perf_counter() - start
+    if stamp_file:
+        try:
+            (cache_dir / stamp_file).write_text(stamp)
+        except OSError:
+            pass
+    if watch.compiled:
+        source = "compiled"
+    else:
+        source = "disk cache" if hits() > hits_before else "in memory"
+    return CompileReport(seconds, source, str(cache_dir), watch.compiled, what)
+
+
+# ---------------------------------------------------------------------------- the fast kernels
+_REPORT: CompileReport | None = None
+
+
 def _tiny_call() -> None:
     """Call the kernel once with the argument types of every real call (1 node, rocking)."""
+    import numpy as np
+
+    from . import _maths as mx
     from ._kernel import integrate_phase
 
     one, eye = np.ones(1), np.eye(1)
@@ -120,8 +470,23 @@ def _tiny_call() -> None:
     )
 
 
-def warm_up() -> CompileReport:
+def _sources() -> list[Path]:
+    """The kernel modules and the equations they compile."""
+    from ..equations import __file__ as equations
+    from ..impact_models.gaussian_force import __file__ as gaussian_force
+
+    return [_HERE / f"{m}.py" for m in _KERNEL_MODULES] + [Path(equations), Path(gaussian_force)]
+
+
+def warm_up(progress: bool | None = None) -> CompileReport:
     """Compile (or load from the disk cache) the kernels of the compiled backend.
+
+    Parameters
+    ----------
+    progress : bool, optional
+        The compile notice on stderr (see the module docstring): None (default)
+        shows it unless ``MULTIMASS_QUIET`` is set; False never; True always.
+        Loading from the cache is always silent.
 
     Returns
     -------
@@ -131,20 +496,14 @@ def warm_up() -> CompileReport:
         and source "in memory".
     """
     global _REPORT
-    from ._kernel import integrate_phase
-
     if _REPORT is not None:
-        return CompileReport(0.0, "in memory", _REPORT.cache_dir)
-    start = time.perf_counter()
-    cache_dir, stamp = Path(integrate_phase.stats.cache_path), _fingerprint()
-    _drop_stale_cache(cache_dir, stamp)
-    _tiny_call()
-    seconds = time.perf_counter() - start
-    stats = integrate_phase.stats
-    source = "disk cache" if stats.cache_hits and not stats.cache_misses else "compiled"
-    try:
-        (cache_dir / _STAMP).write_text(stamp)
-    except OSError:
-        pass
-    _REPORT = CompileReport(seconds, source, str(cache_dir))
+        return CompileReport(0.0, "in memory", _REPORT.cache_dir, 0, _REPORT.what)
+    _REPORT = compile_once(
+        "the fast kernels",
+        _tiny_call,
+        (f"{__package__}.{m}" for m in _KERNEL_MODULES),
+        sources=_sources(),
+        stamp_file=_STAMP,
+        progress=progress,
+    )
     return _REPORT

@@ -26,7 +26,7 @@ from ._kernel import integrate_phase
 from ._rk import EVENT, FAILED, METHOD_CODES
 from .excitation import encode
 
-__all__ = ["FastPath", "check_model"]
+__all__ = ["FastPath", "check_model", "event_params", "ROCKING_EVENTS"]
 
 _FAIL_MESSAGE = "Required step size is less than spacing between numbers."
 _NONE = np.empty(0)
@@ -53,16 +53,31 @@ _ROCKING = [
     ("peak", mx.EV_PEAK, 0.0, 0, 0.0, False),
 ]  # θ̇ = 0
 _PEAK = 2
+#: (names, codes, directions, terminal, quiet values, guarded) of a rocking phase without a force
+ROCKING_EVENTS = _table(*_ROCKING)
 _EVENTS = {
     "contact": _table(
         ("uplift_right", mx.EV_UPLIFT_RIGHT, 1.0, 1, -1.0, True),  # equations.uplift_margin
         ("uplift_left", mx.EV_UPLIFT_LEFT, 1.0, 1, -1.0, True),
     ),
-    "rocking": _table(*_ROCKING),
+    "rocking": ROCKING_EVENTS,
     # gaussian_force.activation_margin, gaussian_force.deactivation_margin
     "activate": _table(*_ROCKING, ("activate", mx.EV_ACTIVATE, -1.0, 1, 1.0, True)),
     "deactivate": _table(*_ROCKING, ("deactivate", mx.EV_DEACTIVATE, 1.0, 1, -1.0, True)),
 }
+
+
+def event_params(st, thetadot_min: float, overturn: float, dd=(0.0, 0.0, 0.0)) -> np.ndarray:
+    """`ep` of the event functions (`._maths` ``EP_*``) before the phase's own entries.
+
+    `dd` is the Dirac-delta model's (C_p, n_min, z), zeros without a force.
+    """
+    ep = np.zeros(mx.EP_SIZE)
+    ep[mx.EP_TDMIN], ep[mx.EP_OVERTURN] = thetadot_min, overturn
+    ep[mx.EP_CP], ep[mx.EP_NMIN], ep[mx.EP_Z] = dd
+    ep[mx.EP_MREF] = st.m_t * st.g * st.B
+    ep[mx.EP_LREF] = st.J_p * thetadot_min
+    return ep
 
 
 def check_model(model) -> None:
@@ -160,12 +175,8 @@ class FastPath:
     def events(self, run, s):
         """Names, codes, directions, terminal flags, quiet values, guard ends, ep, fp of the
         phase of state `s` in the loop `run`."""
-        st, t0, d = run.st, s.t, self.delay
-        ep = np.zeros(mx.EP_SIZE)
-        ep[mx.EP_TDMIN], ep[mx.EP_OVERTURN] = run.thetadot_min, run.overturn
-        ep[mx.EP_CP], ep[mx.EP_NMIN], ep[mx.EP_Z] = self.dd
-        ep[mx.EP_MREF] = st.m_t * st.g * st.B
-        ep[mx.EP_LREF] = st.J_p * run.thetadot_min
+        t0, d = s.t, self.delay
+        ep = event_params(run.st, run.thetadot_min, run.overturn, self.dd)
         fp = np.zeros(mx.FP_SIZE)
         if s.phase == 0:
             key, t_on = "contact", t0 + max(d, s.hold_until - t0)

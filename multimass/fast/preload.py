@@ -1,9 +1,12 @@
 """Import this module to have the compiled kernels ready (for a forkserver to preload).
 
-Importing it calls `multimass.fast.warm_up()` — the one deliberate import side
-effect in the package: the sweep engine asks a forkserver to import it, so the
+Importing it calls `multimass.fast.warm_up()` — a deliberate import side effect
+(the package's other one: `multimass.fast.compile` choosing numba's cache folder
+before any kernel is defined): the sweep engine asks a forkserver to import it, so the
 kernels are loaded once in the server and every worker forked from it starts
-with them in memory instead of loading the disk cache itself.
+with them in memory instead of loading the disk cache itself. On a machine whose
+cache is empty, the server compiles them once and its compile notice (see
+`multimass.fast.compile`) goes to the terminal the sweep was started from.
 """
 
 from .compile import warm_up

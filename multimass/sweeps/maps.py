@@ -1,31 +1,42 @@
 """Overturning maps of rigid blocks under single sine and cosine pulses (paper 004, Figs 4–9).
 
-A map runs one simulation per cell of a grid over the normalised pulse
-frequency ω/p and amplitude a0/(α g), classifies each outcome — no rocking,
-rocking then rest, overturned — and can refine the overturning boundary by
-bisection in amplitude, which resolves the safe islands above the first
-overturning amplitude (the boundary is not monotone).
+A map (also under a Ricker wavelet) runs one simulation per cell of a grid over
+the normalised pulse frequency ω/p and amplitude a0/(α g), classifies each
+outcome — no rocking, rocking then rest, overturned — and can refine the
+overturning boundary by bisection in amplitude, which resolves the safe islands
+above the first overturning amplitude (the boundary is not monotone).
+
+On the compiled path, with classical impacts and a restitution fixed per corner
+(η_M, η_H, a value), the cells run in batches: each worker task runs a chunk of
+cells in one compiled call (`multimass.fast.block_runs`), with the same results
+as one `map_cell` per cell, bit for bit. Other cases run one `map_cell` per cell.
 """
 
 from __future__ import annotations
 
-import math
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
 
 from .. import validation as v
 from ..errors import InputError
-from ..excitations import CosineWave, SineWave
-from ..simulation import estimate, simulate_outcome
+from ..simulation import estimate
 from ..structure import Structure, from_specimen
 from .base import Executor
-from .engine import run_jobs
 from .executors import get_executor
+from .map_cells import (
+    OUTCOMES,
+    PULSES,
+    UNDECIDED_RETRY,
+    _Cell,
+    _Chunk,
+    batch_runs,
+    map_cell,
+    simulate_cells,
+)
 from .ranges import check_values
 
 __all__ = [
@@ -37,89 +48,33 @@ __all__ = [
     "default_backend",
 ]
 
-OUTCOMES = ("no_rocking", "rest", "overturned", "undecided")
-#: An undecided cell is run once more with this many times the free-rocking time.
-UNDECIDED_RETRY = 4.0
-PULSES = {"sine": SineWave, "cosine": CosineWave}
+#: Run supported maps in compiled chunks; False runs every cell as one `map_cell` job, the
+#: reference the batched path is compared with (tests/multimass/sweeps/test_batched_maps.py,
+#: benchmarks/batched_maps.py).
+BATCHED = True
 
 
 @contextmanager
-def executor_session(executor, workers, compiled: bool = False):
+def executor_session(executor, workers, compiled: bool = False, batched: bool = False):
     """One executor for several `run_jobs` calls; closed after unless the caller owns it.
 
     With `compiled`, a process pool's forkserver loads the compiled kernels once
-    (`multimass.fast.preload`), so its workers start with them in memory.
+    (`multimass.fast.preload`; with `batched` also the batch kernels of
+    `multimass.fast.block_preload`), so its workers start with them in memory.
     """
     if isinstance(executor, Executor):
         yield executor
         return
     options = {}
     if compiled and isinstance(executor, str) and executor.lower() == "process":
-        options["preload"] = ("multimass.fast.preload",)
+        options["preload"] = ("multimass.fast.preload",) + (
+            ("multimass.fast.block_preload",) if batched else ()
+        )
     ex = get_executor(executor, workers, **options)
     try:
         yield ex
     finally:
         ex.close()
-
-
-class _Cell(NamedTuple):
-    """One map cell as sent to a worker: a named tuple of plain floats pickles and
-    unpickles ~3x and ~8x faster than a dataclass holding numpy scalars (the parent's
-    share of a sweep competes with the workers for the cores)."""
-
-    structure: Structure
-    pulse: str
-    omega: float
-    a0: float
-    t_free: float
-    options: dict
-
-
-def _classify(resp) -> str:
-    if resp.outcome == "overturned":
-        return "overturned"
-    if not any(e.kind == "uplift" for e in resp.events):
-        return "no_rocking"
-    if any(e.kind == "rest" for e in resp.events):
-        return "rest"
-    return "undecided"
-
-
-def map_cell(cell: _Cell) -> tuple:
-    """Simulate one cell: (outcome, overturn time or nan, max|θ|/α, impacts, rhs evaluations,
-    accurate).
-
-    Outcomes: "no_rocking" (never uplifted), "rest" (rocked, then could no longer
-    overturn: its energy fell below what reaching θ = α needs), "overturned", and
-    "undecided": still rocking with enough energy to overturn at the end of the run,
-    even after a second run with `UNDECIDED_RETRY` times the free-rocking time. An
-    undecided cell counts neither as overturned nor as safe (`OverturningMap.undecided`).
-    ``accurate`` is False when the run's accuracy check failed (status "inaccurate",
-    e.g. Newmark's energy error at a coarse step): the outcome is kept, and flagged.
-    """
-    st = cell.structure
-    exc = PULSES[cell.pulse](amplitude=cell.a0, omega=cell.omega)
-    for t_free in (cell.t_free, UNDECIDED_RETRY * cell.t_free):
-        resp = simulate_outcome(
-            st, exc, t_end=exc.duration + t_free, stop_when_safe=True, **cell.options
-        )
-        if resp.status == "failed":
-            raise RuntimeError(
-                f"cell ω = {cell.omega:.6g} rad/s, a0 = {cell.a0:.6g} m/s²: {resp.message}"
-            )
-        outcome = _classify(resp)
-        if outcome != "undecided":
-            break
-    t_over = next((e.time for e in resp.events if e.kind == "overturn"), math.nan)
-    return (
-        outcome,
-        t_over,
-        resp.theta_max / st.alpha_cg,
-        resp.n_impacts,
-        resp.n_rhs,
-        resp.status != "inaccurate",
-    )
 
 
 @dataclass(frozen=True, eq=False)
@@ -255,8 +210,9 @@ def overturning_map(
     ----------
     block : Structure, specimen or str
         A rigid block (e.g. "B6M").
-    pulse : {"sine", "cosine"}
-        Single sine or cosine wave of paper 004, Fig 2.
+    pulse : {"sine", "cosine", "ricker"}
+        Single sine or cosine wave of paper 004, Fig 2, or a Ricker wavelet
+        (`multimass.Ricker`: ω its ω_p, a0 its peak, default t0).
     omega_p, amp : array_like
         Increasing values of ω/p (> 0) and a0/(α g) (≥ 0); p = sqrt(m g R / J_p),
         α = α_cg.
@@ -273,7 +229,10 @@ def overturning_map(
         Passed to `run_jobs` ("serial", "process" (default), "dask" or an Executor).
     **sim_options :
         Passed to `simulate` (e.g. ``integrator="newmark"``, ``dt``, ``rtol``);
-        ``backend="compiled"`` (the fast path) unless given.
+        ``backend="compiled"`` (the fast path) unless given. On the compiled path,
+        with classical impacts and a restitution fixed per corner, the cells run in
+        compiled chunks (`multimass.fast.block_runs`) with the same results as one
+        `map_cell` each.
 
     Returns
     -------
@@ -281,7 +240,7 @@ def overturning_map(
     """
     st = _block(block)
     if pulse not in PULSES:
-        raise InputError(f"`pulse` = {pulse!r}: use 'sine' or 'cosine'")
+        raise InputError(f"`pulse` = {pulse!r}: use 'sine', 'cosine' or 'ricker'")
     omega_p = check_values("omega_p", omega_p, positive=True)
     amp = check_values("amp", amp, nonnegative=True)
     refine = v.integer("refine", refine, low=0, what="bisection rounds")
@@ -298,6 +257,11 @@ def overturning_map(
             _Cell(st, pulse, float(w * st.p), float(a * scale_a), t_free, options) for w, a in pairs
         ]
 
+    def chunks_for(pairs, k):  # the same ω and a0 as cells_for, strided into k chunks
+        wa = np.array(pairs, dtype=float).reshape(-1, 2)
+        omega, a0 = wa[:, 0] * st.p, wa[:, 1] * scale_a
+        return [_Chunk(st, pulse, omega[j::k], a0[j::k], t_free, options, runs) for j in range(k)]
+
     # the options and the longest cell (lowest ω, retried) checked here, before any worker
     slow = cells_for([(omega_p[0], amp[-1])])[0]
     exc = PULSES[pulse](amplitude=slow.a0, omega=slow.omega)
@@ -305,16 +269,15 @@ def overturning_map(
 
     wall = time.perf_counter()
     pairs = [(w, a) for a in amp for w in omega_p]
-    with executor_session(executor, workers, options.get("backend") == "compiled") as ex:
-        results = run_jobs(
-            map_cell,
-            cells_for(pairs),
-            executor=ex,
-            progress=progress,
-            desc=f"{st.name} {pulse} map",
+    runs = batch_runs(st, options) if BATCHED else None
+    compiled = options.get("backend") == "compiled"
+    with executor_session(executor, workers, compiled, runs is not None) as ex:
+        simulate = lambda pairs, desc: simulate_cells(  # noqa: E731
+            pairs, cells_for, chunks_for, runs, ex, progress, desc
         )
+        results = simulate(pairs, f"{st.name} {pulse} map")
         rows = [_row(w, a, r, True) for (w, a), r in zip(pairs, results)]
-        boundaries = _refine(rows, omega_p, int(refine), cells_for, ex, progress)
+        boundaries = _refine(rows, omega_p, int(refine), simulate)
     rows += boundaries.pop("extra")
     wall = time.perf_counter() - wall
     rest_value = getattr(model.restitution, "k", None)
@@ -355,7 +318,7 @@ def _row(w, a, result, grid):
     }
 
 
-def _refine(rows, omega_p, rounds, cells_for, executor, progress) -> dict:
+def _refine(rows, omega_p, rounds, simulate) -> dict:
     """Bisect, in amplitude, every grid interval whose ends differ in overturning."""
     columns: dict[float, list] = {}  # rows by ω/p: one pass, not one per ω/p
     for r in rows:
@@ -373,13 +336,7 @@ def _refine(rows, omega_p, rounds, cells_for, executor, progress) -> dict:
         if not segments:
             break
         mids = [(s[0], 0.5 * (s[1] + s[2])) for s in segments]
-        results = run_jobs(
-            map_cell,
-            cells_for(mids),
-            executor=executor,
-            progress=progress,
-            desc="refining boundary",
-        )
+        results = simulate(mids, "refining boundary")
         active = []
         for s, (w, a), r in zip(segments, mids, results):
             row = _row(w, a, r, False)
