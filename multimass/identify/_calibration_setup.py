@@ -318,9 +318,7 @@ def _check_damping(out: list, asked: list, st: Structure) -> None:
     shown, hidden = set(), {}
     for c in out:
         phases = [("uplifted", model.rocking)] + (
-            [("full-contact", model.full_contact)]
-            if not c.free or c.segments.full_contact
-            else []
+            [("full-contact", model.full_contact)] if not c.free or c.segments.full_contact else []
         )
         for label, pm in phases:
             for j, f in zip(pm.mode, pm.freq_hz):

@@ -20,19 +20,71 @@ damping and the energy sent into vibration at the impact lower θ_{k+1} beyond t
 restitution alone, so this estimate is biased low (by 0.002–0.012 on average and up
 to 0.036 on single impacts on noiseless synthetic S1–S3 traces).
 
-**The model-based estimate (`r`).** The impact model is simulated (compiled path)
-from the release, impact by impact: r_k is the value that makes the simulated θ
-match the trace over the half-cycle after impact k (least squares over its samples,
-the next impact time included), with r_0 … r_{k−1} already fitted. The clock offset
-of the trace, the θ sensor's bias and the release angle are fitted first on the
-half-cycle before the first impact (no restitution involved). Each r_k is thus the
-coefficient the *chosen impact model* needs to reproduce the test; CIM and the
-Dirac-delta models (with their C_p) need different values for the same test.
+**The model-based estimate (`r`).** The impact model is simulated from the release
+(compiled path) and recorded as the trace was — at 10 × its rate through its
+anti-alias filter (`_calibration_model.Simulator`, shared with `calibrate`) — and the
+coefficients are fitted so that θ and the accelerations (the channels of the
+specimen's sensors the trace has; each weighted by its residual RMS, a sensor's bias
+taken out as its mean) match the trace (`multimass.identify._restitution_fit`):
+
+1. *Alignment*: the release angle θ0 and the clock offset by least squares on the
+   samples before the first impact (no restitution acts there), θ first, then every
+   channel: the accelerations' step at the release fixes the clock (to 0.1 ms; θ alone
+   left it 4 ms off on S2).
+2. *Impact by impact*: impact k is matched to a simulated impact (nearest in time, on
+   its corner); its r_k is scanned alone in steps of 0.015 within 0.075 of its corner's
+   mean so far, on every channel from impact k to just past the next impact (whose
+   time r_k sets); then r_{k−1} and r_k are fitted together by least squares
+   (`_calibration_fit.solve`) from impact k − 1 to the next impact (for CIM just past
+   it; for the Dirac-delta models up to 65 ms before it, where r_{k+1}'s force acts),
+   with θ0, the clock offset and the θ bias while the window starts at the release.
+   A window whose fit stays above the noise is scanned again in steps of 0.002.
+3. *Everything together*: least squares on every fitted r, θ0, the clock offset and
+   the θ bias over the whole span — the windows held the earlier values, and a clock
+   0.09 ms off shifted later coefficients by up to 0.006 (S2).
+
+The fit goes two impacts past the last estimated one, so that the last ones are set
+by the time of the impact after them. Each r_k is the coefficient the *chosen impact
+model* needs to reproduce the test; CIM and the Dirac-delta models (with their C_p)
+need different values for the same test.
+
+Why not θ alone: at 2 % noise θ fixes a single r to 0.01–0.02 where the half-cycles
+are 0.01–0.025 rad (the bound from the Jacobian of the whole trace, S2 DD2), the
+accelerations to below 0.001 — the Dirac-delta force scales with E_ini (1 − r²)
+(paper 001, Eq 14), which swings with r near 1 (S2's right corner, r̄ = 0.98), and
+under CIM the accelerations' step at the next impact times it. Fitted impact by
+impact on θ alone, each r_k also made up for r_{k−1}'s error: the errors alternated
+in sign and grew (0.016–0.019 on S2 at 0.025–0.05 rad, 0.033 below; the run was not
+recorded through the anti-alias filter, and its clock was 4 ms off).
+
+**Standard errors (`r_std`).** From the Jacobian of the last fit
+(`_calibration_stats.covariance`: each channel whitened by its residual RMS and
+inflated by its residuals' lag-1 autocorrelation), plus 5e-4 in quadrature (the fit's
+error beyond the noise's — the clock and θ0 trade off with the coefficients, the runs
+are recorded at 10 × the rate where the synthetic traces are at 40 × — measured up to
+0.0013 where the noise alone gives 1e-5–5e-4), plus 0.002 where the simulation
+*bounces* after the impact (lands in full contact before the next impact: CIM at
+small half-cycles, whose misfit then has valleys ±0.002 wide in r; errors up to
+0.0057, RMS 0.0018).
+
+**Measured** (`benchmarks/identify_restitution.py`: synthetic S1, S2, S3
+free-vibration traces, 0.11 rad release, 10 s, DD2 and CIM, noise 2 % of peak,
+200 Hz, seeds 1–3; the model fitted is the trace's family): for every impact whose
+half-cycles are both ≥ 0.01 rad (8–17 per trace) the model-based r is within 0.0057
+of the truth (0.0013 for the Dirac-delta traces; 0.0057 at 0.03 rad where S2's CIM
+run bounces), the corner means within 0.0009 of the mean truth of the impacts they
+average, and 207 of 208 estimated impacts within 2.5 r_std. The energy estimate is
+off by −0.007 … −0.039 on average and up to 0.23 on single impacts. Run time (wall,
+an otherwise idle 2-core machine): 4–8 s for S1, 12–24 s for S2 (up to 19 impacts
+fitted, about 500 runs), 6–13 s for S3.
+θ alone (S1 DD2, 5 s): errors up to 0.003 for half-cycles ≥ 0.025 rad and 0.026 at
+0.012 rad, with r_std 0.002–0.017 that covers them.
 
 Impacts between half-cycles whose peaks are both ≥ `theta_min` (0.01 rad, the
-paper's rule) are *estimated*; the per-corner means r̄_er, r̄_el and σ_r are taken
-over them. Smaller ones are fitted while the simulation must stay on the trace, and
-reported, but the specimen fragment gives them the corner means, as the paper did.
+paper's rule) and whose r the trace fixes (r_std ≤ 0.02) are *estimated*; the
+per-corner means r̄_er, r̄_el and σ_r are taken over them. Smaller ones are fitted
+while the simulation must stay on the trace, and reported, but the specimen fragment
+gives them the corner means, as the paper did.
 
 >>> from multimass import FreeRelease
 >>> from multimass.identify import synthetic_trace
@@ -49,20 +101,18 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
-from scipy import optimize
 
-from multimass.impact_models import CornerRestitution, Restitution
+from multimass.impact_models import CornerRestitution
 
 from .. import kinematics
-from ..errors import InputError, SolverError
-from ..excitations import FreeRelease
+from ..errors import InputError
 from ..progress import Progress
-from ..records import Record
 from ..result import json_ready
-from ..simulation import simulate
 from ..structure import Structure, from_specimen
 from ..trace_metrics import channel_columns
 from ..traces import Trace
+from . import _restitution_fit as fitting
+from ._calibration_stats import LIMITS
 from ._trace_checks import check_ag
 from .segments import THETA_MIN, Segments, require_trace, segment_trace
 
@@ -70,19 +120,6 @@ __all__ = ["RestitutionEstimate", "restitution", "energy_restitution", "IMPACT_D
 
 #: The impact model fitted unless another is named (paper 001, Table 2: DD1's family).
 IMPACT_DEFAULT = "DD"
-_R_GRID = np.linspace(0.30, 1.0, 15)  # the coarse scan of each impact's r
-_R_TOL = 2e-4  # the fine search stops when r is known to this
-
-
-class _ByImpact(Restitution):
-    """r of the k-th impact from `values` (a dict), else the corner means (`fallback`)."""
-
-    def __init__(self, values: dict, fallback: Restitution):
-        self.values, self.fallback = dict(values), fallback
-
-    def value(self, ctx) -> float:
-        r = self.values.get(ctx.impact)
-        return float(r) if r is not None else self.fallback.value(ctx)
 
 
 @dataclass(frozen=True, eq=False)
@@ -94,13 +131,16 @@ class RestitutionEstimate:
     impacts : pandas.DataFrame
         One row per impact found: ``t`` (trace time, s), ``corner`` ("right" or
         "left": the corner it lands on), ``r`` (the model-based estimate, the best
-        one), ``r_energy`` (the paper's energy estimate), ``theta_before``,
-        ``theta_after`` (the peaks around it, rad), ``estimated`` (both peaks ≥
-        `theta_min`), ``model_impact`` (the index of the simulated impact it matched),
-        ``rms`` (the θ misfit over its half-cycle, rad).
+        one; the energy estimate where the model was not fitted), ``r_energy`` (the
+        paper's energy estimate), ``theta_before``, ``theta_after`` (the peaks around
+        it, rad), ``estimated`` (both peaks ≥ `theta_min` and r fitted to a standard
+        error ≤ 0.02), ``model_impact`` (the index of the simulated impact it matched,
+        −1 if none), ``rms`` (the θ misfit over the half-cycle after it, rad),
+        ``r_std`` (the standard error of ``r``: see the module docstring).
     r_mean_right, r_mean_left : float
         Means of `r` over the estimated impacts on each corner (paper 001's r̄_er,
-        r̄_el); the specimen's value where a corner has none.
+        r̄_el), each impact weighted by 1 / (σ_r² + r_std²); the specimen's value where
+        a corner has none.
     sigma_r : float
         Pooled standard deviation of the estimated `r` about their corner means.
     energy_means : dict
@@ -114,7 +154,8 @@ class RestitutionEstimate:
     theta_min : float
     segments : Segments
     response : Response
-        The simulation with every fitted coefficient (on the model's clock).
+        The simulation with the estimated impacts' r and the corner means for the
+        others, as the specimen fragment has them (on the model's clock).
     warnings : tuple of str
     """
 
@@ -247,163 +288,6 @@ def _structure(trace: Trace, structure) -> Structure:
     return st
 
 
-class _Fitter:
-    """Simulations of the trace's test, compared with its θ and accelerations.
-
-    The misfit of a trial is the vector of every channel's residuals over a window
-    of samples, each channel divided by its weight σ: θ's noise at first; after the
-    alignment, each channel's RMS misfit over the first half-cycle (noise and model
-    error together), so that no channel dominates by its unit.
-    """
-
-    def __init__(self, st, trace, seg, impact, options):
-        self.st, self.trace, self.seg, self.impact = st, trace, seg, impact
-        self.t = np.asarray(trace.time, dtype=float)
-        cols = channel_columns(trace, st)  # checks the trace's sensors against the specimen
-        self.channels = [(name, col) for name, col in cols.items() if col == "theta"]
-        self.data = {
-            name: np.asarray(trace.channels[name], dtype=float) for name, _ in self.channels
-        }
-        self.sigma = {
-            name: (seg.noise if col == "theta" else math.inf) for name, col in self.channels
-        }
-        self.ag = trace.ag
-        self.options = {"progress": False, "backend": "compiled"} | options
-        self.output_dt = 1.0 / (8.0 * seg.fs)
-        spec = st.specimen
-        self.means = CornerRestitution(spec.r_right, spec.r_left)
-        self.n_sims = 0
-
-    def excitation(self, theta0: float):
-        if self.ag is None:
-            return FreeRelease(theta0=theta0)
-        return Record(self.t - self.t[0], self.ag, name="trace ag", source=self.trace.source)
-
-    def run(self, theta0: float, values: dict, t_end: float):
-        """The simulated response to model time `t_end` with `values` per impact."""
-        self.n_sims += 1
-        src = _ByImpact(values, self.means)
-        resp = simulate(
-            self.st, self.excitation(theta0), self.impact, max(t_end, 1e-3),
-            restitution=src, output_dt=self.output_dt, **self.options,
-        )  # fmt: skip
-        if resp.status == "failed":
-            raise SolverError(f"the simulation of the trace failed: {resp.message}")
-        return resp
-
-    def model(self, resp, col: str, theta0: float, tau: float, idx: slice) -> np.ndarray:
-        """Model channel `col` at the trace samples `idx` (trace t ↔ model t − τ)."""
-        df = resp.series
-        tm = self.t[idx] - tau
-        out = np.interp(tm, df["t"].to_numpy(), df[col].to_numpy())
-        held = theta0 if (col == "theta" and self.ag is None) else 0.0
-        return np.where(tm < 0.0, held, out)
-
-    def residuals(self, resp, align: dict, idx: slice, weighted: bool = True) -> dict:
-        """Channel → trace minus model over `idx` (divided by σ if `weighted`)."""
-        out = {}
-        for name, col in self.channels:
-            e = (
-                self.model(resp, col, align["theta0"], align["t_offset"], idx)
-                - self.data[name][idx]
-            )
-            if col == "theta":
-                e = e + align["theta_bias"]
-            out[name] = e / self.sigma[name] if weighted else e
-        return out
-
-    def misfit(self, resp, align: dict, idx: slice) -> np.ndarray:
-        return np.concatenate(list(self.residuals(resp, align, idx).values()))
-
-
-def _samples(t: np.ndarray, t0: float, t1: float) -> slice:
-    a, b = np.searchsorted(t, [t0, t1])
-    return slice(int(a), int(b))
-
-
-def _align(fit: _Fitter, seg: Segments, warnings: list) -> dict:
-    """(θ0, τ) from the half-cycle before the first impact (no restitution in it), first
-    on θ, then on every channel weighted by its misfit. The θ bias b is the trace's θ
-    at rest (`Segments.bias`): on one half-cycle b and θ0 trade off."""
-    b = seg.bias
-    if fit.ag is not None:
-        return {"t_offset": 0.0, "theta_bias": b, "theta0": 0.0}
-    if not seg.full_contact:
-        warnings.append(
-            "the trace never rests on its base, so the θ sensor's bias is unknown and taken as 0"
-        )
-    first = seg.half_cycles[0]
-    idx = _samples(fit.t, fit.t[0], first.t_stop)
-
-    def resid(x):
-        align = {"theta0": x[0], "t_offset": x[1], "theta_bias": b}
-        resp = fit.run(x[0], {}, fit.t[idx][-1] - x[1] + 0.01)
-        return fit.misfit(resp, align, idx)
-
-    x = np.array([first.peak * first.sign, _release_time(fit, seg, first)])
-    span = 0.2 * abs(x[0])
-    for _ in range(2):  # θ alone, then every channel
-        sol = optimize.least_squares(
-            resid, x,
-            bounds=([x[0] - span, x[1] - 0.1], [x[0] + span, x[1] + 0.1]),
-            x_scale=[0.01, 0.01], diff_step=[1e-4, 1e-3],
-        )  # fmt: skip
-        x = sol.x
-        align = {"theta0": float(x[0]), "t_offset": float(x[1]), "theta_bias": b}
-        resp = fit.run(x[0], {}, fit.t[idx][-1] - x[1] + 0.01)
-        for name, e in fit.residuals(resp, align, idx, weighted=False).items():
-            fit.sigma[name] = max(float(np.sqrt(np.mean(e * e))), 1e-12)
-    if not sol.success:
-        warnings.append(f"the alignment on the first half-cycle did not converge ({sol.message})")
-    return align
-
-
-def _release_time(fit: _Fitter, seg: Segments, first) -> float:
-    """A first guess of the release time: where θ leaves its held value by a band."""
-    x = seg.smooth[first.start : first.stop] * first.sign
-    k = int(np.argmax(x < x.max() - seg.band))
-    # rocking from rest: θ0 − θ ≈ (α − θ0)(cosh p t − 1) ≈ ½ (α − θ0) p² t²
-    st = fit.st
-    drop = max(seg.band, 1e-9)
-    t_drop = math.sqrt(2.0 * drop / max((st.alpha_cg - first.peak) * st.p**2, 1e-9))
-    return float(max(fit.t[first.start + k] - t_drop, fit.t[0]))
-
-
-def _fit_impact(fit, align, values, k_model, window):
-    """(r, rms, std): the r of simulated impact `k_model` that best matches the trace in
-    `window` (a scan of `_R_GRID`, then a bounded Brent search around its best), the
-    RMS misfit in units of θ's noise, and r's standard error from the misfit's
-    curvature."""
-    idx = window
-    t_end = fit.t[idx][-1] - align["t_offset"] + 0.02
-
-    def sse(r):
-        resp = fit.run(align["theta0"], values | {k_model: float(r)}, t_end)
-        e = fit.misfit(resp, align, idx)
-        return float(e @ e)
-
-    grid = _R_GRID
-    costs = np.array([sse(r) for r in grid])
-    j = int(np.argmin(costs))
-    lo, hi = grid[max(j - 1, 0)], grid[min(j + 1, grid.size - 1)]
-    res = optimize.minimize_scalar(
-        sse, bounds=(lo, hi), method="bounded", options={"xatol": _R_TOL}
-    )
-    best = min(res.fun, costs[j])
-    r = float(res.x) if res.fun <= costs[j] else float(grid[j])
-    n = max(idx.stop - idx.start, 1) * len(fit.channels)
-    # residuals in units of their σ: var(r) = 2 / (d²SSE/dr²) at the optimum
-    h = 0.01
-    curv = (sse(min(r + h, 1.0)) - 2.0 * best + sse(max(r - h, 0.0))) / h**2
-    std = math.sqrt(2.0 / curv) if curv > 0.0 else math.inf
-    return r, math.sqrt(best / n), std
-
-
-def _model_impacts(resp, tau: float) -> np.ndarray:
-    """Trace times of the simulated impacts (events of kind "impact")."""
-    return np.array([e.time + tau for e in resp.events if e.kind == "impact"])
-
-
 def restitution(
     trace: Trace,
     structure=None,
@@ -419,7 +303,8 @@ def restitution(
     ----------
     trace : Trace
         A free-vibration test (θ held at a release angle, then released) or a test
-        with table motion (an ``ag`` channel: the excitation), with a θ channel.
+        with table motion (an ``ag`` channel: the excitation), with a θ channel and,
+        best, the accelerometers' channels (``a_<sensor>``, ``a<node>``).
     structure : Structure, specimen or str, optional
         The column tested; default the trace's ``# specimen:`` line.
     impact : str, optional
@@ -428,9 +313,9 @@ def restitution(
         "DD1" … "DD4" (their restitution is replaced by the fitted one).
     theta_min : float, optional
         Impacts between half-cycles both at least this large (rad) are estimated
-        (paper 001, Section 4.3: 0.01).
+        (paper 001, Section 4.3: 0.01), if the trace fixes their r (r_std ≤ 0.02).
     progress : bool, optional
-        Show a progress bar over the impacts (default: when there are more than 3).
+        Show a progress bar over the impacts (default: when more than 3 are fitted).
     **options
         Options of `multimass.simulate` for the model runs (``C_p``, ``rtol``, …);
         the compiled backend is used by default.
@@ -445,7 +330,7 @@ def restitution(
         No θ channel, no specimen, no rocking, no impact between half-cycles above
         `theta_min`, a sampling rate too low to segment θ, an ``ag`` column in an
         implausible unit (the message says what was found and the fix). Acceleration
-        columns are not needed: the fit is on θ.
+        columns are not needed: the fit uses those the trace has (θ alone is looser).
     """
     st = _structure(require_trace(trace), structure)
     if trace.ag is not None:  # the table motion drives the model: its unit must be plausible
@@ -482,98 +367,95 @@ def restitution(
             "before the release), a forced test needs its table motion as `ag`"
         )
     warnings: list[str] = []
-    fit = _Fitter(st, trace, seg, impact, options)
-    align = _align(fit, seg, warnings)
-    tau = align["t_offset"]
+    if not seg.full_contact:
+        warnings.append(
+            "the trace never rests on its base: the θ sensor's bias is fitted on the rocking "
+            "alone (its start, the median θ near zero, may be off)"
+        )
     half = seg.half_cycles
     estimated = [
         not (half[m.before].small or half[m.after].small) for m in seg.impacts
     ]  # fmt: skip
     last = max((i for i, e in enumerate(estimated) if e), default=-1)
+    # and the two after: the next impact's time is what sets an r best
+    n_fit = min(last + 3, len(seg.impacts)) if last >= 0 else 0
     r_energy = energy_restitution(
         st, [half[m.before].peak for m in seg.impacts], [half[m.after].peak for m in seg.impacts]
     )
-    values: dict[int, float] = {}
+    cols = channel_columns(trace, st)  # checks the trace's sensors against the specimen
+    accel = tuple(c for c in trace.names if cols[c].startswith("a") and cols[c] != "ag")
+    track = fitting.track_of(trace, st, impact, accel, theta_min, options)
+    fitting.align(track, seg.impacts[0].t)
+    shown = progress if progress is not None else n_fit > 3
+    with Progress(n_fit + 1, f"restitution {st.name}", show=shown, unit="impacts") as bar:
+        fitted = fitting.fit_impacts(track, n_fit, bar, warnings)
+        bar.update(n_fit + 1)
+    loose = [i for i, f in fitted.items() if estimated[i] and not f.r_std <= LIMITS["r_std"]]
+    if loose:
+        warnings.append(
+            "impact(s) at t = " + ", ".join(f"{seg.impacts[i].t:.4g}" for i in loose) + " s: "
+            f"the trace does not fix r to {LIMITS['r_std']:g} (r_std above it); not "
+            "estimated (the fragment gives them the corner means)"
+        )
     rows = []
-    shown = progress if progress is not None else last >= 3
-    with Progress(last + 1, f"restitution {st.name}", show=shown, unit="impacts") as bar:
-        resp = fit.run(align["theta0"], values, seg.impacts[0].t - tau + 0.05)
-        for i, m in enumerate(seg.impacts):
-            after = half[m.after]
-            row = {
+    for i, m in enumerate(seg.impacts):
+        f = fitted.get(i)
+        rows.append(
+            {
                 "t": m.t,
                 "corner": m.corner,
-                "r": float(r_energy[i]),
+                "r": f.r if f else float(r_energy[i]),
                 "r_energy": float(r_energy[i]),
                 "theta_before": half[m.before].peak,
-                "theta_after": after.peak,
-                "estimated": estimated[i],
-                "model_impact": -1,
-                "rms": math.nan,
-                "r_std": math.nan,
+                "theta_after": half[m.after].peak,
+                "estimated": estimated[i] and f is not None and i not in loose,
+                "model_impact": f.model_impact if f else -1,
+                "rms": f.rms if f else math.nan,
+                "r_std": f.r_std if f else math.nan,
             }
-            if i <= last:
-                k_model = _match(resp, tau, m.t, half[m.before], values)
-                if k_model is None:
-                    warnings.append(
-                        f"impact at t = {m.t:.4g} s: the simulation has no impact near it; "
-                        "its r is the energy estimate"
-                    )
-                    row["estimated"] = False
-                else:
-                    t1 = after.t_stop
-                    window = _samples(fit.t, m.t, t1)
-                    r, rms, std = _fit_impact(fit, align, values, k_model, window)
-                    values[k_model] = r
-                    row.update(r=r, model_impact=k_model, rms=rms, r_std=std)
-                    resp = fit.run(align["theta0"], values, t1 - tau + 0.05)
-                bar.update(i + 1)
-            rows.append(row)
-    final = fit.run(align["theta0"], values, float(fit.t[-1]) - tau)
+        )
     table = pd.DataFrame(rows)
     means = _means(table, "r", st)
     energy = _means(table, "r_energy", st)
+    # the response of the specimen fragment: the estimated impacts' r, then the corner means
+    est = table[table["estimated"]]
+    phys = track.phys | {"r_er": means[0], "r_el": means[1]}
+    values = dict(zip(est["model_impact"].astype(int), est["r"]))
+    final = track.run(values, float(track.t[-1]) - track.nuis["t_offset"], phys=phys)
+    align = {k: float(track.nuis[k]) for k in ("t_offset", "theta_bias", "theta0")}
     return RestitutionEstimate(
         table, *means, energy_means=dict(zip(("r_mean_right", "r_mean_left", "sigma_r"), energy)),
         alignment=align, structure=st, impact=impact, theta_min=seg.theta_min, segments=seg,
-        response=final, warnings=tuple(warnings),
+        response=final.response, warnings=tuple(warnings),
     )  # fmt: skip
-
-
-def _match(resp, tau: float, t_trace: float, before, values: dict):
-    """The index of the simulated impact nearest trace time `t_trace`, or None if none is
-    within half the duration of the half-cycle before it."""
-    times = _model_impacts(resp, tau)
-    if times.size == 0:
-        return None
-    k = int(np.argmin(np.abs(times - t_trace)))
-    tol = 0.5 * max(before.t_stop - before.t_start, 0.02)
-    return k if abs(times[k] - t_trace) <= tol else None
 
 
 def _means(table: pd.DataFrame, column: str, st) -> tuple[float, float, float]:
     """(right mean, left mean, pooled σ) of `column` over the estimated impacts.
 
-    The means weigh each impact by 1 / r_std² where the model-based standard errors
-    are known (small half-cycles are noisier), else equally; σ is the pooled sample
-    standard deviation about the corner means.
+    The coefficients vary from impact to impact (the spread σ, paper 001 Table 1's σ_r)
+    and each is known to its r_std: the means weigh each impact by 1 / (σ² + r_std²),
+    σ first from equal weights — nearly equal weights where r_std ≪ σ, a poorly
+    determined impact counting less. σ is the pooled sample standard deviation about
+    the corner means.
     """
     est = table[table["estimated"]]
     spec = st.specimen
-    out, dev, n_groups = [], [], 0
+    groups = []
     for corner, default in (("right", spec.r_right), ("left", spec.r_left)):
         rows = est[est["corner"] == corner]
-        x = rows[column].to_numpy(dtype=float)
-        if x.size:
-            std = rows["r_std"].to_numpy(dtype=float) if column == "r" else np.ones(x.size)
-            w = np.where(np.isfinite(std) & (std > 0.0), 1.0 / np.maximum(std, 1e-6) ** 2, 0.0)
-            mean = float(np.average(x, weights=w)) if w.sum() > 0.0 else float(x.mean())
-            out.append(mean)
-            dev.append(x - mean)
-            n_groups += 1
-        else:
-            out.append(float(default))
-    d = np.concatenate(dev) if dev else np.zeros(0)
-    dof = d.size - n_groups
-    sigma = float(math.sqrt(d @ d / dof)) if dof > 0 else float(spec.sigma_r)
-    return out[0], out[1], sigma
+        std = rows["r_std"].to_numpy(dtype=float) if column == "r" else np.zeros(len(rows))
+        groups.append((rows[column].to_numpy(dtype=float), std, float(default)))
+
+    def pooled(means) -> float:
+        d = np.concatenate([x - m for (x, _, _), m in zip(groups, means)])
+        dof = d.size - sum(1 for x, _, _ in groups if x.size)
+        return float(math.sqrt(d @ d / dof)) if dof > 0 else float(spec.sigma_r)
+
+    means = [float(x.mean()) if x.size else default for x, _, default in groups]
+    sigma = pooled(means)
+    for j, (x, std, _) in enumerate(groups):
+        w = np.where(np.isfinite(std), 1.0 / (sigma**2 + std**2 + 1e-12), 0.0)
+        if x.size and w.sum() > 0.0:
+            means[j] = float(np.average(x, weights=w))
+    return means[0], means[1], pooled(means)

@@ -30,6 +30,43 @@ def _truth_of(syn, t):
     return min(syn.truth["impacts"], key=lambda e: abs(e["t"] - t))
 
 
+def _truth_table(syn) -> list[tuple]:
+    """(t, corner, r, smaller half-cycle peak) of each impact of the truth: r = 1 where
+    the Dirac-delta force never switched on (no energy lost); the half-cycles' peaks
+    are the largest |θ| of the simulation between impacts (the truth's theta_before /
+    theta_after are the nearest local peaks, a ripple of 1e-4 rad after some impacts)."""
+    t, th = syn.response.t, np.abs(syn.response.theta)
+    at = [0.0] + [e["t_model"] for e in syn.truth["impacts"]] + [t[-1]]
+    top = [th[(t >= a) & (t <= b)].max() for a, b in zip(at[:-1], at[1:])]
+    return [
+        (e["t"], e["corner"], 1.0 if e["r"] is None else e["r"], min(top[j], top[j + 1]))
+        for j, e in enumerate(syn.truth["impacts"])
+    ]
+
+
+def _errors(syn, est, limit: float) -> list[float]:
+    """r − truth for every impact of the truth with both half-cycles ≥ `limit` (rad)."""
+    rows = est.impacts
+    out = []
+    for t, corner, r, small in _truth_table(syn):
+        if small >= limit:
+            row = rows.iloc[int(np.argmin(np.abs(rows["t"].to_numpy() - t)))]
+            assert row["corner"] == corner
+            out.append(row["r"] - r)
+    return out
+
+
+def _covered(syn, est) -> float:
+    """The share of the estimated impacts whose r is within 2.5 r_std of the truth."""
+    truth = _truth_table(syn)
+    rows = est.impacts[est.impacts["estimated"]]
+    ok = [
+        abs(row["r"] - min(truth, key=lambda e: abs(e[0] - row["t"]))[2]) <= 2.5 * row["r_std"]
+        for _, row in rows.iterrows()
+    ]
+    return float(np.mean(ok))
+
+
 def test_segments_find_the_impacts_and_corners_of_the_truth(s1_dd2):
     syn, est = s1_dd2
     seg = est.segments
@@ -80,20 +117,53 @@ def test_energy_estimate_is_the_square_root_of_the_potential_ratio():
     )
 
 
-def test_model_based_r_recovers_the_truth_where_the_half_cycles_are_large(s1_dd2):
+def test_model_based_r_recovers_the_truth_down_to_0_01_rad(s1_dd2):
     syn, est = s1_dd2
-    rows = est.impacts[est.impacts["estimated"]]
-    errors, e_errors = [], []
-    for _, row in rows.iterrows():
-        tr = _truth_of(syn, row["t"])
-        assert tr["corner"] == row["corner"]
-        if min(tr["theta_before"], tr["theta_after"]) >= 0.025:  # measured: 2 % noise
-            errors.append(row["r"] - tr["r"])
-            e_errors.append(row["r_energy"] - tr["r"])
-    assert len(errors) >= 6
-    assert np.max(np.abs(errors)) <= 0.01
+    errors = _errors(syn, est, 0.01)
+    # measured (benchmarks/identify_restitution.py, seed 1): 9 impacts, max error 0.0013
+    assert len(errors) >= 8 and np.max(np.abs(errors)) <= 0.01
     # the paper's energy estimate is biased low (damping, energy sent into vibration)
-    assert np.mean(e_errors) < -0.003 and np.mean(np.abs(errors)) < np.mean(np.abs(e_errors))
+    big = est.impacts[est.impacts["theta_after"] >= 0.025]
+    truth = np.array([_truth_of(syn, t)["r"] for t in big["t"]])
+    e_errors = big["r_energy"].to_numpy() - truth
+    assert np.mean(e_errors) < -0.003
+    assert np.mean(np.abs(big["r"].to_numpy() - truth)) < np.mean(np.abs(e_errors))
+
+
+def test_r_std_covers_the_error(s1_dd2):
+    syn, est = s1_dd2
+    std = est.impacts.loc[est.impacts["estimated"], "r_std"].to_numpy()
+    # measured: r_std 5e-4 (its floor) … 1e-3, 9 of 9 impacts within 2.5 r_std
+    assert np.all(np.isfinite(std)) and np.all(std >= 5e-4)
+    assert _covered(syn, est) >= 0.8
+
+
+def test_s2_near_r_1_within_0_01_down_to_0_01_rad():
+    # S2: r̄_er = 0.98, where the Dirac-delta force (1 − r²) swings with r; 8 s of the
+    # 10 s test (synthetic truth, multimass.identify.synthetic_trace)
+    syn = synthetic_trace("S2", FreeRelease(theta0=0.11), "DD2", 8.0, seed=1)
+    est = restitution(syn.trace, "S2", "DD", progress=False)
+    errors = _errors(syn, est, 0.01)
+    # measured: 15 impacts, max error 0.0010, 14 of 14 estimated within 2.5 r_std
+    assert len(errors) >= 12 and np.max(np.abs(errors)) <= 0.01
+    assert _covered(syn, est) >= 0.8
+
+
+def test_theta_alone_is_looser_and_its_r_std_says_so(s1_dd2):
+    # the same test without its accelerometers, 5 s of it
+    syn = synthetic_trace("S1", FreeRelease(theta0=0.11), "DD2", 5.0, seed=1)
+    tr = syn.trace
+    trace = Trace(
+        tr.time, {"theta": tr.channels["theta"]}, {"theta": tr.units["theta"]},
+        source="theta.csv", specimen="S1",
+    )  # fmt: skip
+    est = restitution(trace, "S1", "DD", progress=False)
+    # measured: errors ≤ 0.0030 where both half-cycles ≥ 0.025 rad (0.026 at 0.012 rad),
+    # r_std 0.0021–0.017 (with the accelerometers 5e-4 … 6e-4), 9 of 9 within 2.5 r_std
+    assert np.max(np.abs(_errors(syn, est, 0.025))) <= 0.01
+    assert _covered(syn, est) >= 0.8
+    with_acc = s1_dd2[1].impacts["r_std"].to_numpy()[:3]
+    assert np.all(est.impacts["r_std"].to_numpy()[:3] > 2.0 * with_acc)
 
 
 def test_corner_means_match_the_truth_of_the_impacts_they_average(s1_dd2):
