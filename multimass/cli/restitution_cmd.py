@@ -91,8 +91,8 @@ def run(args) -> int:
     print(
         df[
             ["t", "corner", "r", "r_std", "r_energy", "theta_before", "theta_after", "estimated"]
-        ].to_string(index=False, float_format=lambda x: f"{x:.4f}")
-    )
+        ].to_string(index=False, float_format=lambda x: f"{x:.4f}", na_rep="—")
+    )  # r_std "—": an impact not fitted (its r is the energy estimate)
     e = est.energy_means
     print(
         f"r̄_er = {est.r_mean_right:.4f}, r̄_el = {est.r_mean_left:.4f}, σ_r = {est.sigma_r:.4f} "

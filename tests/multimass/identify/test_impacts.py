@@ -210,6 +210,10 @@ def test_cli_json_has_the_named_keys(s1_dd2, tmp_path, capsys):
     assert (tmp_path / "o" / "S1_restitution.png").stat().st_size > 10_000
     assert load(tmp_path / "o" / "S1_r_DD.toml").name == "S1_r_DD"
     assert "NaN" not in json.dumps(info)
+    # the text table too: an impact not fitted shows r_std as "—", never NaN
+    assert main(["restitution", str(trace_file)]) == 0
+    text = capsys.readouterr().out
+    assert "r_std" in text and "NaN" not in text and "nan" not in text
 
 
 def test_cli_unknown_model_is_one_line(tmp_path, s1_dd2, capsys):
