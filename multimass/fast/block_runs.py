@@ -17,12 +17,10 @@ by cell.
 
 from __future__ import annotations
 
-import hashlib
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
-import numba
 import numpy as np
 
 from .. import kinematics as kin
@@ -44,6 +42,7 @@ from ..simulation_options import SimulationOptions
 from . import _block_kernel as bk
 from . import _maths as mx
 from ._rk import METHOD_CODES
+from .compile import _drop_stale_cache, _fingerprint
 from .path import ROCKING_EVENTS, event_params
 
 __all__ = [
@@ -257,17 +256,13 @@ _OWN = ("_block_uplift", "_block_kernel")  # the cache files this module drops w
 _STAMP = "multimass_fast_blocks.sources"
 
 
-def _fingerprint() -> str:
-    """Numba's version and every source the batch compiles (numba keys a cache on one file)."""
+def _sources() -> list[Path]:
+    """Every source the batch compiles (numba keys a cache on one file only)."""
     from multimass import equations
     from multimass.impact_models import gaussian_force, models
 
-    h = hashlib.sha256(numba.__version__.encode())
-    for mod in _MODULES:
-        h.update((Path(__file__).parent / f"{mod}.py").read_bytes())
-    for mod in (equations, gaussian_force, models):
-        h.update(Path(mod.__file__).read_bytes())
-    return h.hexdigest()
+    own = [Path(__file__).parent / f"{mod}.py" for mod in _MODULES]
+    return own + [Path(mod.__file__) for mod in (equations, gaussian_force, models)]
 
 
 def ensure_ready(progress: bool | None = None):
@@ -305,18 +300,8 @@ def warm_up_blocks() -> float:
     if _READY is not None:
         return 0.0
     start = time.perf_counter()
-    cache_dir, stamp = Path(bk.run_cells.stats.cache_path), _fingerprint()
-    try:
-        fresh = (cache_dir / _STAMP).read_text() == stamp
-    except OSError:
-        fresh = False
-    if not fresh:
-        for mod in _OWN:
-            for f in cache_dir.glob(f"{mod}.*.nb[ic]"):
-                try:
-                    f.unlink()
-                except OSError:  # another process got there first, or read-only
-                    pass
+    cache_dir, stamp = Path(bk.run_cells.stats.cache_path), _fingerprint(_sources())
+    _drop_stale_cache(cache_dir, _STAMP, stamp, _OWN)
     z = np.zeros(1)  # one empty run (no time to run) with the argument types of every call
     names, codes, dirs, term, quiet, guarded = ROCKING_EVENTS
     events = (codes, dirs, term, quiet, guarded.astype(np.int64))
