@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 
 from ..errors import InputError
 from . import _types as types
 from ._output import output_folder
 from ._sweep_args import add_executor_args, executor_kwargs
+
+STORE_MIN_CELLS = 250_000  # multimass.sweeps.map_store.STORE_MIN_CELLS (not imported at startup)
 
 __all__ = ["register"]
 
@@ -75,6 +78,25 @@ def register(sub) -> None:
     p.add_argument(
         "--out", type=Path, default=None, help="folder for the table (CSV), JSON and figure"
     )
+    p.add_argument(
+        "--store",
+        action="store_true",
+        help="stream the cells to --out/cells/ in Parquet chunks, with --out/manifest.json "
+        "(--compare: the other map in --out/ALT/; automatic above "
+        f"{STORE_MIN_CELLS:,} cells); re-running the same command resumes an interrupted map",
+    )
+    p.add_argument(
+        "--adaptive",
+        action="store_true",
+        help="compute only the cells near outcome boundaries, from a coarse lattice refined "
+        "where neighbours disagree (islands of at least --coarse × --coarse cells are found)",
+    )
+    p.add_argument(
+        "--coarse",
+        type=types.whole,
+        default=8,
+        help="coarse spacing of --adaptive, a power of 2 (default 8)",
+    )
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(func=run)
 
@@ -97,6 +119,14 @@ def run(args) -> int:
     sim = dict(integrator=args.integrator, dt=args.dt) if args.integrator == "newmark" else {}
     if args.backend is not None and args.integrator != "newmark":
         sim["backend"] = args.backend
+    store = args.store or (not args.adaptive and omega_p.size * amp.size > STORE_MIN_CELLS)
+    if store and out is None:
+        raise InputError(
+            f"a map of {omega_p.size * amp.size:,} cells streams to disk: give `--out DIR` "
+            "(or --adaptive, or fewer cells)"
+        )
+    if store and args.adaptive:
+        raise InputError("`--store` and `--adaptive` do not combine: adaptive maps stay in memory")
     kw = dict(
         pulse=args.pulse,
         omega_p=omega_p,
@@ -107,16 +137,32 @@ def run(args) -> int:
         **executor_kwargs(args),
         **sim,
     )
-    m = overturning_map(st, restitution=args.restitution, **kw)
+    if args.adaptive:
+        kw.update(adaptive=True, coarse=args.coarse)
+    name = f"{st.name}_{args.pulse}_{args.restitution}"
+    at = lambda alt: {"store": out if alt is None else out / alt} if store else {}
+    try:
+        m = overturning_map(st, restitution=args.restitution, **kw, **at(None))
+    except KeyboardInterrupt:
+        if not store:
+            raise
+        done = len(list((out / "cells").glob("chunk-*.parquet")))
+        print(
+            f"\ninterrupted: {done} finished chunks are in {out}/cells/; run the same "
+            "command again to resume (finished chunks are not recomputed)",
+            file=sys.stderr,
+        )
+        return 130
     info = m.summary()
     other = None
     if args.compare:
         alt = "housner" if args.restitution != "housner" else "modified"
-        other = overturning_map(st, restitution=alt, **kw)
+        other = overturning_map(st, restitution=alt, **kw, **at(alt))
         info["comparison"] = {alt: other.summary()}
     if out is not None:
-        stem = out / f"{st.name}_{args.pulse}_{args.restitution}"
-        m.cells.to_csv(f"{stem}_cells.csv", index=False)
+        stem = out / name
+        if not store:
+            m.cells.to_csv(f"{stem}_cells.csv", index=False)
         Path(f"{stem}_map.json").write_text(json.dumps(info, indent=2))
         plot_map(m, f"{stem}_map.png")
         if other is not None:
@@ -133,6 +179,18 @@ def run(args) -> int:
                 f"; {info['inaccurate']} cells failed their accuracy check (outcome kept; "
                 "tighten --dt or the tolerances)"
                 if info["inaccurate"]
+                else ""
+            )
+            + (
+                f"; {info['options']['adaptive']['computed']} of "
+                f"{info['options']['adaptive']['cells']} grid cells computed"
+                if args.adaptive
+                else ""
+            )
+            + (
+                f"; chunks computed {info['store']['chunks_computed']}, "
+                f"found on disk {info['store']['chunks_skipped']}; cells in {m.folder}/cells/"
+                if store
                 else ""
             )
             + (f"; files in {out}/" if out else "")

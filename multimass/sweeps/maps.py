@@ -27,6 +27,7 @@ from ..simulation import estimate
 from ..structure import Structure, from_specimen
 from .base import Executor
 from .executors import get_executor
+from .map_adaptive import ADAPTIVE_COARSE, adaptive_cells, check_coarse
 from .map_cells import (
     OUTCOMES,
     PULSES,
@@ -37,6 +38,7 @@ from .map_cells import (
     map_cell,
     simulate_cells,
 )
+from .map_store import STORE_CHUNK_CELLS, StoredMap, run_stored
 from .ranges import check_values
 
 __all__ = [
@@ -149,6 +151,15 @@ class OverturningMap:
         """Share of base-grid cells the map could not decide."""
         return float(np.mean(self.undecided()))
 
+    def n_simulations(self) -> int:
+        """Cells simulated: the grid and the refinement (adaptive maps: the computed cells)."""
+        c = self.cells
+        return int(c["computed"].sum()) if "computed" in c else len(c)
+
+    def inaccurate_grid_cells(self) -> pd.DataFrame:
+        """Grid cells whose run failed its accuracy check (``omega_p``, ``amp``)."""
+        return self.cells.loc[self.cells.grid & ~self.cells.accurate, ["omega_p", "amp"]]
+
     def summary(self) -> dict:
         """JSON-ready summary (keys of the `multimass stability --json` object)."""
         counts = self.cells[self.cells.grid].outcome.value_counts().to_dict()
@@ -165,7 +176,7 @@ class OverturningMap:
             "undecided_fraction": self.undecided_fraction(),
             "outcomes": {k: int(counts.get(k, 0)) for k in OUTCOMES},
             "inaccurate": int((~self.cells.accurate).sum()),
-            "n_simulations": int(len(self.cells)),
+            "n_simulations": self.n_simulations(),
             "wall_time_s": float(self.wall_time_s),
             "options": {k: v for k, v in self.options.items() if k not in ("restitution_name",)},
         }
@@ -202,8 +213,11 @@ def overturning_map(
     executor="process",
     workers: int | None = None,
     progress=None,
+    store=None,
+    adaptive: bool = False,
+    coarse: int = ADAPTIVE_COARSE,
     **sim_options,
-) -> OverturningMap:
+) -> OverturningMap | StoredMap:
     """Overturning map over (ω/p, a0/(α g)) for a single sine or cosine pulse (paper 004).
 
     Parameters
@@ -227,6 +241,18 @@ def overturning_map(
         cannot overturn any more (`simulate(..., stop_when_safe=True)`).
     executor, workers, progress :
         Passed to `run_jobs` ("serial", "process" (default), "dask" or an Executor).
+    store : path, optional
+        Stream the map to this folder in Parquet chunks and return a `StoredMap`
+        (`multimass.sweeps.map_store`): bounded memory for million-cell grids, and a
+        re-run with the same arguments resumes an interrupted map (finished chunks are
+        skipped); a folder holding another map is refused (`MapStoreMismatch`).
+    adaptive : bool
+        Compute only the cells near outcome boundaries, from a coarse lattice of
+        spacing `coarse` (a power of 2) refined where neighbouring cells disagree; the
+        other cells take the outcome of their block (`multimass.sweeps.map_adaptive`
+        gives the rule and what it can miss: islands smaller than coarse × coarse
+        cells far from any other boundary). ``cells.computed`` marks the simulated
+        cells; the numeric columns of the others are missing. Not with `store`.
     **sim_options :
         Passed to `simulate` (e.g. ``integrator="newmark"``, ``dt``, ``rtol``);
         ``backend="compiled"`` (the fast path) unless given. On the compiled path,
@@ -236,9 +262,12 @@ def overturning_map(
 
     Returns
     -------
-    OverturningMap
+    OverturningMap, or StoredMap with `store`
     """
     st = _block(block)
+    if store is not None and adaptive:
+        raise InputError("`adaptive` maps are held in memory: give `store` or `adaptive`, not both")
+    coarse = check_coarse(coarse)
     if pulse not in PULSES:
         raise InputError(f"`pulse` = {pulse!r}: use 'sine', 'cosine' or 'ricker'")
     omega_p = check_values("omega_p", omega_p, positive=True)
@@ -267,41 +296,70 @@ def overturning_map(
     exc = PULSES[pulse](amplitude=slow.a0, omega=slow.omega)
     estimate(st, exc, t_end=exc.duration + UNDECIDED_RETRY * t_free, stop_when_safe=True, **options)
 
+    rest_value = getattr(model.restitution, "k", None)
+    map_options = {
+        "restitution_name": restitution if isinstance(restitution, str) else "value",
+        "restitution_value": model.restitution.describe(),
+        "k": rest_value,
+        "impact": impact,
+        "refine": int(refine),
+        "t_free": t_free,
+        **{k_: v for k_, v in sim_options.items()},
+    }
     wall = time.perf_counter()
-    pairs = [(w, a) for a in amp for w in omega_p]
     runs = batch_runs(st, options) if BATCHED else None
     compiled = options.get("backend") == "compiled"
     with executor_session(executor, workers, compiled, runs is not None) as ex:
-        simulate = lambda pairs, desc: simulate_cells(  # noqa: E731
-            pairs, cells_for, chunks_for, runs, ex, progress, desc
-        )
-        results = simulate(pairs, f"{st.name} {pulse} map")
-        rows = [_row(w, a, r, True) for (w, a), r in zip(pairs, results)]
-        boundaries = _refine(rows, omega_p, int(refine), simulate)
-    rows += boundaries.pop("extra")
+
+        def simulate(pairs, desc, show=progress):
+            return simulate_cells(pairs, cells_for, chunks_for, runs, ex, show, desc)
+
+        if store is not None:
+            return run_stored(
+                store,
+                st,
+                pulse,
+                omega_p,
+                amp,
+                map_options,
+                lambda pairs, desc: simulate(pairs, desc, False),
+                refine=int(refine),
+                bisect=_bisect,
+                progress=progress,
+                chunk_cells=STORE_CHUNK_CELLS,
+            )
+        if adaptive:
+            cells, boundaries = adaptive_cells(
+                omega_p, amp, coarse, int(refine), simulate, _bisect, _row
+            )
+            map_options["adaptive"] = {
+                "coarse": int(coarse),
+                "computed": int(cells.computed[cells.grid].sum()),
+                "cells": int(cells.grid.sum()),
+            }
+        else:
+            pairs = [(w, a) for a in amp for w in omega_p]
+            rows = [
+                _row(w, a, r, True)
+                for (w, a), r in zip(pairs, simulate(pairs, f"{st.name} {pulse} map"))
+            ]
+            boundaries = _refine(rows, omega_p, int(refine), simulate)
+            cells = pd.DataFrame(rows + boundaries.pop("extra"))
+            boundaries = boundaries["segments"]
     wall = time.perf_counter() - wall
-    rest_value = getattr(model.restitution, "k", None)
     return OverturningMap(
         block=st.name,
         pulse=pulse,
         omega_p=omega_p,
         amp=amp,
-        cells=pd.DataFrame(rows),
-        boundaries=pd.DataFrame(
-            boundaries["segments"],
-            columns=["omega_p", "amp_low", "amp_high", "low_outcome", "high_outcome"],
-        ),
-        options={
-            "restitution_name": restitution if isinstance(restitution, str) else "value",
-            "restitution_value": model.restitution.describe(),
-            "k": rest_value,
-            "impact": impact,
-            "refine": int(refine),
-            "t_free": t_free,
-            **{k_: v for k_, v in sim_options.items()},
-        },
+        cells=cells,
+        boundaries=pd.DataFrame(boundaries, columns=_SEGMENT_COLUMNS),
+        options=map_options,
         wall_time_s=wall,
     )
+
+
+_SEGMENT_COLUMNS = ["omega_p", "amp_low", "amp_high", "low_outcome", "high_outcome"]
 
 
 def _row(w, a, result, grid):
@@ -331,6 +389,13 @@ def _refine(rows, omega_p, rounds, simulate) -> dict:
                 continue
             if (lo["outcome"] == "overturned") != (hi["outcome"] == "overturned"):
                 segments.append([float(w), lo["amp"], hi["amp"], lo["outcome"], hi["outcome"]])
+    extra, done = _bisect(segments, rounds, simulate)
+    return {"segments": done, "extra": [_row(w, a, r, False) for w, a, r in extra]}
+
+
+def _bisect(segments, rounds, simulate) -> tuple[list, list]:
+    """`rounds` bisections of the boundary `segments` ([ω/p, amp_low, amp_high, low_outcome,
+    high_outcome]): the simulated (ω/p, amp, result) and the final segments, sorted."""
     extra, stopped = [], []
     for _ in range(rounds):
         if not segments:
@@ -339,16 +404,15 @@ def _refine(rows, omega_p, rounds, simulate) -> dict:
         results = simulate(mids, "refining boundary")
         active = []
         for s, (w, a), r in zip(segments, mids, results):
-            row = _row(w, a, r, False)
-            extra.append(row)
-            if row["outcome"] == "undecided":  # keep the bracket, refine it no further
+            extra.append((w, a, r))
+            if r[0] == "undecided":  # keep the bracket, refine it no further
                 stopped.append(s)
                 continue
             active.append(s)
-            if (row["outcome"] == "overturned") == (s[3] == "overturned"):
-                s[1], s[3] = a, row["outcome"]
+            if (r[0] == "overturned") == (s[3] == "overturned"):
+                s[1], s[3] = a, r[0]
             else:
-                s[2], s[4] = a, row["outcome"]
+                s[2], s[4] = a, r[0]
         segments = active
     done = sorted(segments + stopped, key=lambda s: (s[0], s[1]))
-    return {"segments": [tuple(s) for s in done], "extra": extra}
+    return extra, [tuple(s) for s in done]

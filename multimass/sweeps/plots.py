@@ -81,7 +81,7 @@ def plot_map(m, path, title: str = "") -> Path:
     ]
     if not m.boundaries.empty:
         handles.append(Line2D([], [], ls="", marker=".", color="tab:red", label=_BOUNDARY_LABEL))
-    bad = m.cells[m.cells.grid & ~m.cells.accurate]
+    bad = m.inaccurate_grid_cells()
     if not bad.empty:
         ax.plot(bad.omega_p, bad.amp, ls="", marker="x", ms=4, color="tab:purple")
         handles.append(
@@ -105,7 +105,7 @@ def plot_map(m, path, title: str = "") -> Path:
     ax.set_title(
         title
         or f"{m.block}: single {m.pulse} pulse, restitution {_restitution_label(m)}"
-        f"\n{len(m.cells)} simulations, {m.overturn_fraction():.1%} of the grid overturns"
+        f"\n{m.n_simulations()} simulations, {m.overturn_fraction():.1%} of the grid overturns"
         + (f", {m.undecided_fraction():.1%} undecided" if m.undecided().any() else "")
     )
     path = Path(path)
