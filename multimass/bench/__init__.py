@@ -7,7 +7,9 @@
 * `multimass.bench.failures` — where methods fail: detection, stiffness sweep, NSCD convergence;
 * `multimass.bench.targets` — the speed targets (single run, map, 2-worker scaling), compile cost;
 * `multimass.bench.charts`, `multimass.bench.summary` — figures and the table of figures;
-* `multimass.bench.run` — the orchestration (``python -m multimass.bench.run --out DIR``).
+* `multimass.bench.run` — the orchestration (``python -m multimass.bench.run --out DIR``);
+* `multimass.bench.scaling`, `multimass.bench.scaling_report` — how cost grows with cells,
+  workers and nodes, with fitted exponents (``multimass bench --scaling``; issue 15).
 
 Older single-purpose scripts: `fast_path`, `newmark_cost`, `nscd_cost`, `sweep_overhead`.
 """

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["Config", "FULL", "QUICK", "SMOKE", "preset"]
+__all__ = ["Config", "FULL", "QUICK", "SMOKE", "preset", "ScalingConfig", "scaling_preset"]
 
 #: explicit solve_ivp methods and LSODA: five decades of rtol (atol = rtol / 100)
 _RTOLS = (1e-3, 1e-4, 1e-6, 1e-8, 1e-10)
@@ -151,3 +151,87 @@ def preset(name: str) -> Config:
         from multimass.errors import InputError
 
         raise InputError(f"`config` = {name!r}: use one of {', '.join(_PRESETS)}") from None
+
+
+@dataclass(frozen=True)
+class ScalingConfig:
+    """Sizes of `multimass bench --scaling` (issue 15, item 6; `multimass.bench.scaling`).
+
+    Attributes
+    ----------
+    name : str
+        "full", "quick" or "smoke".
+    map_sides : tuple of int
+        The B6M sine maps of the cells series are side × side (10² … 10⁶ cells).
+    workers_side : int
+        The map of the workers series is workers_side × workers_side.
+    workers : tuple of int
+        Process-pool sizes of the workers series.
+    spin_tasks, spin_steps : int
+        The machine's own scaling beside it: `spin_tasks` pure-Python loops of
+        `spin_steps` steps on the same pools (`targets.machine_times`).
+    nodes : tuple of int
+        N of the uniform N-node columns of the nodes series.
+    nodes_impact : str
+        Impact model of the nodes series ("DD2" or "CIM").
+    nodes_t_end : float
+        Duration of each free-rocking run (s; 10 s in issue 15).
+    theta0 : float
+        Release angle of the nodes series (rad; S1's 0.11).
+    compiled_budget_s, scipy_budget_s : float
+        A run of the compiled (solve_ivp) path whose `multimass.estimate` exceeds this
+        is skipped and listed. The compiled estimate is cautious: S1-like N = 40,
+        estimated 284 s, runs in ~85 s here; solve_ivp at N = 16 is estimated 175 s.
+    repeats : int
+        Repeats of every point (median, min, max).
+    """
+
+    name: str
+    map_sides: tuple = (10, 32, 100, 316, 1000)
+    workers_side: int = 200
+    workers: tuple = (1, 2)
+    spin_tasks: int = 32
+    spin_steps: int = 1_000_000
+    nodes: tuple = (1, 2, 3, 5, 8, 12, 16, 20, 30, 40)
+    nodes_impact: str = "DD2"
+    nodes_t_end: float = 10.0
+    theta0: float = 0.11
+    compiled_budget_s: float = 300.0
+    scipy_budget_s: float = 120.0
+    repeats: int = 3
+
+
+SCALING_FULL = ScalingConfig("full")
+SCALING_QUICK = ScalingConfig(
+    "quick",
+    map_sides=(10, 32, 100, 316),
+    workers_side=100,
+    spin_tasks=16,
+    nodes=(1, 2, 5, 10, 20),
+    compiled_budget_s=10.0,
+    scipy_budget_s=30.0,
+    repeats=2,
+)
+SCALING_SMOKE = ScalingConfig(
+    "smoke",
+    map_sides=(10, 32),
+    workers_side=8,
+    spin_tasks=4,
+    spin_steps=1_000,
+    nodes=(1, 2),
+    nodes_t_end=0.3,
+    compiled_budget_s=5.0,
+    scipy_budget_s=5.0,
+    repeats=1,
+)
+_SCALING = {c.name: c for c in (SCALING_FULL, SCALING_QUICK, SCALING_SMOKE)}
+
+
+def scaling_preset(name: str) -> ScalingConfig:
+    """The scaling configuration called `name` ("full", "quick" or "smoke")."""
+    try:
+        return _SCALING[name]
+    except KeyError:
+        from multimass.errors import InputError
+
+        raise InputError(f"`config` = {name!r}: use one of {', '.join(_SCALING)}") from None

@@ -47,6 +47,7 @@ __all__ = [
     "map_axes",
     "spread",
     "spin",
+    "machine_times",
     "TARGETS",
     "TARGET_CASE",
 ]
@@ -200,16 +201,24 @@ def spin(n: int) -> int:
     return s
 
 
-def _machine_scaling(pools: dict, tasks: int = 32, steps: int = 1_000_000) -> float:
-    """1-worker over 2-worker wall time of `tasks` spin tasks (~3 s on 1 worker here)."""
+def machine_times(pools: dict, tasks: int = 32, steps: int = 1_000_000) -> dict:
+    """Wall time (s) of `tasks` spin tasks on each pool of `pools` (workers → executor).
+
+    The machine's own scaling: ~3 s on 1 worker here with the defaults.
+    """
     from multimass.sweeps import run_jobs
 
-    t = {
+    return {
         w: _timed(
             lambda ex=ex: run_jobs(spin, [steps] * tasks, executor=ex, batch_size=1, progress=False)
         )[0]
         for w, ex in pools.items()
     }
+
+
+def _machine_scaling(pools: dict, tasks: int = 32, steps: int = 1_000_000) -> float:
+    """1-worker over 2-worker wall time of `tasks` spin tasks (`machine_times`)."""
+    t = machine_times(pools, tasks, steps)
     return t[1] / t[2]
 
 

@@ -48,6 +48,13 @@ def register(sub) -> None:
     )
     p.add_argument("--out", type=Path, required=True, help="folder for the JSON, tables and charts")
     p.add_argument(
+        "--scaling",
+        action="store_true",
+        help="instead: how cost grows, log-log with fitted exponents — map cost against cells "
+        "(brute force, adaptive) and workers, column cost against nodes N (scaling.json, "
+        "scaling.md, scaling_*.png; full an estimated ~25 min, --quick ~2.5 min, --smoke ~10 s)",
+    )
+    p.add_argument(
         "--json",
         action="store_true",
         help="print the result as JSON (targets, then one row per model, method and level)",
@@ -61,7 +68,10 @@ def run(args) -> int:
 
     from ._output import output_folder
 
-    cfg = preset("smoke" if args.smoke else "quick" if args.quick else "full")
+    size = "smoke" if args.smoke else "quick" if args.quick else "full"
+    if getattr(args, "scaling", False):
+        return _run_scaling(size, output_folder(args.out), args.json)
+    cfg = preset(size)
     quiet = args.json
     res = run_bench(
         cfg,
@@ -88,4 +98,26 @@ def run(args) -> int:
         f"  {len(res['failures'])} failing runs: see {args.out / 'failures.md'}; charts: "
         + ", ".join(res["charts"])
     )
+    return 0
+
+
+def _run_scaling(size: str, out: Path, as_json: bool) -> int:
+    from multimass.bench.config import scaling_preset
+    from multimass.bench.scaling import run_scaling
+
+    say = None if as_json else (lambda m: print(m, file=sys.stderr, flush=True))
+    res = run_scaling(scaling_preset(size), out, progress=say)
+    if as_json:
+        print(json.dumps(res, indent=1))
+        return 0
+    print(f"bench --scaling ({size}) in {res['wall_time_s']:.0f} s -> {out}")
+    for part, label in (
+        ("cells", "map vs cells"),
+        ("workers", "map vs workers"),
+        ("nodes", "column vs N"),
+    ):
+        for key, fit in res[part]["fits"].items():
+            b = "—" if fit["exponent"] is None else f"{fit['exponent']:6.2f}"
+            print(f"  {label:<15} {key:<24} exponent {b}")
+    print(f"  tables: {out / 'scaling.md'}; charts: " + ", ".join(res["charts"]))
     return 0
