@@ -158,7 +158,12 @@ def test_readme_command_runs(command, tmp_path, monkeypatch, capsys):
     assert code == 0, f"{command}: exit {code}\n{err[-2000:]}"
     if argv[0] == "bench":  # the default run's bench check (the JSON one is marked slow)
         out = tmp_path / argv[argv.index("--out") + 1].strip("/")
-        for name in ("bench.json", "rows.csv", "failures.md", "summary.md", "wp_S1_DD2.png"):
+        names = (
+            ("scaling.json", "scaling.md", "scaling_cells.png", "scaling_nodes.png")
+            if "--scaling" in argv
+            else ("bench.json", "rows.csv", "failures.md", "summary.md", "wp_S1_DD2.png")
+        )
+        for name in names:
             assert (out / name).is_file(), name
 
 
