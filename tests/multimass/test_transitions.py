@@ -189,3 +189,27 @@ def test_a_narrow_activation_window_is_not_jumped_over(backend):
     assert len(impacts) >= 4
     assert all(e.restitution == pytest.approx(0.999) for e in impacts)
     assert all(a == "dd_activate" for a, b in zip(kinds, kinds[1:]) if b == "impact")
+
+
+def test_a_dirac_delta_impact_at_zero_changes_the_energy_only_by_the_pivot_switch():
+    # paper 001 Eq 12: the Dirac-delta models keep (u̇, θ̇) through θ = 0, so the energy
+    # booked at the impact event is the change of Eq 5's A_θθ = J_p + uᵀMu ∓ 2B 1ᵀMu with
+    # the pivot: ΔE = ½ θ̇² ΔA_θθ = 2 side_old B (1ᵀMu) θ̇², of either sign (the force's
+    # dissipation is booked while it acts, not here). Reference: this closed form with u
+    # read from the recorded series 1e-5 s before each impact (independent of the ledger).
+    import multimass
+
+    st = multimass.column("S2")
+    r = multimass.simulate(
+        st, multimass.FreeRelease(0.11), "DD2", 3.0, output_dt=1e-5, progress=False
+    )
+    t = r.series.t.to_numpy()
+    U = r.series[[f"u{i + 1}" for i in range(st.n)]].to_numpy()
+    impacts = [e for e in r.events if e.kind == "impact"]
+    assert len(impacts) >= 3
+    for e in impacts:
+        k = np.searchsorted(t, e.time) - 1  # the last sample before the impact
+        smu = float(st.m @ U[k])
+        expected = 2.0 * e.phase_before * st.B * smu * e.thetadot_minus**2
+        assert e.energy_change == pytest.approx(expected, rel=5e-3, abs=1e-5)
+    assert {np.sign(e.energy_change) for e in impacts} == {-1.0, 1.0}
