@@ -113,7 +113,7 @@ from ..trace_metrics import channel_columns
 from ..traces import Trace
 from . import _restitution_fit as fitting
 from ._calibration_stats import LIMITS
-from ._trace_checks import check_ag
+from ._trace_checks import check_ag, no_rocking
 from .segments import THETA_MIN, Segments, require_trace, segment_trace
 
 __all__ = ["RestitutionEstimate", "restitution", "energy_restitution", "IMPACT_DEFAULT"]
@@ -333,8 +333,9 @@ def restitution(
         columns are not needed: the fit uses those the trace has (θ alone is looser).
     """
     st = _structure(require_trace(trace), structure)
+    seg = segment_trace(trace, theta_min=theta_min)
     if trace.ag is not None:  # the table motion drives the model: its unit must be plausible
-        check_ag(trace, st, segment_trace(trace, theta_min=theta_min))
+        check_ag(trace, st, seg)
     if not isinstance(impact, str) or impact.strip().upper() not in (
         "DD", "CIM", "DD1", "DD2", "DD3", "DD4",
     ):  # fmt: skip
@@ -346,14 +347,9 @@ def restitution(
     for key in ("restitution", "output_dt", "k", "eps_p"):
         if key in options:
             raise InputError(f"`{key}` is set by restitution(); remove it")
-    seg = segment_trace(trace, theta_min=theta_min)
-    big = [h for h in seg.half_cycles if not h.small]
-    if not big:
-        top = max((h.peak for h in seg.half_cycles), default=0.0)
-        raise InputError(
-            f"{trace.source}: no rocking half-cycle reaches theta_min = {theta_min:g} rad "
-            f"(largest {top:.3g} rad, θ noise {seg.noise:.2g} rad); restitution needs a "
-            "test that rocks: give a trace with rocking, or lower theta_min"
+    if not any(not h.small for h in seg.half_cycles):
+        raise no_rocking(
+            trace, seg, theta_min, "restitution needs impacts between large half-cycles"
         )
     if not seg.impacts:
         raise InputError(
