@@ -13,8 +13,10 @@ send it to worker processes. The common contract (`Excitation`):
 Pulses take keyword arguments only, with the same names everywhere —
 ``SineWave(amplitude=0.4 * G, omega=15.0)``, ``CosinePulse(amplitude=..., omega=...)``,
 ``Ricker(amplitude=..., omega=...)`` — so an amplitude and a frequency can never be
-swapped silently (both are plain numbers in SI units: m/s² and rad/s).
-`pulse` builds one by its command-line name.
+swapped silently (both are plain numbers in SI units: m/s² and rad/s). The near-fault
+pulse `MPPulse` keeps the symbols of its paper (``amplitude`` in m/s, ``fp`` in Hz,
+``gamma``, ``nu``, ``t0``); `MPShape` builds it from a peak acceleration and ω_p like
+the others. `pulse` builds one by its command-line name.
 
 Amplitudes are magnitudes (≥ 0). A pulse of the opposite sign is not accepted: for the
 symmetric structures of this toolkit the response to −ü_g is the mirror image
@@ -27,10 +29,12 @@ from __future__ import annotations
 
 import math
 from abc import ABC, abstractmethod
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 
+from . import pulse_shapes as ps
 from .errors import InputError
 from .validation import number, positive
 
@@ -41,6 +45,8 @@ __all__ = [
     "CosineWave",
     "CosinePulse",
     "Ricker",
+    "MPPulse",
+    "MPShape",
     "PULSE_NAMES",
     "pulse",
 ]
@@ -487,28 +493,285 @@ class Ricker(_Pulse):
         }
 
 
+# ---------------------------------------------------------------------------- M&P pulse
+#: Largest plausible amplitude of a velocity pulse (m/s); recorded near-fault PGVs stay
+#: below ~3 m/s, so a larger value is almost surely cm/s or an acceleration.
+MP_MAX_AMPLITUDE = 20.0
+#: Highest plausible pulse frequency f_p (Hz): near-fault pulses last 0.5–10 s; a value
+#: above this is almost surely ω in rad/s.
+MP_MAX_FP = 50.0
+
+
+@dataclass(frozen=True, kw_only=True)
+class MPPulse(Excitation):
+    """The Mavroeidis–Papageorgiou (2003) near-fault velocity pulse, as an excitation.
+
+    Ground velocity (M&P 2003, BSSA 93(3) 1099–1131):
+    ``v(t) = A/2 [1 + cos(2π f_p (t − t0)/γ)] cos(2π f_p (t − t0) + ν)`` for
+    ``|t − t0| ≤ γ/(2 f_p)``, zero outside; the ground acceleration ü_g is its exact
+    derivative and the displacement its exact integral (closed forms in
+    `multimass.pulse_shapes`, the one source the solve_ivp and compiled paths
+    evaluate). ü_g is continuous at both ends of the window (breakpoints), the
+    velocity is zero there; the displacement keeps a residual offset after the pulse
+    unless the pulse is antisymmetric in velocity. Keyword arguments only, with the
+    paper's symbols: ``MPPulse(amplitude=0.6, fp=0.5, gamma=2.0, nu=0.0)``.
+
+    Parameters
+    ----------
+    amplitude : float
+        A, the velocity amplitude (m/s, ≥ 0); with ν = 0 the peak ground velocity.
+    fp : float
+        f_p, the prevailing (pulse) frequency (Hz, > 0); the pulse period is 1/f_p.
+    gamma : float, optional
+        γ > 1, the oscillatory character: the window lasts γ/f_p (default 2).
+    nu : float, optional
+        ν, the phase of the carrier (rad, within ±2π; default 0: a velocity pulse
+        symmetric about t0; ±π/2 makes it antisymmetric).
+    t0 : float, optional
+        Time of the envelope's peak (s). Default γ/(2 f_p): the pulse starts at t = 0.
+        A smaller t0 would start it before the simulation and is refused.
+    check_units : bool, optional
+        Refuse A > 20 m/s and f_p > 50 Hz as likely unit slips (cm/s, rad/s). Default
+        True; `MPShape` turns it off, since it derives A from a peak acceleration on
+        dimensionless grids that may reach such values.
+
+    Notes
+    -----
+    ``duration`` = t0 + γ/(2 f_p). `peak_acceleration` is the exact peak of |ü_g| (the
+    pulse's PGA), used by `MPShape` and the dimensionless fragility (a_p/(g tan α)).
+    """
+
+    amplitude: float
+    fp: float
+    gamma: float = 2.0
+    nu: float = 0.0
+    t0: float | None = None
+    check_units: bool = field(default=True, repr=False, compare=False)
+    kind = "mp_pulse"
+
+    def __new__(cls, *args, **kwargs):
+        if args:
+            raise InputError(
+                f"MPPulse{tuple(args)!r}: give the pulse by keyword, e.g. MPPulse(amplitude=0.6, "
+                "fp=0.5, gamma=2.0, nu=0.0) (amplitude in m/s, fp in Hz, nu in rad)"
+            )
+        return super().__new__(cls)
+
+    def __post_init__(self):
+        a = _finite("amplitude", self.amplitude, "a velocity amplitude in m/s")
+        if a < 0.0:
+            raise InputError(
+                f"`amplitude` = {self.amplitude!r}: must be >= 0 (m/s); reverse the pulse "
+                f"with the phase instead: nu + π"
+            )
+        if self.check_units and a > MP_MAX_AMPLITUDE:
+            raise InputError(
+                f"`amplitude` = {self.amplitude!r} m/s is above {MP_MAX_AMPLITUDE:g} m/s, far "
+                "beyond any recorded pulse: give the velocity amplitude A in m/s (a value in "
+                "cm/s divided by 100; an acceleration amplitude through MPShape)"
+            )
+        fp = _positive("fp", self.fp, "the pulse frequency in Hz")
+        if self.check_units and fp > MP_MAX_FP:
+            raise InputError(
+                f"`fp` = {self.fp!r} Hz: above {MP_MAX_FP:g} Hz; give f_p in Hz "
+                f"(ω_p / 2π = {fp / TWO_PI:.6g} Hz if this was ω_p in rad/s)"
+            )
+        gamma = _finite("gamma", self.gamma, "the oscillatory character γ")
+        if not gamma > 1.0:
+            raise InputError(
+                f"`gamma` = {self.gamma!r}: the M&P pulse needs γ > 1 (M&P 2003; recorded "
+                "pulses fit 1.5–3); give e.g. gamma=2.0"
+            )
+        nu = _finite("nu", self.nu, "a phase in rad")
+        if abs(nu) > TWO_PI:
+            raise InputError(
+                f"`nu` = {self.nu!r}: the phase ν is in rad, within ±2π; "
+                f"{nu:g}° is {math.radians(nu):.6g} rad"
+            )
+        half = gamma / (2.0 * fp)
+        t0 = half if self.t0 is None else _finite("t0", self.t0, "the envelope's peak time in s")
+        if t0 < half * (1.0 - 1e-12):
+            raise InputError(
+                f"`t0` = {self.t0!r} s: the pulse would start at t0 − γ/(2 f_p) = "
+                f"{t0 - half:.6g} s, before the run; give t0 >= {half:.6g} s (or leave it out)"
+            )
+        for name, value in (("amplitude", a), ("fp", fp), ("gamma", gamma), ("nu", nu)):
+            object.__setattr__(self, name, value)
+        object.__setattr__(self, "t0", float(t0))
+        _finite_duration("MPPulse", self.duration, "give t0 in s and fp in Hz")
+
+    # -- window ------------------------------------------------------------------------------
+    @property
+    def half_width(self) -> float:
+        """γ/(2 f_p): the half-length of the pulse's window (s)."""
+        return self.gamma / (2.0 * self.fp)
+
+    @property
+    def start(self) -> float:
+        """t0 − γ/(2 f_p): when the pulse starts (s)."""
+        return max(0.0, self.t0 - self.half_width)
+
+    @property
+    def duration(self) -> float:
+        return self.t0 + self.half_width
+
+    @property
+    def breakpoints(self) -> tuple[float, ...]:
+        return (self.start, self.duration)
+
+    def _args(self) -> tuple[float, float, float, float, float]:
+        return (self.amplitude, self.fp, self.gamma, self.nu, self.t0)
+
+    def _window(self, fn, t):
+        t = np.asarray(t, dtype=float)
+        inside = (t >= self.start) & (t <= self.duration)
+        vals = np.frompyfunc(lambda x: fn(x, *self._args()), 1, 1)(np.where(inside, t, self.t0))
+        out = np.where(inside, np.asarray(vals, dtype=float), 0.0)
+        return float(out) if out.ndim == 0 else out
+
+    # -- ü_g, v, d ---------------------------------------------------------------------------
+    def _scalar(self, t: float) -> float:
+        if self.start <= t <= self.duration:
+            return ps.mp_acceleration(t, *self._args())
+        return 0.0
+
+    def _array(self, t: np.ndarray) -> np.ndarray:
+        return np.asarray(self._window(ps.mp_acceleration, t), dtype=float)
+
+    def velocity(self, t):
+        """Ground velocity v(t) (m/s): M&P 2003's closed form, zero outside the window."""
+        return self._window(ps.mp_velocity, t)
+
+    def displacement(self, t):
+        """Ground displacement d(t) (m) from rest at the start: the exact integral of v.
+
+        After the pulse it keeps its final (residual) value.
+        """
+        t = np.clip(np.asarray(t, dtype=float), self.start, self.duration)
+        d0 = ps.mp_displacement_raw(self.start, *self._args())
+        out = self._window(ps.mp_displacement_raw, t) - d0
+        return float(out) if np.ndim(out) == 0 else out
+
+    @property
+    def peak_acceleration(self) -> float:
+        """max |ü_g| over the pulse (m/s²): A f_p times the peak of the unit pulse."""
+        return self.amplitude * self.fp * _unit_peak(self.gamma, self.nu)
+
+    def describe(self) -> dict:
+        return {
+            "kind": self.kind,
+            "amplitude": self.amplitude,
+            "fp": self.fp,
+            "gamma": self.gamma,
+            "nu": self.nu,
+            "t0": self.t0,
+            "duration": self.duration,
+            "peak_acceleration": self.peak_acceleration,
+        }
+
+
+@lru_cache(maxsize=256)
+def _unit_peak(gamma: float, nu: float) -> float:
+    """max |ü_g| of the M&P pulse with A = 1 m/s, f_p = 1 Hz (m/s²): ü_g scales as A·f_p.
+
+    A dense grid over the window (20 001 points), then a bounded golden-section search
+    around the largest sample, on the same `mp_acceleration` the runs evaluate.
+    """
+    from scipy.optimize import minimize_scalar
+
+    half = gamma / 2.0
+    acc = np.frompyfunc(lambda x: abs(ps.mp_acceleration(x, 1.0, 1.0, gamma, nu, 0.0)), 1, 1)
+    grid = np.linspace(-half, half, 20001)
+    vals = acc(grid).astype(float)
+    i = int(np.argmax(vals))
+    lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
+    res = minimize_scalar(
+        lambda x: -abs(ps.mp_acceleration(x, 1.0, 1.0, gamma, nu, 0.0)),
+        bounds=(lo, hi),
+        method="bounded",
+        options={"xatol": 1e-12 * max(1.0, half)},
+    )
+    return float(max(vals[i], -res.fun))
+
+
+@dataclass(frozen=True)
+class MPShape:
+    """A family of M&P pulses of one shape (γ, ν), built like the other pulses.
+
+    ``MPShape(gamma=2, nu=0)(amplitude=a_p, omega=ω_p)`` is the `MPPulse` with
+    f_p = ω_p/2π whose *peak ground acceleration* is a_p (m/s²), starting at t = 0 — so
+    maps and spectra sweep M&P pulses over (ω_p/p, a_p/(g tan α)) exactly as they sweep
+    sine and Ricker pulses (the variables of Dimitrakopoulos & Paraskeva 2015, with
+    a_p read as the pulse's PGA).
+
+    Parameters
+    ----------
+    gamma : float
+        γ > 1.
+    nu : float
+        ν in rad.
+    """
+
+    gamma: float = 2.0
+    nu: float = 0.0
+    kind = "mp"
+
+    def __post_init__(self):
+        probe = MPPulse(amplitude=1.0, fp=1.0, gamma=self.gamma, nu=self.nu)  # validates
+        object.__setattr__(self, "gamma", probe.gamma)
+        object.__setattr__(self, "nu", probe.nu)
+
+    def velocity_amplitude(self, amplitude: float, omega: float) -> float:
+        """The A (m/s) of the pulse with peak acceleration `amplitude` at ω_p = `omega`."""
+        fp = omega / TWO_PI
+        return amplitude / (fp * _unit_peak(self.gamma, self.nu))
+
+    def __call__(self, *, amplitude: float, omega: float) -> MPPulse:
+        a = _amplitude("amplitude", amplitude)
+        w = _positive("omega", omega, "rad/s")
+        return MPPulse(
+            amplitude=self.velocity_amplitude(a, w),
+            fp=w / TWO_PI,
+            gamma=self.gamma,
+            nu=self.nu,
+            check_units=False,
+        )
+
+    def describe(self) -> dict:
+        return {"kind": self.kind, "gamma": self.gamma, "nu": self.nu}
+
+
 # ---------------------------------------------------------------------------- by name
 #: Pulse names of the command line and of sweeps, for `pulse`.
-PULSE_NAMES = ("sine", "cosine", "ricker")
+PULSE_NAMES = ("sine", "cosine", "ricker", "mp")
 
 
 def pulse(
-    name: str, *, amplitude: float, omega: float, structure_kind: str = "column"
+    name: str,
+    *,
+    amplitude: float,
+    omega: float,
+    structure_kind: str = "column",
+    gamma: float = 2.0,
+    nu: float = 0.0,
 ) -> Excitation:
     """A pulse by its command-line name.
 
     Parameters
     ----------
-    name : {"sine", "cosine", "ricker"}
+    name : {"sine", "cosine", "ricker", "mp"}
         "cosine" is paper 001's `CosinePulse` for a column and paper 004's
         `CosineWave` for a block (the same ground acceleration, A cos ω t over
-        one period; the two papers name it differently).
+        one period; the two papers name it differently). "mp" is the M&P pulse
+        (`MPShape`): `amplitude` its peak acceleration, `omega` = 2π f_p.
     amplitude : float
-        m/s².
+        m/s² (the peak acceleration).
     omega : float
         rad/s.
     structure_kind : {"column", "block"}, optional
         Chooses the cosine's name (see above).
+    gamma, nu : float, optional
+        The M&P pulse's γ and ν (rad); only with "mp".
 
     Raises
     ------
@@ -522,4 +785,6 @@ def pulse(
         return cls(amplitude=amplitude, omega=omega)
     if name == "ricker":
         return Ricker(amplitude=amplitude, omega=omega)
+    if name == "mp":
+        return MPShape(gamma=gamma, nu=nu)(amplitude=amplitude, omega=omega)
     raise InputError(f"`pulse` = {name!r}: use one of {', '.join(PULSE_NAMES)}")

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ..errors import InputError
-from ..excitations import PULSE_NAMES, FreeRelease, pulse
+from ..excitations import PULSE_NAMES, FreeRelease, MPShape, pulse
 from ..records import read_record
 from ..simulation import DEFAULTS
 from ..units import parse_acceleration
@@ -17,6 +17,8 @@ __all__ = [
     "add_solver_args",
     "solver_kwargs",
     "PULSES",
+    "add_mp_args",
+    "mp_shape_from_args",
 ]
 
 PULSES = PULSE_NAMES
@@ -44,8 +46,10 @@ def add_excitation_args(p, *, release=True) -> None:
         choices=PULSES,
         default=None,
         help="sine, cosine: single waves (paper 004 Fig 2; paper 001's cosine pulse is "
-        "the same acceleration, see multimass.CosinePulse); ricker: Ricker wavelet",
+        "the same acceleration, see multimass.CosinePulse); ricker: Ricker wavelet; mp: "
+        "Mavroeidis-Papageorgiou near-fault pulse (--amp its peak acceleration, --omega 2π f_p)",
     )
+    add_mp_args(g)
     g.add_argument(
         "--omega", type=types.positive, default=None, help="pulse circular frequency (rad/s)"
     )
@@ -62,6 +66,28 @@ def add_excitation_args(p, *, release=True) -> None:
         "--units", default=None, help="units of a two-column record: g, m/s2, cm/s2, mm/s2"
     )
     g.add_argument("--scale", type=types.positive, default=1.0, help="scale factor of the record")
+
+
+def add_mp_args(g) -> None:
+    """--gamma and --nu: the shape of an M&P pulse (`multimass.MPShape`)."""
+    g.add_argument(
+        "--gamma",
+        type=types.finite,
+        default=2.0,
+        help="γ > 1 of an mp pulse: its window lasts γ/f_p (default 2; M&P 2003)",
+    )
+    g.add_argument(
+        "--nu",
+        type=types.finite,
+        default=0.0,
+        help="phase ν of an mp pulse, rad (default 0: symmetric velocity pulse)",
+    )
+
+
+def mp_shape_from_args(args):
+    """The `MPShape` of --gamma/--nu (validated), or None when they are the defaults."""
+    shape = MPShape(gamma=args.gamma, nu=args.nu)
+    return None if shape == MPShape() else shape
 
 
 def excitation_from_args(args, structure):
@@ -91,7 +117,14 @@ def excitation_from_args(args, structure):
             raise InputError("`--pulse` needs --omega (rad/s) and --amp (e.g. 0.4g)")
         amp = parse_acceleration(args.amp, "g", argument="--amp")
         kind = getattr(getattr(structure, "specimen", None), "kind", "column")
-        return pulse(args.pulse, amplitude=amp, omega=args.omega, structure_kind=kind)
+        return pulse(
+            args.pulse,
+            amplitude=amp,
+            omega=args.omega,
+            structure_kind=kind,
+            gamma=getattr(args, "gamma", 2.0),
+            nu=getattr(args, "nu", 0.0),
+        )
     return read_record(args.record, units=args.units, scale=args.scale)
 
 

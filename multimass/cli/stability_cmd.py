@@ -8,6 +8,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from . import _types as types
+from ._args import add_mp_args, mp_shape_from_args
 from ._output import output_folder
 from ._sweep_args import add_executor_args, executor_kwargs
 
@@ -27,11 +28,13 @@ def register(sub) -> None:
     p.add_argument("block", metavar="BLOCK", help="bundled block (B6M, B3L, ...) or TOML file")
     p.add_argument(
         "--pulse",
-        choices=("sine", "cosine", "ricker"),
+        choices=("sine", "cosine", "ricker", "mp"),
         default="sine",
-        help="single sine or cosine wave of paper 004, Fig 2 (default sine), or a Ricker "
-        "wavelet (ω its ω_p, a0 its peak)",
+        help="single sine or cosine wave of paper 004, Fig 2 (default sine), a Ricker "
+        "wavelet (ω its ω_p, a0 its peak), or a Mavroeidis-Papageorgiou pulse (ω = 2π f_p, "
+        "a0 its peak acceleration; shape from --gamma and --nu)",
     )
+    add_mp_args(p)
     p.add_argument(
         "--restitution",
         default="modified",
@@ -103,6 +106,7 @@ def register(sub) -> None:
 
 def run(args) -> int:
     import multimass
+    from multimass.sweeps.map_cells import pulse_label
     from multimass.sweeps.maps import overturning_map
     from multimass.sweeps.plots import plot_map, plot_map_comparison
     from multimass.sweeps.ranges import check_values, parse_range
@@ -127,8 +131,11 @@ def run(args) -> int:
         )
     if store and args.adaptive:
         raise InputError("`--store` and `--adaptive` do not combine: adaptive maps stay in memory")
+    shape = mp_shape_from_args(args)
+    if shape is not None and args.pulse != "mp":
+        raise InputError("`--gamma` and `--nu` shape an M&P pulse: add `--pulse mp`")
     kw = dict(
-        pulse=args.pulse,
+        pulse=shape if shape is not None else args.pulse,
         omega_p=omega_p,
         amp=amp,
         k=args.k,
@@ -139,7 +146,7 @@ def run(args) -> int:
     )
     if args.adaptive:
         kw.update(adaptive=True, coarse=args.coarse)
-    name = f"{st.name}_{args.pulse}_{args.restitution}"
+    name = f"{st.name}_{pulse_label(kw['pulse'])}_{args.restitution}"
     at = lambda alt: {"store": out if alt is None else out / alt} if store else {}
     try:
         m = overturning_map(st, restitution=args.restitution, **kw, **at(None))
@@ -172,7 +179,8 @@ def run(args) -> int:
     else:
         o = info["outcomes"]
         print(
-            f"{st.name} {args.pulse}: {info['n_simulations']} simulations in {info['wall_time_s']:.1f} s; "
+            f"{st.name} {pulse_label(kw['pulse'])}: {info['n_simulations']} simulations in "
+            f"{info['wall_time_s']:.1f} s; "
             f"overturned {o['overturned']}, rest {o['rest']}, no rocking {o['no_rocking']}"
             + (f", undecided {o['undecided']}" if o["undecided"] else "")
             + (

@@ -29,10 +29,11 @@ from numba import njit
 from numba.extending import register_jitable
 
 from .. import equations as eq
+from .. import pulse_shapes as ps
 from ..impact_models import gaussian_force as gf
 
 # The physics, compiled unchanged from the plain functions the solve_ivp path runs
-for _mod in (eq, gf):
+for _mod in (eq, gf, ps):
     for _name in _mod.__all__:
         register_jitable(inline="always")(getattr(_mod, _name))
 
@@ -48,6 +49,8 @@ __all__ = [
     "EXC_COSINE",
     "EXC_RICKER",
     "EXC_RECORD",
+    "EXC_MP",
+    "PAR_SIZE",
     "EV_ZERO",
     "EV_OVERTURN",
     "EV_PEAK",
@@ -67,6 +70,9 @@ EXC_SINE = 1  # [a0, ω, duration]
 EXC_COSINE = 2  # [a0, ω, duration] (CosineWave; CosinePulse with a0 = amplitude)
 EXC_RICKER = 3  # [a_p, ω_p, t0, duration]
 EXC_RECORD = 4  # [t_start, t_end, 1/dt, last interval index]; samples = ü_g
+EXC_MP = 5  # [A, f_p, γ, ν, t0, start, duration] (MPPulse)
+#: Length of an excitation's parameter array.
+PAR_SIZE = 8
 
 # event codes (multimass._events.phase_events)
 EV_ZERO = 0
@@ -103,6 +109,10 @@ def ground_acc(t, kind, par, samples):
             i = last
         ai = samples[i]
         return ai + (x - i) * (samples[i + 1] - ai)
+    if kind == EXC_MP:
+        if not (par[5] <= t <= par[6]):
+            return 0.0
+        return ps.mp_acceleration(t, par[0], par[1], par[2], par[3], par[4])  # MPPulse._scalar
     dur = par[3] if kind == EXC_RICKER else par[2]
     if not (0.0 <= t <= dur):
         return 0.0

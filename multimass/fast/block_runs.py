@@ -27,7 +27,7 @@ from .. import kinematics as kin
 from .._rigid import uplift_threshold
 from ..checks import energy_floor
 from ..errors import InputError
-from ..excitations import RICKER_X0, TWO_PI
+from ..excitations import RICKER_X0, TWO_PI, MPShape
 from ..impact_models import (
     AngularMomentumRestitution,
     Classical,
@@ -56,8 +56,13 @@ __all__ = [
     "OUTCOMES",
 ]
 
-#: The pulses `run_pulses` knows: name → excitation kind of `._maths`.
-PULSE_KINDS = {"sine": mx.EXC_SINE, "cosine": mx.EXC_COSINE, "ricker": mx.EXC_RICKER}
+#: The pulses `run_pulses` knows: name → excitation kind of `._maths` (and any `MPShape`).
+PULSE_KINDS = {
+    "sine": mx.EXC_SINE,
+    "cosine": mx.EXC_COSINE,
+    "ricker": mx.EXC_RICKER,
+    "mp": mx.EXC_MP,
+}
 #: Outcome names by code (the order of `multimass.sweeps.map_cells.OUTCOMES`).
 OUTCOMES = ("no_rocking", "rest", "overturned", "undecided")
 #: Restitution sources whose value depends on the impacted corner only (for N = 0).
@@ -168,15 +173,17 @@ class PulseRuns:
     accurate: np.ndarray
 
 
-def encode_pulses(pulse: str, amplitude, omega) -> tuple[int, np.ndarray, np.ndarray]:
+def encode_pulses(pulse, amplitude, omega) -> tuple[int, np.ndarray, np.ndarray]:
     """Many pulses encoded at once, as `multimass.fast.excitation.encode` encodes each.
 
     Parameters
     ----------
-    pulse : {"sine", "cosine", "ricker"}
-        ``SineWave``, ``CosineWave`` or ``Ricker`` (default t0).
+    pulse : {"sine", "cosine", "ricker", "mp"} or MPShape
+        ``SineWave``, ``CosineWave``, ``Ricker`` (default t0) or an M&P pulse shape
+        ("mp": ``MPShape()``), built from a peak acceleration and ω_p.
     amplitude, omega : array_like
-        Amplitudes (m/s²) and angular frequencies (rad/s), one per pulse.
+        Amplitudes (m/s², the peak for an M&P pulse) and angular frequencies (rad/s),
+        one per pulse.
 
     Returns
     -------
@@ -184,12 +191,18 @@ def encode_pulses(pulse: str, amplitude, omega) -> tuple[int, np.ndarray, np.nda
         The ``EXC_*`` code of `._maths`.
     durations : ndarray (n,)
         Each pulse's ``duration`` (s).
-    params : ndarray (n, 4)
+    params : ndarray (n, PAR_SIZE)
         Row i is ``encode(Pulse(amplitude=amplitude[i], omega=omega[i]))[1]``, the
         same floats (tests/multimass/sweeps/test_batched_maps.py).
     """
     a, w = np.asarray(amplitude, dtype=float), np.asarray(omega, dtype=float)
-    par = np.zeros((a.size, 4))
+    par = np.zeros((a.size, mx.PAR_SIZE))
+    if isinstance(pulse, MPShape) or pulse == "mp":
+        shape = pulse if isinstance(pulse, MPShape) else MPShape()
+        for i, (ai, wi) in enumerate(zip(a.tolist(), w.tolist())):
+            e = shape(amplitude=ai, omega=wi)  # the MPPulse of map_cell, float for float
+            par[i, :7] = (e.amplitude, e.fp, e.gamma, e.nu, e.t0, e.start, e.duration)
+        return mx.EXC_MP, par[:, 6].copy(), par
     par[:, 0], par[:, 1] = a, w
     if pulse == "ricker":
         par[:, 2] = RICKER_X0 / w  # Ricker.t0
@@ -210,7 +223,7 @@ def run_pulses(runs: BlockRuns, pulse: str, amplitude, omega, t_free: float) -> 
     ----------
     runs : BlockRuns
         The block, its impacts and the options.
-    pulse : {"sine", "cosine", "ricker"}
+    pulse : {"sine", "cosine", "ricker", "mp"} or MPShape
     amplitude, omega : array_like
         Amplitude (m/s²) and angular frequency (rad/s) of each pulse.
     t_free : float
@@ -226,7 +239,7 @@ def run_pulses(runs: BlockRuns, pulse: str, amplitude, omega, t_free: float) -> 
     InputError
         For an unknown `pulse`.
     """
-    if pulse not in PULSE_KINDS:
+    if not isinstance(pulse, MPShape) and pulse not in PULSE_KINDS:
         raise InputError(f"`pulse` = {pulse!r}: use one of {', '.join(PULSE_KINDS)}")
     ensure_ready()
     kind, durations, par = encode_pulses(pulse, amplitude, omega)
@@ -258,11 +271,12 @@ _STAMP = "multimass_fast_blocks.sources"
 
 def _sources() -> list[Path]:
     """Every source the batch compiles (numba keys a cache on one file only)."""
-    from multimass import equations
+    from multimass import equations, pulse_shapes
     from multimass.impact_models import gaussian_force, models
 
     own = [Path(__file__).parent / f"{mod}.py" for mod in _MODULES]
-    return own + [Path(mod.__file__) for mod in (equations, gaussian_force, models)]
+    physics = (equations, gaussian_force, models, pulse_shapes)
+    return own + [Path(mod.__file__) for mod in physics]
 
 
 def ensure_ready(progress: bool | None = None):
@@ -310,7 +324,7 @@ def warm_up_blocks() -> float:
     bk.run_cells(
         z,
         mx.EXC_SINE,
-        np.zeros((1, 4)),
+        np.zeros((1, mx.PAR_SIZE)),
         _NO_SAMPLES,
         0.0,
         cfg,

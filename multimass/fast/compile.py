@@ -461,7 +461,7 @@ def _tiny_call() -> None:
         np.full(3, -np.inf),
         np.zeros(mx.EP_SIZE) + 1.0,
         mx.EXC_NONE,
-        np.zeros(4),
+        np.zeros(mx.PAR_SIZE),
         np.zeros(2),
         2,
         1e-8,
@@ -474,8 +474,10 @@ def _sources() -> list[Path]:
     """The kernel modules and the equations they compile."""
     from ..equations import __file__ as equations
     from ..impact_models.gaussian_force import __file__ as gaussian_force
+    from ..pulse_shapes import __file__ as pulse_shapes
 
-    return [_HERE / f"{m}.py" for m in _KERNEL_MODULES] + [Path(equations), Path(gaussian_force)]
+    physics = [Path(equations), Path(gaussian_force), Path(pulse_shapes)]
+    return [_HERE / f"{m}.py" for m in _KERNEL_MODULES] + physics
 
 
 def warm_up(progress: bool | None = None) -> CompileReport:

@@ -14,20 +14,20 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ..excitations import CosinePulse, CosineWave, FreeRelease, Ricker, SineWave
+from ..excitations import CosinePulse, CosineWave, FreeRelease, MPPulse, Ricker, SineWave
 from ..records import Record
 from . import _maths as mx
 
 __all__ = ["encode", "KNOWN"]
 
 #: The excitation classes the compiled kernels evaluate.
-KNOWN = (FreeRelease, SineWave, CosineWave, CosinePulse, Ricker, Record)
+KNOWN = (FreeRelease, SineWave, CosineWave, CosinePulse, Ricker, MPPulse, Record)
 
 _NO_SAMPLES = np.zeros(2)
 
 
 def _params(*values) -> np.ndarray:
-    out = np.zeros(4)
+    out = np.zeros(mx.PAR_SIZE)
     out[: len(values)] = values
     return out
 
@@ -37,13 +37,13 @@ def encode(excitation) -> tuple[int, np.ndarray, np.ndarray]:
 
     Parameters
     ----------
-    excitation : FreeRelease, SineWave, CosineWave, CosinePulse, Ricker or Record
+    excitation : FreeRelease, SineWave, CosineWave, CosinePulse, Ricker, MPPulse or Record
 
     Returns
     -------
     kind : int
         An ``EXC_*`` code of `multimass.fast._maths`.
-    params : ndarray, shape (4,)
+    params : ndarray, shape (PAR_SIZE,)
     samples : ndarray
         The record's accelerations (m/s²), else two zeros.
 
@@ -79,6 +79,10 @@ def encode(excitation) -> tuple[int, np.ndarray, np.ndarray]:
             _params(excitation.amplitude, excitation.omega, excitation.t0, excitation.duration),
             _NO_SAMPLES,
         )
+    if tp is MPPulse:
+        e = excitation
+        par = _params(e.amplitude, e.fp, e.gamma, e.nu, e.t0, e.start, e.duration)
+        return mx.EXC_MP, par, _NO_SAMPLES
     if tp is Record:
         time = excitation.time
         # the interpolation constants of Record.acceleration: t_start, t_end, 1/dt, last interval

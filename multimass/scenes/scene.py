@@ -8,7 +8,8 @@ A `Scene` is built in Python or read from a TOML file (`Scene.from_toml`)::
     # beam = "beam_mudric2024"   # a block standing on a beam (free release only)
     # E_Pa = 3.0e9 | E_over_Ebar = 1e4   # the beam's Young's modulus (default: the beam's)
     [excitation]
-    kind = "cosine_pulse"        # free_release | sine_wave | cosine_wave | cosine_pulse | ricker | record
+    kind = "cosine_pulse"        # free_release | sine_wave | cosine_wave | cosine_pulse | ricker
+                                 # | mp_pulse | record
     omega_rad_per_s = 15.0
     amplitude = "0.4g"
     [question]
@@ -23,7 +24,8 @@ A `Scene` is built in Python or read from a TOML file (`Scene.from_toml`)::
 Units: SI, and each TOML key names its unit. Unknown keys are errors. Excitation keys:
 free_release: theta0_rad or theta0_deg, [u0_m]; sine_wave, cosine_wave, cosine_pulse
 (paper 001's pulse): amplitude ("0.4g", "3.9 m/s2"), omega_rad_per_s; ricker: the same and
-[t0_s]; record: path (relative to the scene file), units (two-column files), [scale].
+[t0_s]; mp_pulse (Mavroeidis & Papageorgiou 2003): amplitude_m_per_s, fp_hz, [gamma],
+[nu_rad], [t0_s]; record: path (relative to the scene file), units (two-column files), [scale].
 
 Questions and their answers:
 
@@ -68,7 +70,8 @@ class Scene:
     specimen : str, path or specimen object
         A column (S1, S2, S3, a TOML path) or a block (B4M, B6M, ...).
     excitation : Excitation
-        `FreeRelease`, `SineWave`, `CosineWave`, `CosinePulse`, `Ricker` or a `Record`.
+        `FreeRelease`, `SineWave`, `CosineWave`, `CosinePulse`, `Ricker`, `MPPulse` or a
+        `Record`.
     question : Question
     tolerance : Tolerance
         Ignored (and may be None) for overturning, whose verdicts must agree.

@@ -9,7 +9,7 @@ from pathlib import Path
 import multimass.specimens as specimens
 
 from ..errors import InputError
-from ..excitations import CosinePulse, CosineWave, FreeRelease, Ricker, SineWave
+from ..excitations import CosinePulse, CosineWave, FreeRelease, MPPulse, Ricker, SineWave
 from ..records import read_record
 from ..textfile import as_path, read_text
 from ..units import G, parse_acceleration
@@ -45,6 +45,7 @@ _EXC_KEYS = {
     "cosine_wave": (set(), {"amplitude", "omega_rad_per_s"}),
     "cosine_pulse": (set(), {"amplitude", "omega_rad_per_s"}),
     "ricker": ({"t0_s"}, {"amplitude", "omega_rad_per_s"}),
+    "mp_pulse": ({"gamma", "nu_rad", "t0_s"}, {"amplitude_m_per_s", "fp_hz"}),
     "record": ({"units", "scale"}, {"path"}),
 }
 
@@ -136,6 +137,8 @@ def _excitation(data, w: str, folder: Path):
                 f"no such file ({path}); paths are relative to the scene file's folder",
             )
         return read_record(path, units=data.get("units"), scale=scale)
+    if kind == "mp_pulse":
+        return _mp_pulse(data, w)
     omega = _number(
         w,
         "excitation.omega_rad_per_s",
@@ -155,6 +158,26 @@ def _excitation(data, w: str, folder: Path):
     if t0 is not None:
         t0 = _number(w, "excitation.t0_s", t0, low=0.0, low_open=True, what="the centre in s")
     return Ricker(amplitude=amp, omega=omega, t0=t0)
+
+
+def _mp_pulse(data, w: str) -> MPPulse:
+    """An M&P pulse (`multimass.MPPulse`) from its TOML keys; MPPulse checks its ranges."""
+    num = lambda key, what: _number(w, f"excitation.{key}", data[key], what=what)  # noqa: E731
+    kw = {
+        "amplitude": num("amplitude_m_per_s", "the velocity amplitude A in m/s"),
+        "fp": num("fp_hz", "the pulse frequency f_p in Hz"),
+    }
+    for key, name, what in (
+        ("gamma", "gamma", "γ > 1"),
+        ("nu_rad", "nu", "the phase ν in rad"),
+        ("t0_s", "t0", "the envelope's peak time in s"),
+    ):
+        if key in data:
+            kw[name] = num(key, what)
+    try:
+        return MPPulse(**kw)
+    except InputError as exc:
+        raise InputError(f"{w}: [excitation] {exc}") from None
 
 
 def _question(data, w: str) -> Question:

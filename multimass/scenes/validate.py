@@ -10,6 +10,7 @@ from ..excitations import (
     CosineWave,
     Excitation,
     FreeRelease,
+    MPPulse,
     Ricker,
     SineWave,
 )
@@ -19,7 +20,7 @@ from .question import IMPACTS, Tolerance
 
 __all__ = ["validate_scene"]
 
-EXCITATIONS = (FreeRelease, SineWave, CosineWave, CosinePulse, Ricker, Record)
+EXCITATIONS = (FreeRelease, SineWave, CosineWave, CosinePulse, Ricker, MPPulse, Record)
 
 
 def _where(scene) -> str:
@@ -78,7 +79,7 @@ def _excitation(scene, spec, w: str):
     if not isinstance(exc, EXCITATIONS) or not isinstance(exc, (Excitation, Record)):
         raise InputError(
             f"{w}: `excitation` = {exc!r}: give FreeRelease, SineWave, CosineWave, "
-            "CosinePulse, Ricker or a Record (multimass.read_record)"
+            "CosinePulse, Ricker, MPPulse or a Record (multimass.read_record)"
         )
     if scene.beam is not None and not isinstance(exc, FreeRelease):
         raise InputError(

@@ -15,7 +15,8 @@ from typing import NamedTuple
 import numpy as np
 
 from .._run import QUIET_DELAY
-from ..excitations import CosineWave, Ricker, SineWave
+from ..errors import InputError
+from ..excitations import CosineWave, MPShape, Ricker, SineWave
 from ..simulation import simulate_outcome
 from ..structure import Structure
 from .engine import run_jobs
@@ -26,6 +27,8 @@ __all__ = [
     "batch_runs",
     "OUTCOMES",
     "PULSES",
+    "pulse_family",
+    "pulse_label",
     "UNDECIDED_RETRY",
     "CHUNK_CELLS",
     "CHUNKS_PER_WORKER",
@@ -34,8 +37,41 @@ __all__ = [
 OUTCOMES = ("no_rocking", "rest", "overturned", "undecided")
 #: An undecided cell is run once more with this many times the free-rocking time.
 UNDECIDED_RETRY = 4.0
-#: The pulses of a map: name → excitation (Ricker: ω is its ω_p, a0 its peak, default t0).
-PULSES = {"sine": SineWave, "cosine": CosineWave, "ricker": Ricker}
+#: The pulses of a map: name → excitation (Ricker: ω is its ω_p, a0 its peak, default t0;
+#: mp: the M&P pulse of γ = 2, ν = 0 with peak acceleration a0 and f_p = ω/2π).
+PULSES = {"sine": SineWave, "cosine": CosineWave, "ricker": Ricker, "mp": MPShape()}
+
+
+def pulse_family(pulse):
+    """The constructor ``(amplitude=, omega=) → Excitation`` of a map's pulse.
+
+    Parameters
+    ----------
+    pulse : {"sine", "cosine", "ricker", "mp"} or MPShape
+        A name of `PULSES`, or an M&P pulse shape of any γ and ν.
+
+    Raises
+    ------
+    InputError
+        For anything else.
+    """
+    if isinstance(pulse, MPShape):
+        return pulse
+    if isinstance(pulse, str) and pulse in PULSES:
+        return PULSES[pulse]
+    raise InputError(
+        f"`pulse` = {pulse!r}: use one of {', '.join(repr(p) for p in PULSES)} or "
+        "multimass.MPShape(gamma=..., nu=...)"
+    )
+
+
+def pulse_label(pulse) -> str:
+    """The pulse's name in tables, titles and file names ("mp_g2.5_nu1.57" for a shape)."""
+    if isinstance(pulse, MPShape):
+        if pulse == PULSES["mp"]:
+            return "mp"
+        return f"mp_g{pulse.gamma:g}_nu{pulse.nu:g}"
+    return str(pulse)
 #: Cells per chunk of a batched map (one compiled call each; ~5-20 ms of work).
 CHUNK_CELLS = 64
 #: A batched map is cut into at least this many chunks per worker (small maps spread too).
@@ -48,7 +84,7 @@ class _Cell(NamedTuple):
     share of a sweep competes with the workers for the cores)."""
 
     structure: Structure
-    pulse: str
+    pulse: object  # a name of PULSES or an MPShape
     omega: float
     a0: float
     t_free: float
@@ -59,7 +95,7 @@ class _Chunk(NamedTuple):
     """Cells sent to a worker as one job of a batched map (`_map_chunk`)."""
 
     structure: Structure
-    pulse: str
+    pulse: object  # a name of PULSES or an MPShape
     omega: np.ndarray
     a0: np.ndarray
     t_free: float
@@ -90,7 +126,7 @@ def map_cell(cell: _Cell) -> tuple:
     e.g. Newmark's energy error at a coarse step): the outcome is kept, and flagged.
     """
     st = cell.structure
-    exc = PULSES[cell.pulse](amplitude=cell.a0, omega=cell.omega)
+    exc = pulse_family(cell.pulse)(amplitude=cell.a0, omega=cell.omega)
     for t_free in (cell.t_free, UNDECIDED_RETRY * cell.t_free):
         resp = simulate_outcome(
             st, exc, t_end=exc.duration + t_free, stop_when_safe=True, **cell.options

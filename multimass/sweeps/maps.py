@@ -30,12 +30,13 @@ from .executors import get_executor
 from .map_adaptive import ADAPTIVE_COARSE, adaptive_cells, check_coarse
 from .map_cells import (
     OUTCOMES,
-    PULSES,
     UNDECIDED_RETRY,
     _Cell,
     _Chunk,
     batch_runs,
     map_cell,
+    pulse_family,
+    pulse_label,
     simulate_cells,
 )
 from .map_store import STORE_CHUNK_CELLS, StoredMap, run_stored
@@ -86,7 +87,8 @@ class OverturningMap:
     Attributes
     ----------
     block : str
-    pulse : {"sine", "cosine"}
+    pulse : str
+        "sine", "cosine", "ricker", "mp" or ``mp_g<γ>_nu<ν>`` (`map_cells.pulse_label`).
     omega_p, amp : ndarray
         Grid of ω/p and of a0/(α g).
     cells : pandas.DataFrame
@@ -224,9 +226,11 @@ def overturning_map(
     ----------
     block : Structure, specimen or str
         A rigid block (e.g. "B6M").
-    pulse : {"sine", "cosine", "ricker"}
-        Single sine or cosine wave of paper 004, Fig 2, or a Ricker wavelet
-        (`multimass.Ricker`: ω its ω_p, a0 its peak, default t0).
+    pulse : {"sine", "cosine", "ricker", "mp"} or MPShape
+        Single sine or cosine wave of paper 004, Fig 2, a Ricker wavelet
+        (`multimass.Ricker`: ω its ω_p, a0 its peak, default t0), or a
+        Mavroeidis–Papageorgiou pulse (`multimass.MPShape`: ω = 2π f_p, a0 its peak
+        ground acceleration; "mp" is γ = 2, ν = 0).
     omega_p, amp : array_like
         Increasing values of ω/p (> 0) and a0/(α g) (≥ 0); p = sqrt(m g R / J_p),
         α = α_cg.
@@ -268,8 +272,8 @@ def overturning_map(
     if store is not None and adaptive:
         raise InputError("`adaptive` maps are held in memory: give `store` or `adaptive`, not both")
     coarse = check_coarse(coarse)
-    if pulse not in PULSES:
-        raise InputError(f"`pulse` = {pulse!r}: use 'sine', 'cosine' or 'ricker'")
+    make_pulse = pulse_family(pulse)  # validates
+    label = pulse_label(pulse)
     omega_p = check_values("omega_p", omega_p, positive=True)
     amp = check_values("amp", amp, nonnegative=True)
     refine = v.integer("refine", refine, low=0, what="bisection rounds")
@@ -293,7 +297,7 @@ def overturning_map(
 
     # the options and the longest cell (lowest ω, retried) checked here, before any worker
     slow = cells_for([(omega_p[0], amp[-1])])[0]
-    exc = PULSES[pulse](amplitude=slow.a0, omega=slow.omega)
+    exc = make_pulse(amplitude=slow.a0, omega=slow.omega)
     estimate(st, exc, t_end=exc.duration + UNDECIDED_RETRY * t_free, stop_when_safe=True, **options)
 
     rest_value = getattr(model.restitution, "k", None)
@@ -318,7 +322,7 @@ def overturning_map(
             return run_stored(
                 store,
                 st,
-                pulse,
+                label,
                 omega_p,
                 amp,
                 map_options,
@@ -341,7 +345,7 @@ def overturning_map(
             pairs = [(w, a) for a in amp for w in omega_p]
             rows = [
                 _row(w, a, r, True)
-                for (w, a), r in zip(pairs, simulate(pairs, f"{st.name} {pulse} map"))
+                for (w, a), r in zip(pairs, simulate(pairs, f"{st.name} {label} map"))
             ]
             boundaries = _refine(rows, omega_p, int(refine), simulate)
             cells = pd.DataFrame(rows + boundaries.pop("extra"))
@@ -349,7 +353,7 @@ def overturning_map(
     wall = time.perf_counter() - wall
     return OverturningMap(
         block=st.name,
-        pulse=pulse,
+        pulse=label,
         omega_p=omega_p,
         amp=amp,
         cells=cells,

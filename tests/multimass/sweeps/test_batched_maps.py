@@ -45,7 +45,7 @@ def _assert_same(a, b):
     pd.testing.assert_frame_equal(a.boundaries, b.boundaries)
 
 
-@pytest.mark.parametrize("pulse", ["sine", "cosine", "ricker"])
+@pytest.mark.parametrize("pulse", ["sine", "cosine", "ricker", "mp"])
 @pytest.mark.parametrize("restitution", ["modified", "housner"])
 def test_batched_map_equals_per_cell_map(monkeypatch, pulse, restitution):
     a, b = _both(
@@ -138,7 +138,7 @@ def test_outcome_codes_match_the_map():
     assert block_runs.OUTCOMES == maps.OUTCOMES
 
 
-@pytest.mark.parametrize("pulse", ["sine", "cosine", "ricker"])
+@pytest.mark.parametrize("pulse", ["sine", "cosine", "ricker", "mp"])
 def test_pulses_are_encoded_as_encode_does(pulse):
     rng = np.random.default_rng(3)
     a, w = rng.uniform(0.1, 30.0, 50), rng.uniform(0.5, 200.0, 50)
