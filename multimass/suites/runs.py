@@ -1,0 +1,427 @@
+"""Run a suite: every motion × intensity level × restitution draw, resumable, on any executor.
+
+`run_suite` scales each motion to each level of the suite's intensity measure (records:
+one factor per record and level, from the record's own IM; pulses: the M&P pulse's
+amplitude), draws each run's restitution from its own seed, runs the runs on the sweep
+engine (serial, process pool or Dask; `multimass.sweeps.engine.run_jobs`) in chunks, and
+writes one row per run (the columns of `RUN_COLUMNS`). With ``out``, each finished chunk
+goes to ``OUT/runs/part-NNNNN.parquet`` at once and ``OUT/manifest.json`` holds the
+suite's description: a re-run of the same suite skips the chunks on disk, and a suite
+that differs is refused. A run's randomness depends only on (suite seed, run index), so
+results do not depend on the executor, the worker count, the chunking or a resume.
+
+The IM columns of every run (``pga``, ``pgv``, ``pgd``, ``arias``, ``sa_<T>s``) are
+computed on the scaled motion by `multimass.intensity` (records exactly, as piecewise
+linear; pulses sampled at 1000 points per pulse period), so any of them can be the
+fragility's IM afterwards (`multimass.suites.analysis.im_efficiency`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from .. import intensity as im
+from .._rigid import uplift_threshold
+from ..errors import InputError
+from ..excitations import TWO_PI, MPShape
+from ..simulation import estimate, simulate_outcome
+from ..sweeps.engine import _Bar, run_jobs
+from ..sweeps.maps import default_backend, executor_session
+from ..sweeps.seeding import job_seeds
+from .spec import Distribution, Suite
+
+__all__ = ["run_suite", "SuiteRuns", "SuiteMismatch", "RUN_COLUMNS", "motions"]
+
+#: Columns of the runs table, in order (``sa_<T>s`` columns follow for the suite's periods).
+RUN_COLUMNS = [
+    "structure", "alpha", "p", "motion", "motion_kind", "im_name", "im", "level", "draw",
+    "seed", "scale", "restitution_draw", "theta_max_over_alpha", "overturned", "n_impacts",
+    "status", "overturn_time", "message", "pga", "pgv", "pgd", "arias",
+    "omega_p_over_p", "amp_over_g_tan_alpha", "fp", "gamma", "nu",
+]  # fmt: skip
+MANIFEST = "manifest.json"
+_PULSE_SAMPLES = 1000  # samples per pulse period for a pulse's IMs (PGA to ~1e-5)
+
+
+class SuiteMismatch(InputError):
+    """The output folder holds runs of another suite."""
+
+
+# --------------------------------------------------------------------------- motions
+@dataclass(frozen=True)
+class _Motion:
+    """One motion at unit scale: how to scale it and its IMs at unit scale.
+
+    A pulse whose γ or ν is drawn per run (`PulseSet.drawn`) has ``shape`` None and
+    only its unit PGA in ``ims``; `shape_for` draws the run's shape.
+    """
+
+    name: str
+    kind: str  # "record" | "pulse"
+    unit: object  # Record (scale 1) | (ratio, gamma, nu, omega, a_unit)
+    ims: dict  # IM name -> value at unit scale
+    pulse: dict  # omega_p_over_p, fp, gamma, nu (NaN for records and drawn shapes)
+    shape: MPShape | None = None
+
+    @property
+    def drawn(self) -> bool:
+        return self.kind == "pulse" and self.shape is None
+
+    def shape_for(self, seed: int) -> MPShape:
+        """The run's pulse shape: fixed, or γ and ν drawn from the run's seed."""
+        if self.shape is not None:
+            return self.shape
+        _, gamma, nu, _, _ = self.unit
+        rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2,)))
+        g = gamma.draw(rng) if isinstance(gamma, Distribution) else gamma
+        n = nu.draw(rng) if isinstance(nu, Distribution) else nu
+        return MPShape(gamma=g, nu=n)
+
+    def excitation(self, f: float, seed: int = 0):
+        if self.kind == "record":
+            return self.unit if f == 1.0 else self.unit.scaled(f)
+        _, _, _, omega, a_unit = self.unit
+        return self.shape_for(seed)(amplitude=f * a_unit, omega=omega)
+
+    def factor(self, measure: str, level: float) -> float:
+        """The scale factor that brings this motion to `level` of `measure`."""
+        if measure in ("scale", "amp_over_g_tan_alpha"):
+            return float(level)
+        unit = self.ims[measure]
+        if measure == "arias":  # I_A grows with the square of the scale
+            return math.sqrt(level / unit)
+        return level / unit
+
+
+def pulse_ims(pulse, suite: Suite) -> dict:
+    """The IMs of an M&P pulse, sampled at `_PULSE_SAMPLES` points per pulse period."""
+    n = max(2001, int(_PULSE_SAMPLES * pulse.duration * pulse.fp) + 1)
+    t = np.linspace(0.0, pulse.duration, n)
+    return _ims(t, pulse.acceleration(t), suite)
+
+
+def _ims(t, a, suite: Suite) -> dict:
+    out = {
+        "pga": im.pga(t, a),
+        "pgv": im.pgv(t, a),
+        "pgd": im.pgd(t, a),
+        "arias": im.arias_intensity(t, a),
+    }
+    if suite.sa_periods:
+        sa = im.spectral_acceleration(t, a, np.array(suite.sa_periods), damping=suite.damping)
+        out |= {_sa_name(T): float(x) for T, x in zip(suite.sa_periods, sa)}
+    if suite.period is not None:
+        out["sa"] = out[_sa_name(suite.period)]
+    return out
+
+
+def _sa_name(T: float) -> str:
+    return f"sa_{T:.3f}s"
+
+
+def motions(suite: Suite) -> list[_Motion]:
+    """The suite's motions at unit scale, with their IMs (records first, then pulses).
+
+    Raises
+    ------
+    InputError
+        Sa asked at a period a record's step cannot resolve (names the record, its dt
+        and the shortest period it supports).
+    """
+    st = suite.structure
+    out = []
+    nan = dict(omega_p_over_p=math.nan, fp=math.nan, gamma=math.nan, nu=math.nan)
+    for r in suite.records:
+        try:
+            ims = _ims(r.time, r.accel, suite)
+        except InputError as exc:
+            raise InputError(
+                f"{suite.source}: record {r.name!r} (dt = {r.dt:g} s): {exc}. Drop the Sa periods "
+                "below the record's resolution from [intensity], or use a finer record"
+            ) from None
+        out.append(_Motion(r.name, "record", r, ims, nan))
+    if suite.pulses is not None:
+        p = getattr(st, "p", None)
+        if p is None or not math.isfinite(p):
+            raise InputError(f"{suite.source}: {st.name} has no frequency parameter p for pulses")
+        a_unit = uplift_threshold(st)  # g tan α for a block
+        for ratio, gamma, nu in suite.pulses.combinations():
+            omega = ratio * p
+            unit = (ratio, gamma, nu, omega, a_unit)
+            meta = dict(omega_p_over_p=ratio, fp=omega / TWO_PI, gamma=math.nan, nu=math.nan)
+            if isinstance(gamma, Distribution) or isinstance(nu, Distribution):
+                tag = lambda x, s: f"_{s}{x:g}" if not isinstance(x, Distribution) else ""  # noqa: E731
+                name = f"mp_wp{ratio:g}" + tag(gamma, "g") + tag(nu, "nu")
+                out.append(_Motion(name, "pulse", unit, {"pga": a_unit}, meta))
+                continue
+            shape = MPShape(gamma=gamma, nu=nu)
+            ims = pulse_ims(shape(amplitude=a_unit, omega=omega), suite)
+            name = f"mp_wp{ratio:g}_g{gamma:g}_nu{nu:g}"
+            meta |= dict(gamma=gamma, nu=nu)
+            out.append(_Motion(name, "pulse", unit, ims, meta, shape))
+    return out
+
+
+# --------------------------------------------------------------------------- one run
+@dataclass(frozen=True)
+class _Job:
+    structure: object
+    excitation: object
+    t_end: float
+    seed: int
+    options: dict
+    ims: Suite | None = None  # compute the IMs of this (drawn) pulse in the worker
+
+
+def _draw_options(suite: Suite, seed: int) -> tuple[dict, float]:
+    """The run's restitution options and the drawn value (NaN if none), from its seed."""
+    opts = {"impact": suite.impact}
+    if suite.restitution is not None:
+        opts["restitution"] = suite.restitution
+    rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(1,)))
+    if suite.k is not None:
+        k = suite.k.draw(rng)
+        return opts | {"k": k}, k
+    if suite.restitution_value is not None:
+        r = suite.restitution_value.draw(rng)
+        return opts | {"restitution": r}, r
+    return opts, math.nan
+
+
+def suite_run(job: _Job) -> tuple:
+    """One run: (θ_max/α, overturned, impacts, status, overturn time or NaN, message, IMs
+    of the excitation or None)."""
+    st = job.structure
+    resp = simulate_outcome(st, job.excitation, t_end=job.t_end, seed=job.seed, **job.options)
+    t_over = next((e.time for e in resp.events if e.kind == "overturn"), math.nan)
+    theta = resp.theta_max / st.alpha_cg
+    if not math.isfinite(theta):
+        theta = math.nan if resp.status == "failed" else 0.0
+    return (
+        float(theta),
+        resp.outcome == "overturned",
+        int(resp.n_impacts),
+        resp.status,
+        t_over,
+        resp.message if resp.status in ("failed", "inaccurate") else "",
+        None if job.ims is None else pulse_ims(job.excitation, job.ims),
+    )
+
+
+# --------------------------------------------------------------------------- the table
+@dataclass(frozen=True, eq=False)
+class SuiteRuns:
+    """What `run_suite` returns.
+
+    Attributes
+    ----------
+    suite : Suite
+    runs : pandas.DataFrame
+        One row per run (`RUN_COLUMNS`, then ``sa_<T>s`` columns).
+    wall_time_s : float
+        Time of this call (a resumed suite: the missing chunks only).
+    computed, resumed : int
+        Runs computed by this call, and read back from finished chunks.
+    """
+
+    suite: Suite
+    runs: pd.DataFrame
+    wall_time_s: float
+    computed: int
+    resumed: int
+
+    def summary(self) -> dict:
+        r = self.runs
+        status = r.status.value_counts().to_dict()
+        return {
+            "suite": self.suite.name,
+            "structure": self.suite.structure.name,
+            "n_runs": int(len(r)),
+            "n_motions": int(r.motion.nunique()),
+            "n_levels": int(len(self.suite.levels)),
+            "draws": int(self.suite.draws),
+            "measure": self.suite.measure,
+            "overturned": int(r.overturned.sum()),
+            "status": {k: int(v) for k, v in status.items()},
+            "computed": self.computed,
+            "resumed": self.resumed,
+            "wall_time_s": round(self.wall_time_s, 3),
+            "runs_per_s": round(self.computed / self.wall_time_s, 2) if self.wall_time_s else None,
+        }
+
+
+def _manifest(suite: Suite) -> dict:
+    desc = suite.describe()
+    text = json.dumps(desc, sort_keys=True, default=str)
+    return {"format": 1, "suite": desc, "hash": hashlib.sha256(text.encode()).hexdigest()}
+
+
+def _open(folder: Path, manifest: dict) -> None:
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / MANIFEST
+    if path.exists():
+        try:
+            old = json.loads(path.read_text())
+        except (OSError, ValueError):
+            old = {}
+        if old.get("hash") != manifest["hash"]:
+            raise SuiteMismatch(
+                f"{folder}: holds the runs of another suite ({old.get('suite', {}).get('name')!r} "
+                "or other settings); give another --out folder, or delete this one to start over"
+            )
+        return
+    path.write_text(json.dumps(manifest, indent=1, default=str))
+
+
+def _write(path: Path, table: pd.DataFrame) -> None:
+    tmp = path.with_name(f".{path.name}.tmp")
+    table.to_parquet(tmp, index=False)
+    os.replace(tmp, path)
+
+
+def run_suite(
+    suite: Suite,
+    *,
+    out=None,
+    executor="process",
+    workers: int | None = None,
+    chunk_runs: int | None = None,
+    progress: bool | None = None,
+) -> SuiteRuns:
+    """Run every run of `suite`; resume from `out` if it holds finished chunks.
+
+    Parameters
+    ----------
+    suite : Suite
+    out : path, optional
+        Folder for ``runs/part-*.parquet`` and ``manifest.json`` (resumable).
+    executor, workers :
+        As `multimass.sweeps.engine.run_jobs` ("serial", "process", "dask" or an Executor).
+    chunk_runs : int, optional
+        Runs per stored chunk (default: about 1/40 of the suite, 20 to 2000).
+    progress : bool, optional
+        A progress bar over the runs (default: on a terminal).
+
+    Returns
+    -------
+    SuiteRuns
+
+    Raises
+    ------
+    InputError
+        For a level a record reaches only with a factor above ``suite.max_scale``, Sa
+        at a period a record cannot resolve, or an output folder of another suite.
+    """
+    st = suite.structure
+    wall = time.perf_counter()
+    ms = motions(suite)
+    levels = np.asarray(suite.levels, dtype=float)
+    factors = np.array([[m.factor(suite.measure, L) for L in levels] for m in ms])
+    for i, m in enumerate(ms):
+        if m.kind == "record" and factors[i].max() > suite.max_scale:
+            j = int(np.argmax(factors[i]))
+            raise InputError(
+                f"{suite.source}: record {m.name!r} reaches {suite.measure} = {levels[j]:.4g} "
+                f"(level {j}) only scaled by {factors[i, j]:.3g}, above max_scale = "
+                f"{suite.max_scale:g}: no run of it reaches that level undistorted. Lower the "
+                "highest level, drop the record, or raise [model] max_scale"
+            )
+    n_l, n_d = len(levels), int(suite.draws)
+    n = len(ms) * n_l * n_d
+    seeds = job_seeds(suite.seed, n)
+    options = default_backend(dict(suite.options))
+    p = float(getattr(st, "p", math.nan) or math.nan)
+
+    def job(i: int) -> _Job:
+        mi, rest = divmod(i, n_l * n_d)
+        j = rest // n_d
+        m = ms[mi]
+        exc = m.excitation(float(factors[mi, j]), int(seeds[i]))
+        opts, _ = _draw_options(suite, seeds[i])
+        ims = suite if m.drawn else None
+        return _Job(st, exc, exc.duration + suite.t_free, int(seeds[i]), options | opts, ims)
+
+    # the options and the longest run checked here, before any worker starts
+    longest = max(range(len(ms)), key=lambda mi: ms[mi].excitation(1.0, 0).duration)
+    probe = job(longest * n_l * n_d + (n_l - 1) * n_d)
+    estimate(st, probe.excitation, t_end=probe.t_end, seed=probe.seed, **probe.options)
+
+    def rows(index: np.ndarray, results: list) -> pd.DataFrame:
+        mi, rest = np.divmod(index, n_l * n_d)
+        j, d = np.divmod(rest, n_d)
+        f = factors[mi, j]
+        cols = {
+            "structure": st.name,
+            "alpha": float(st.alpha_cg),
+            "p": p,
+            "motion": [ms[k].name for k in mi],
+            "motion_kind": [ms[k].kind for k in mi],
+            "im_name": suite.measure,
+            "im": levels[j],
+            "level": j,
+            "draw": d,
+            "seed": [int(seeds[i]) for i in index],
+            "scale": f,
+            "restitution_draw": [_draw_options(suite, seeds[i])[1] for i in index],
+        }
+        names = ("theta_max_over_alpha", "overturned", "n_impacts", "status", "overturn_time")
+        for c, name in enumerate(names + ("message",)):
+            cols[name] = [r[c] for r in results]
+        for key in ["pga", "pgv", "pgd", "arias"] + [_sa_name(T) for T in suite.sa_periods]:
+            power = 2.0 if key == "arias" else 1.0
+            cols[key] = [
+                r[6][key] if r[6] is not None else ms[k].ims[key] * fk**power
+                for k, fk, r in zip(mi, f, results)
+            ]
+        for key in ("omega_p_over_p", "fp", "gamma", "nu"):
+            cols[key] = [ms[k].pulse[key] for k in mi]
+        for row, (k, i) in enumerate(zip(mi, index)):
+            if ms[k].drawn:
+                shape = ms[k].shape_for(int(seeds[i]))
+                cols["gamma"][row], cols["nu"][row] = shape.gamma, shape.nu
+        pulse = np.array([ms[k].kind == "pulse" for k in mi])
+        cols["amp_over_g_tan_alpha"] = np.where(pulse, f, np.nan)
+        cols["fp"] = np.asarray(cols["fp"], dtype=float)  # a_p = f · g tan α; f_p = ω_p/2π
+        return pd.DataFrame(cols)[RUN_COLUMNS + [_sa_name(T) for T in suite.sa_periods]]
+
+    chunk = int(chunk_runs) if chunk_runs else int(np.clip(math.ceil(n / 40), 20, 2000))
+    n_chunks = -(-n // chunk)
+    folder = Path(out) if out is not None else None
+    if folder is not None:
+        _open(folder, _manifest(suite))
+        (folder / "runs").mkdir(exist_ok=True)
+    part = lambda c: folder / "runs" / f"part-{c:05d}.parquet"  # noqa: E731
+    todo = [c for c in range(n_chunks) if folder is None or not part(c).exists()]
+    done = n - sum(min(chunk, n - c * chunk) for c in todo)
+    show = progress if progress is not None else bool(getattr(sys.stderr, "isatty", bool)())
+    bar = _Bar(
+        total=n, initial=done, desc=suite.name, unit="run", file=sys.stderr, disable=not show
+    )
+    tables = {}
+    compiled = options.get("backend") == "compiled"
+    try:
+        with executor_session(executor, workers, compiled) as ex:
+            for c in todo:
+                index = np.arange(c * chunk, min((c + 1) * chunk, n))
+                jobs = [job(int(i)) for i in index]
+                results = run_jobs(suite_run, jobs, executor=ex, progress=False)
+                tables[c] = rows(index, results)
+                if folder is not None:
+                    _write(part(c), tables[c])
+                bar.update(len(index))
+    finally:
+        bar.close()
+    parts = [tables[c] if c in tables else pd.read_parquet(part(c)) for c in range(n_chunks)]
+    runs = pd.concat(parts, ignore_index=True)
+    computed = sum(len(tables[c]) for c in tables)
+    return SuiteRuns(suite, runs, time.perf_counter() - wall, computed, n - computed)

@@ -1,0 +1,72 @@
+"""``multimass suite`` (issue 16, items 3–5): files, JSON, resume, bad input as exit 2."""
+
+import json
+from pathlib import Path
+
+import pandas as pd
+
+from multimass.cli import main
+
+ROOT = Path(__file__).resolve().parents[3]
+
+SMALL = """
+name = "B6M small"
+[structure]
+specimen = "B6M"
+[model]
+t_free_s = 5.0
+[monte_carlo]
+draws = 4
+seed = 7
+k = { distribution = "normal", mean = 0.82, std = 0.05 }
+[intensity]
+measure = "amp_over_g_tan_alpha"
+levels = { start = 1.0, stop = 8.0, count = 5, spacing = "log" }
+[pulses]
+omega_p_over_p = [1.5, 4.0]
+gamma = { distribution = "uniform", low = 1.5, high = 3.0 }
+"""
+
+
+def test_suite_writes_tables_figures_and_json(tmp_path, capsys):
+    suite = tmp_path / "small.toml"
+    suite.write_text(SMALL)
+    out = tmp_path / "out"
+    args = ["suite", str(suite), "--out", str(out), "--executor", "serial", "--bootstrap", "20"]
+    assert main(args + ["--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    assert info["summary"]["n_runs"] == 2 * 5 * 4 and info["summary"]["computed"] == 40
+    assert [f["measure"] for f in info["fragility"]] == [
+        "overturned",
+        "theta_over_alpha>=0.5",
+        "theta_over_alpha>=0.8",
+    ]
+    assert info["pulse"] is not None and info["ida"] is None
+    for name in ("runs.parquet", "runs.csv", "fragility.csv", "fragility.png", "summary.json"):
+        assert (out / name).stat().st_size > 0, name
+    for name in ("im_efficiency.png", "pulse_fragility.png", "pulse_fragility.csv"):
+        assert (out / name).stat().st_size > 0, name
+    runs = pd.read_parquet(out / "runs.parquet")
+    assert len(runs) == 40 and runs.status.isin(["completed", "overturned"]).all()
+    # a second run reads every chunk back
+    assert main(args + ["--json"]) == 0
+    again = json.loads(capsys.readouterr().out)
+    assert again["summary"]["computed"] == 0 and again["summary"]["resumed"] == 40
+    assert again["fragility"] == info["fragility"]
+
+
+def test_suite_bad_input_is_one_line_exit_2(tmp_path, capsys):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(SMALL.replace('measure = "amp_over_g_tan_alpha"', 'measure = "pgv"'))
+    assert main(["suite", str(bad), "--out", str(tmp_path / "o"), "--executor", "serial"]) == 2
+    err = capsys.readouterr().err
+    assert "amp_over_g_tan_alpha or pga" in err and "Traceback" not in err
+    assert main(["suite", str(tmp_path / "none.toml"), "--out", str(tmp_path / "o")]) == 2
+    other = tmp_path / "other.toml"
+    other.write_text(SMALL.replace("draws = 4", "draws = 2"))
+    good = tmp_path / "good.toml"
+    good.write_text(SMALL.replace("draws = 4", "draws = 1"))
+    assert main(["suite", str(good), "--out", str(tmp_path / "o2"), "--executor", "serial"]) == 0
+    capsys.readouterr()
+    assert main(["suite", str(other), "--out", str(tmp_path / "o2"), "--executor", "serial"]) == 2
+    assert "another suite" in capsys.readouterr().err

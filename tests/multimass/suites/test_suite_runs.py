@@ -1,0 +1,219 @@
+"""Suites (issue 16, item 3): the TOML, the runs, determinism, resume, bad input.
+
+References: IMs of the scaled records are recomputed here with `multimass.intensity` on
+`Record.scaled` (the suite scales IMs from unit-scale values: PGA, PGV, PGD and Sa
+linearly, Arias with the square); the M&P pulse's peak is MPShape's exact peak.
+"""
+
+import dataclasses
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from multimass import G, InputError
+from multimass import intensity as im
+from multimass.suites.runs import RUN_COLUMNS, SuiteMismatch, _draw_options, run_suite
+from multimass.suites.spec import PulseSet, Suite
+
+ROOT = Path(__file__).resolve().parents[3]
+SUITES = ROOT / "examples" / "suites"
+RECORDS = ROOT / "examples" / "data" / "records"
+
+
+def _toml(tmp_path, text: str, name="suite.toml") -> Path:
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+S1_HEAD = """
+name = "test"
+[structure]
+specimen = "S1"
+[model]
+impact = "DD5"
+t_free_s = 2.0
+[monte_carlo]
+draws = 2
+seed = 3
+"""
+
+
+def _record(path, units=None, name=None):
+    lines = ["[[records]]", f'path = "{path}"']
+    if units:
+        lines.append(f'units = "{units}"')
+    if name:
+        lines.append(f'name = "{name}"')
+    return "\n".join(lines) + "\n"
+
+
+def _block_suite(**kw):
+    b = Suite.from_toml(SUITES / "B6M_mp_pulses.toml")
+    small = dict(
+        pulses=PulseSet((1.0, 3.0), b.pulses.gamma, b.pulses.nu), levels=b.levels[::3], draws=3
+    )
+    return dataclasses.replace(b, **(small | kw))
+
+
+def test_the_bundled_suites_read():
+    b = Suite.from_toml(SUITES / "B6M_mp_pulses.toml")
+    assert b.n_runs == 10 * 12 * 50 and b.k.kind == "normal" and b.restitution == "modified"
+    s = Suite.from_toml(SUITES / "S1_records.toml")
+    assert s.n_runs == 5 * 10 * 10 and len(s.records) == 5 and s.impact == "DD5"
+    assert s.levels[0] == pytest.approx(0.2 * G) and s.levels[-1] == pytest.approx(1.6 * G)
+
+
+def test_record_runs_reach_their_level_and_carry_exact_ims():
+    s = Suite.from_toml(SUITES / "S1_records.toml")
+    s = dataclasses.replace(s, records=s.records[2:4], levels=s.levels[[0, 5]], draws=2)
+    r = run_suite(s, executor="serial", progress=False).runs
+    assert list(r.columns[: len(RUN_COLUMNS)]) == RUN_COLUMNS
+    assert len(r) == 2 * 2 * 2 and set(r.status) <= {"completed", "overturned"}
+    np.testing.assert_allclose(r.pga, r.im, rtol=1e-12)
+    for _, row in r.iloc[[0, 5]].iterrows():
+        rec = next(x for x in s.records if x.name == row.motion).scaled(row.scale)
+        assert row.arias == pytest.approx(im.arias_intensity(rec.time, rec.accel), rel=1e-12)
+        assert row.pgv == pytest.approx(im.pgv(rec.time, rec.accel), rel=1e-12)
+        sa = im.spectral_acceleration(rec.time, rec.accel, np.array([1.0]))[0]
+        assert row["sa_1.000s"] == pytest.approx(sa, rel=1e-12)
+    assert not r.theta_max_over_alpha.isna().any()
+    assert (r.overturned == (r.status == "overturned")).all()
+
+
+def test_pulse_runs_are_scaled_in_a_p_over_g_tan_alpha():
+    r = run_suite(_block_suite(), executor="serial", progress=False).runs
+    assert len(r) == 2 * 4 * 3
+    np.testing.assert_array_equal(r.amp_over_g_tan_alpha, r.im)
+    g_tan_alpha = G * math.tan(0.218669)  # B6M: α = 0.218669 rad (paper 004, Table 1)
+    np.testing.assert_allclose(r.pga, r.im * g_tan_alpha, rtol=2e-4)  # sampled peak ≤ exact
+    assert (r.pga <= r.im * g_tan_alpha * (1 + 1e-12)).all()
+    assert set(r.omega_p_over_p) == {1.0, 3.0}
+    k = r.restitution_draw
+    assert k.between(0.0, 1.0).all() and k.nunique() == len(r)  # one k per run
+    assert r.overturned.any() and (~r.overturned).any()
+
+
+def test_k_draws_follow_the_distribution():
+    s = _block_suite()
+    ks = np.array([_draw_options(s, seed)[1] for seed in range(2000)])
+    assert ks.mean() == pytest.approx(0.82, abs=0.004)  # σ/√n = 0.0011
+    assert ks.std() == pytest.approx(0.05, rel=0.06)
+
+
+def test_results_do_not_depend_on_executor_chunks_or_workers():
+    s = _block_suite()
+    a = run_suite(s, executor="serial", progress=False).runs
+    b = run_suite(s, executor="process", workers=2, chunk_runs=5, progress=False).runs
+    pd.testing.assert_frame_equal(a, b)
+
+
+def test_resume_skips_finished_chunks_and_refuses_another_suite(tmp_path):
+    s = _block_suite()
+    first = run_suite(s, out=tmp_path, executor="serial", chunk_runs=5, progress=False)
+    parts = sorted((tmp_path / "runs").glob("part-*.parquet"))
+    assert len(parts) == math.ceil(len(first.runs) / 5)
+    parts[2].unlink()
+    again = run_suite(s, out=tmp_path, executor="serial", chunk_runs=5, progress=False)
+    assert again.computed == 5 and again.resumed == len(first.runs) - 5
+    pd.testing.assert_frame_equal(again.runs, first.runs)
+    with pytest.raises(SuiteMismatch, match="another suite"):
+        run_suite(dataclasses.replace(s, draws=4), out=tmp_path, executor="serial", progress=False)
+
+
+# --------------------------------------------------------------------------- bad input
+@pytest.mark.parametrize(
+    "body, words",
+    [
+        ("[intensity]\nmeasure = 'pga'\nlevels = [0.5]\n", ["no motion", "[[records]]"]),
+        (
+            "[intensity]\nmeasure = 'pga'\nlevels = [0.5]\n"
+            + _record(RECORDS / "kobe_1995.dat", "g"),
+            ["kobe_1995", "units", "'g'", "outside"],
+        ),
+        (
+            "[intensity]\nmeasure = 'pga'\nlevels = [0.5]\n"
+            + _record(RECORDS / "kobe_1995.dat", "cm/s2")
+            + _record(RECORDS / "northridge_1994.dat", "m/s2"),
+            ["different units", "kobe_1995", "northridge_1994", "`units` of its own file"],
+        ),
+        (
+            "[intensity]\nmeasure = 'pgv'\nlevels = [0.5]\nunit = 'g'\n"
+            + _record(RECORDS / "kobe_1995.dat", "m/s2"),
+            ["intensity.unit", "m/s"],
+        ),
+        ("[intensity]\nmeasure = 'pga'\nlevels = []\n", ["intensity.levels", "at least one"]),
+        ("[intensity]\nmeasure = 'pgaa'\nlevels = [1]\n", ["intensity.measure", "pgv"]),
+        (
+            "[intensity]\nmeasure = 'pga'\nlevels = [0.5]\nspeed = 2\n",
+            ["unknown key", "intensity.speed"],
+        ),
+        (
+            "[intensity]\nmeasure = 'pga'\nlevels = [0.5]\n" + _record(RECORDS / "none.dat", "g"),
+            ["path", "no such file"],
+        ),
+    ],
+)
+def test_bad_suites_are_named_errors(tmp_path, body, words):
+    with pytest.raises(InputError) as err:
+        Suite.from_toml(_toml(tmp_path, S1_HEAD + body))
+    for w in words:
+        assert w in str(err.value), (w, str(err.value))
+
+
+def test_sa_at_a_period_the_record_cannot_resolve(tmp_path):
+    body = "[intensity]\nmeasure = 'sa'\nperiod_s = 0.02\nlevels = [0.5]\nunit = 'g'\n"
+    s = Suite.from_toml(
+        _toml(tmp_path, S1_HEAD + body + _record(RECORDS / "kobe_1995.dat", "m/s2"))
+    )
+    with pytest.raises(InputError) as err:
+        run_suite(s, executor="serial", progress=False)
+    for w in ("kobe_1995", "dt = 0.02", "Sa periods", "finer record"):
+        assert w in str(err.value), (w, str(err.value))
+
+
+def test_a_level_no_record_reaches_undistorted(tmp_path):
+    body = "[intensity]\nmeasure = 'pga'\nlevels = [0.5, 5.0]\nunit = 'g'\n"
+    s = Suite.from_toml(
+        _toml(tmp_path, S1_HEAD + body + _record(RECORDS / "elcentro_1940_NS.dat", "g", "EC"))
+    )
+    with pytest.raises(InputError) as err:
+        run_suite(s, executor="serial", progress=False)
+    for w in ("'EC'", "level 1", "max_scale = 10", "Lower the highest level"):
+        assert w in str(err.value), (w, str(err.value))
+
+
+def test_k_needs_the_modified_restitution(tmp_path):
+    text = (
+        'name = "x"\n[structure]\nspecimen = "B6M"\n[model]\nrestitution = "housner"\n'
+        "[monte_carlo]\nk = { distribution = 'uniform', low = 0.5, high = 0.9 }\n"
+        "[intensity]\nmeasure = 'amp_over_g_tan_alpha'\nlevels = [2.0]\n"
+        "[pulses]\nomega_p_over_p = [2.0]\n"
+    )
+    with pytest.raises(InputError, match="restitution = 'modified'"):
+        Suite.from_toml(_toml(tmp_path, text))
+
+
+def test_drawn_pulse_shapes_vary_per_run_within_their_ranges():
+    r = run_suite(_block_suite(), executor="serial", progress=False).runs
+    assert r.gamma.between(1.5, 3.0).all() and r.nu.between(0.0, 3.1416).all()
+    assert r.gamma.nunique() == len(r) and r.nu.nunique() == len(r)
+    assert set(r.motion) == {"mp_wp1", "mp_wp3"}
+    # each run's own IMs: its sampled peak is the a_p it was scaled to (MPShape's exact peak)
+    g_tan_alpha = G * math.tan(0.218669)
+    np.testing.assert_allclose(r.pga, r.amp_over_g_tan_alpha * g_tan_alpha, rtol=2e-4)
+    assert r.pgv.nunique() == len(r)  # PGV depends on the drawn shape
+
+
+def test_drawn_shapes_need_a_peak_acceleration_measure(tmp_path):
+    text = (
+        'name = "x"\n[structure]\nspecimen = "B6M"\n'
+        "[intensity]\nmeasure = 'pgv'\nlevels = [0.5]\n"
+        "[pulses]\nomega_p_over_p = [2.0]\n"
+        "gamma = { distribution = 'uniform', low = 1.5, high = 3.0 }\n"
+    )
+    with pytest.raises(InputError, match="amp_over_g_tan_alpha or pga"):
+        Suite.from_toml(_toml(tmp_path, text))
