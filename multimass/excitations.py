@@ -674,14 +674,15 @@ class MPPulse(Excitation):
 def _unit_peak(gamma: float, nu: float) -> float:
     """max |ü_g| of the M&P pulse with A = 1 m/s, f_p = 1 Hz (m/s²): ü_g scales as A·f_p.
 
-    A dense grid over the window (20 001 points), then a bounded golden-section search
-    around the largest sample, on the same `mp_acceleration` the runs evaluate.
+    A grid over the window with ~100 points per lobe of |ü_g| (the window holds γ carrier
+    periods, two lobes each), then a bounded golden-section search around the largest
+    sample, on the same `mp_acceleration` the runs evaluate.
     """
     from scipy.optimize import minimize_scalar
 
     half = gamma / 2.0
     acc = np.frompyfunc(lambda x: abs(ps.mp_acceleration(x, 1.0, 1.0, gamma, nu, 0.0)), 1, 1)
-    grid = np.linspace(-half, half, 20001)
+    grid = np.linspace(-half, half, max(401, int(200 * gamma) + 1))
     vals = acc(grid).astype(float)
     i = int(np.argmax(vals))
     lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
