@@ -103,14 +103,28 @@ class _Motion:
         return level / unit
 
 
-def pulse_ims(pulse, suite: Suite) -> dict:
+def pulse_ims(pulse, suite) -> dict:
     """The IMs of an M&P pulse, sampled at `_PULSE_SAMPLES` points per pulse period."""
     n = max(2001, int(_PULSE_SAMPLES * pulse.duration * pulse.fp) + 1)
     t = np.linspace(0.0, pulse.duration, n)
     return _ims(t, pulse.acceleration(t), suite)
 
 
-def _ims(t, a, suite: Suite) -> dict:
+@dataclass(frozen=True)
+class _ImSpec:
+    """What the IMs of a motion depend on (sent to workers instead of the whole suite)."""
+
+    sa_periods: tuple
+    damping: float
+    period: float | None
+
+    @classmethod
+    def of(cls, suite: Suite) -> _ImSpec:
+        return cls(tuple(suite.sa_periods), float(suite.damping), suite.period)
+
+
+def _ims(t, a, suite) -> dict:
+    """PGA, PGV, PGD, Arias and the Sa columns of `suite` (a Suite or `_ImSpec`)."""
     out = {
         "pga": im.pga(t, a),
         "pgv": im.pgv(t, a),
@@ -180,7 +194,7 @@ class _Job:
     t_end: float
     seed: int
     options: dict
-    ims: Suite | None = None  # compute the IMs of this (drawn) pulse in the worker
+    ims: _ImSpec | None = None  # compute the IMs of this (drawn) pulse in the worker
 
 
 def _draw_options(suite: Suite, seed: int) -> tuple[dict, float]:
@@ -348,7 +362,7 @@ def run_suite(
         m = ms[mi]
         exc = m.excitation(float(factors[mi, j]), int(seeds[i]))
         opts, _ = _draw_options(suite, seeds[i])
-        ims = suite if m.drawn else None
+        ims = _ImSpec.of(suite) if m.drawn else None
         return _Job(st, exc, exc.duration + suite.t_free, int(seeds[i]), options | opts, ims)
 
     # the options and the longest run checked here, before any worker starts
