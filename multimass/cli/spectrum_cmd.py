@@ -10,8 +10,10 @@ from . import _types as types
 from ._args import (
     PULSES,
     add_impact_args,
+    add_mp_args,
     add_solver_args,
     impact_kwargs,
+    mp_shape_from_args,
     solver_kwargs,
 )
 from ._output import output_folder
@@ -37,9 +39,11 @@ def register(sub) -> None:
         "--pulse",
         choices=PULSES,
         default=None,
-        help="sweep a pulse: cosine (paper 001's cosine pulse), sine or ricker; "
-        "with --omega and --amp, one of them a range",
+        help="sweep a pulse: cosine (paper 001's cosine pulse), sine, ricker or mp "
+        "(Mavroeidis-Papageorgiou; --amp its peak acceleration, --omega 2π f_p, shape from "
+        "--gamma and --nu); with --omega and --amp, one of them a range",
     )
+    add_mp_args(p)
     p.add_argument("--omega", default=None, help="rad/s: one value or START:STOP:COUNT")
     p.add_argument("--amp", default=None, help="e.g. 0.4g or 0.2g:0.8g:7 (default unit g)")
     p.add_argument(
@@ -109,7 +113,11 @@ def run(args) -> int:
             parse_range(args.amp, "--amp", lambda x: parse_acceleration(x, "g", argument="--amp")),
             nonnegative=True,
         )
-        sp = pulse_spectrum(st, args.pulse, omega, amp, repeats=args.repeats or 1, **common)
+        shape = mp_shape_from_args(args)
+        if shape is not None and args.pulse != "mp":
+            raise InputError("`--gamma` and `--nu` shape an M&P pulse: add `--pulse mp`")
+        kind = shape if shape is not None else args.pulse
+        sp = pulse_spectrum(st, kind, omega, amp, repeats=args.repeats or 1, **common)
         x = "omega" if omega.size >= amp.size else "amp"
         xlabel = "ω (rad/s)" if x == "omega" else "amplitude (m/s²)"
         title = (

@@ -16,11 +16,13 @@ import pandas as pd
 
 from .. import validation as v
 from ..errors import InputError
+from ..excitations import MPShape
 from ..excitations import pulse as make_pulse
 from ..records import Record
 from ..simulation import estimate, simulate_outcome
 from ..structure import Structure, from_specimen
 from .engine import run_jobs
+from .map_cells import pulse_label
 from .maps import default_backend, executor_session
 from .ranges import check_values
 from .seeding import job_seeds
@@ -138,12 +140,13 @@ def pulse_spectrum(
     Parameters
     ----------
     structure : Structure, specimen or str
-    pulse : {"cosine", "sine", "ricker"}
-        "cosine": paper 001's cosine pulse (`CosinePulse`).
+    pulse : {"cosine", "sine", "ricker", "mp"} or MPShape
+        "cosine": paper 001's cosine pulse (`CosinePulse`); "mp" or an `MPShape`: the
+        Mavroeidis–Papageorgiou pulse with f_p = ω/2π and peak acceleration `amp`.
     omega : float or array_like
         Circular frequencies (rad/s, > 0).
     amp : float or array_like
-        Amplitudes (m/s², ≥ 0).
+        Amplitudes (m/s², ≥ 0; the peak acceleration of an M&P pulse).
     impact : str or ImpactModel
     repeats : int
         Runs per point; with random restitution (DD5) each gets its own seed.
@@ -163,9 +166,14 @@ def pulse_spectrum(
     grid = [(w, a, r) for a in amps for w in omegas for r in range(int(repeats))]
     seeds = job_seeds(seed, len(grid))
     options = dict(impact=impact) | default_backend(sim_options)
+    if isinstance(pulse, MPShape):
+        build, label = pulse, pulse_label(pulse)
+    else:
+        build = lambda **kw: make_pulse(pulse, structure_kind=kind, **kw)  # noqa: E731
+        label = pulse
     points = []
     for (w, a, _), s in zip(grid, seeds):
-        exc = make_pulse(pulse, amplitude=a, omega=w, structure_kind=kind)
+        exc = build(amplitude=a, omega=w)
         points.append(_Point(st, exc, exc.duration + t_free, s, options))
     _check_in_parent(points)
     cols = {
@@ -181,9 +189,9 @@ def pulse_spectrum(
         executor,
         workers,
         progress,
-        f"{st.name} {pulse} spectrum",
-        f"{pulse}_pulse",
-        options | {"pulse": pulse, "t_free": t_free, "seed": seed},
+        f"{st.name} {label} spectrum",
+        f"{label}_pulse",
+        options | {"pulse": label, "t_free": t_free, "seed": seed},
     )
 
 

@@ -185,3 +185,22 @@ def test_stability_cli_maps_an_mp_pulse(tmp_path, capsys):
     assert main(["stability", "B6M", "--gamma", "3", "--executor", "serial"]) == 2
     assert "--pulse mp" in capsys.readouterr().err
     assert main(["simulate", "B6M", "--pulse", "mp", "--omega", "10", "--amp", "0.5g"]) == 0
+
+
+def test_spectrum_sweeps_an_mp_pulse_on_both_paths(capsys):
+    from multimass.cli import main
+    from multimass.sweeps.spectra import pulse_spectrum
+
+    shape = MPShape(gamma=2.5, nu=0.5)
+    kw = dict(omega=[8.0, 12.0], amp=0.6 * multimass.G, t_free=2.0, executor="serial")
+    a = pulse_spectrum("S1", shape, **kw)
+    b = pulse_spectrum("S1", shape, backend="scipy", **kw)
+    assert a.kind == "mp_g2.5_nu0.5_pulse" and a.options["pulse"] == "mp_g2.5_nu0.5"
+    np.testing.assert_allclose(a.table.theta_max, b.table.theta_max, rtol=1e-5)
+    assert (a.table.theta_max > 0).all() and (a.table.status == b.table.status).all()
+    args = ["spectrum", "S1", "--pulse", "mp", "--gamma", "2.5", "--omega", "8:12:2"]
+    assert main(args + ["--amp", "0.6g", "--t-free", "2", "--executor", "serial"]) == 0
+    assert (
+        main(["spectrum", "S1", "--pulse", "sine", "--nu", "1", "--omega", "8", "--amp", "1g"]) == 2
+    )
+    assert "--pulse mp" in capsys.readouterr().err
