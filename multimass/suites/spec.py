@@ -79,7 +79,7 @@ _PGA_RANGE_G = (0.005, 3.0)
 #: Records whose PGAs differ by more than this factor are refused as a unit mix.
 _PGA_SPREAD = 100.0
 
-_TOP = ({"description", "model", "monte_carlo", "pulses", "records", "output"}, set())
+_OPTIONAL = {"description", "model", "monte_carlo", "pulses", "records"}
 _REQUIRED = {"name", "structure", "intensity"}
 
 
@@ -386,7 +386,7 @@ class Suite:
     def from_mapping(cls, data: dict, source: str = "suite", folder=".") -> Suite:
         """A suite from a parsed TOML mapping; `source` names it in errors."""
         w, folder = source, Path(folder)
-        _keys(w, "", data, _TOP[0], _REQUIRED)
+        _keys(w, "", data, _OPTIONAL, _REQUIRED)
         name = data["name"]
         if not isinstance(name, str) or not name.strip():
             raise _fail(w, "name", name, "give the suite a name")
