@@ -1,23 +1,25 @@
-"""Whole runs of a rigid block under a pulse, many per compiled call (issue 15, item 1).
+"""Whole runs of a rigid block under an excitation, many per compiled call (issue 15, item 1).
 
-`run_cells` runs, for each cell (a pulse), what ``simulate_outcome(block, pulse,
-"CIM", t_end, stop_when_safe=True, backend="compiled")`` runs — the phase loop of
-`multimass._run.PhaseLoop` for a rigid body (N = 0) with classical impacts — and
-the rerun of an undecided cell of `multimass.sweeps.map_cells.map_cell`, without
-returning to Python:
+`run_cells` runs, for each cell (an excitation — a pulse or a record — with its own
+restitution pair and end time), what ``simulate_outcome(block, excitation, "CIM",
+t_end, backend="compiled")`` runs — the phase loop of `multimass._run.PhaseLoop` for
+a rigid body (N = 0) with classical impacts, ``stop_when_safe`` on or off — and, for
+a map, the rerun of an undecided cell of `multimass.sweeps.map_cells.map_cell`,
+without returning to Python:
 
 * at rest: the uplift search of `multimass._rigid.next_uplift` (`._block_uplift`),
   then rocking with θ̇⁺ = 0 (paper 001, Sec 2.3);
 * rocking: one `._kernel.integrate_phase` call per segment, with the events of
   `multimass.fast.path.FastPath.events` (θ = 0 and overturning, held quiet for
-  `QUIET_DELAY` after a restart; θ̇ = 0 peaks); segments end at the end of the pulse
-  and at t_end;
+  `QUIET_DELAY` after a restart; θ̇ = 0 peaks); segments end at the breakpoints of
+  `PhaseLoop`: the excitation's start and end (when within (0, t_end)) and t_end;
 * at θ = 0: paper 001's Eq 9 (`next_phase_is_rocking`) chooses a new half-cycle
   with θ̇⁺ = r θ̇⁻ (Eq 11, `classical_rebound`; r of the impacted corner) or full
   contact (Eq 10); the transition's energy loss enters the ledger;
-* the chattering guard, the stop at rest once the pulse is over, and
-  ``stop_when_safe``: after the pulse, a block with ``|θ|`` < α and less energy than
-  m g R (1 − cos α) cannot overturn (event "rest");
+* the chattering guard, the stop at rest once the excitation is over, and (when
+  ``CFG_STOP_WHEN_SAFE`` is set) ``stop_when_safe``: after the excitation, a block
+  with ``|θ|`` < α and less energy than m g R (1 − cos α) cannot overturn (event
+  "rest");
 * per cell: the outcome code, the overturning time, max ``|θ|`` over the half-cycle
   peaks (as `Recorder.peaks`), the impacts, the RHS evaluations and the end-of-run
   energy balance error (`PhaseLoop.end_balance_error`).
@@ -62,8 +64,8 @@ NO_ROCKING, REST, OVERTURNED, UNDECIDED, FAILED = 0, 1, 2, 3, -1
     CFG_FLOOR,  # multimass.checks.energy_floor
     CFG_TDMIN,  # θ̇_min
     CFG_WINDOW,  # chatter_window
-    CFG_R_RIGHT,  # restitution of an impact on the right corner (rocking on θ > 0 follows)
-    CFG_R_LEFT,
+    CFG_R_RIGHT,  # restitution of an impact on the right corner (rocking on θ > 0 follows);
+    CFG_R_LEFT,  # run_cells sets both from each cell's pair
     CFG_DELAY,  # the quiet guard after a restart (multimass._run.QUIET_DELAY)
     CFG_RTOL,  # max(rtol, 100 ε), as FastPath.integrate
     CFG_ATOL,
@@ -71,9 +73,10 @@ NO_ROCKING, REST, OVERTURNED, UNDECIDED, FAILED = 0, 1, 2, 3, -1
     CFG_METHOD,  # METHOD_CODES
     CFG_STOP_AT_REST,  # 1.0 or 0.0
     CFG_CHATTER,  # chatter_count
-    CFG_RETRY,  # an undecided cell reruns with this many times the free rocking
-) = range(16)
-CFG_SIZE = 16
+    CFG_RETRY,  # a map's undecided cell reruns with this many times the free rocking
+    CFG_STOP_WHEN_SAFE,  # 1.0 or 0.0
+) = range(17)
+CFG_SIZE = 17
 
 _RUNNING, _OVER, _FAIL = 0, 1, 2  # a run's status
 _AT_STOP, _AT_ZERO, _AT_OVERTURN, _BROKEN = 0, 1, 2, 3  # how a rocking segment ended
@@ -140,6 +143,17 @@ def _at_zero(side_old, y, cfg, none, mp):
 
 
 @njit(cache=True, error_model="numpy")
+def _next_stop(t, start, duration, t_end):
+    """The first breakpoint after t (`PhaseLoop.breakpoints`: the excitation's start and
+    end where within (0, t_end), then t_end)."""
+    if 0.0 < start < t_end and t < start:
+        return start
+    if 0.0 < duration < t_end and t < duration:
+        return duration
+    return t_end
+
+
+@njit(cache=True, error_model="numpy")
 def _uplift(t0, t1, duration, a_th, kind, par, smp):
     """`next_uplift` on [t0, t1] of a pulse that ends at `duration` (ü_g ≡ 0 after it).
 
@@ -183,8 +197,9 @@ def _segment(t, t_stop, y, phase, ctx):
 
 
 @njit(cache=True, error_model="numpy")
-def _run(t_end, duration, ctx, ring):
-    """One run from rest (`multimass._run.PhaseLoop.run`; see the module docstring).
+def _run(t_end, start, duration, ctx, ring):
+    """One run from rest (`multimass._run.PhaseLoop.run`; see the module docstring), of an
+    excitation that starts at `start` and ends at `duration`.
 
     Returns (code, overturn time, max |θ| of the peaks, impacts, RHS calls, energy
     balance error); code NO_ROCKING, REST, OVERTURNED, UNDECIDED or FAILED.
@@ -195,7 +210,7 @@ def _run(t_end, duration, ctx, ring):
     n_rhs = n_impacts = 0
     uplifted = rest = False
     while t < t_end and status == _RUNNING:
-        t_stop = duration if t < duration else t_end  # the breakpoints: the pulse's end, t_end
+        t_stop = _next_stop(t, start, duration, t_end)
         trip = integrated = False
         if phase == 0:  # PhaseLoop.rest_until_uplift (θ = θ̇ = 0 at rest, so θ̇⁺ = 0)
             t0, found, ok = max(t, hold), False, True
@@ -228,7 +243,8 @@ def _run(t_end, duration, ctx, ring):
             top = max(top, abs(y[0]))
             y[0] = y[1] = 0.0
             phase, hold = 0, t + cfg[CFG_WINDOW]
-        if integrated and status == _RUNNING and duration <= t < t_end:  # PhaseLoop.is_safe
+        safe = cfg[CFG_STOP_WHEN_SAFE] != 0.0 and duration <= t < t_end  # PhaseLoop.is_safe
+        if integrated and status == _RUNNING and safe:
             if abs(y[0]) < cfg[CFG_ALPHA] and _energy(phase, y, none, mp) < cfg[CFG_SAFE]:
                 rest = True
                 break
@@ -247,25 +263,34 @@ def _run(t_end, duration, ctx, ring):
 
 
 @njit(cache=True, error_model="numpy")
-def run_cells(durations, kind, pars, smp, t_free, cfg, mp, ep, events, out_code, out_real, out_int):
-    """Run every cell (a row of `pars`), rerunning undecided ones with the longer free rocking.
+def run_cells(
+    kinds, pars, smp, spans, bounds, t_ends, r_pairs, cfg, mp, ep, events, out_code, out_real,
+    out_int,
+):  # fmt: skip
+    """Run every cell (a row of `pars`), rerunning an undecided one if it has a second t_end.
 
     Parameters
     ----------
-    durations : ndarray (n,)
-        Pulse durations (s).
-    kind : int
-        The excitation kind of every cell (`._maths` ``EXC_*``).
-    pars : ndarray (n, 4)
-        Encoded pulses (`multimass.fast.excitation.encode`).
-    smp : ndarray
-        Samples (a record's; unused by pulses).
-    t_free : float
-        Free rocking after the pulse (s); an undecided cell is rerun with
-        ``cfg[CFG_RETRY] · t_free``.
+    kinds : int64 (n,)
+        The excitation kind of each cell (`._maths` ``EXC_*``).
+    pars : ndarray (n, PAR_SIZE)
+        Encoded excitations (`multimass.fast.excitation.encode`).
+    smp : ndarray (m,)
+        Every cell's samples (a record's accelerations), one after the other.
+    spans : int64 (n, 2)
+        Cell i's samples are ``smp[spans[i, 0]:spans[i, 1]]`` (empty for a pulse).
+    bounds : ndarray (n, 2)
+        The excitation's breakpoints (s): its start (0 for most) and its end
+        (``duration``, after which ü_g ≡ 0).
+    t_ends : ndarray (n, a)
+        The end time of each run (s): column 0 the first run; column j > 0, if finite,
+        the rerun of a cell still undecided after run j − 1 (a map's longer free
+        rocking); NaN for none.
+    r_pairs : ndarray (n, 2)
+        Restitution of an impact onto the right and onto the left corner, per cell.
     cfg, mp, ep : ndarray
-        Options (``CFG_*``), model scalars (`._maths.model_params`), event parameters
-        (`multimass.fast.path.event_params`).
+        Options (``CFG_*``; ``CFG_R_*`` are taken from `r_pairs`), model scalars
+        (`._maths.model_params`), event parameters (`multimass.fast.path.event_params`).
     events : tuple
         Codes, directions, terminal flags, quiet values and guarded flags (1/0) of
         the events of a rocking phase (`multimass.fast.path.ROCKING_EVENTS`).
@@ -276,12 +301,18 @@ def run_cells(durations, kind, pars, smp, t_free, cfg, mp, ep, events, out_code,
     ring = np.empty(int(cfg[CFG_CHATTER]))
     none = (np.empty(0), np.empty((0, 0)))  # no elastic nodes; mutable, as FastPath's arrays
     work = (np.zeros(FP_SIZE), np.empty(1), np.empty(events[0].size))  # fp, t_eval, t_on
-    for i in range(durations.size):
-        ctx = (cfg, mp, ep, events, kind, pars[i], smp, none, work)
-        for tf in (t_free, cfg[CFG_RETRY] * t_free):
-            code, t_over, top, n_imp, n_rhs, err = _run(durations[i] + tf, durations[i], ctx, ring)
-            if code != UNDECIDED:
+    c = cfg.copy()
+    for i in range(kinds.size):
+        c[CFG_R_RIGHT], c[CFG_R_LEFT] = r_pairs[i, 0], r_pairs[i, 1]
+        par, samples = pars[i], smp[spans[i, 0] : spans[i, 1]]
+        ctx = (c, mp, ep, events, kinds[i], par, samples, none, work)
+        code, t_over, top, n_imp, n_rhs, err = UNDECIDED, math.nan, 0.0, 0, 0, 0.0
+        for j in range(t_ends.shape[1]):
+            if j > 0 and (code != UNDECIDED or not math.isfinite(t_ends[i, j])):
                 break
+            code, t_over, top, n_imp, n_rhs, err = _run(
+                t_ends[i, j], bounds[i, 0], bounds[i, 1], ctx, ring
+            )
         out_code[i] = code
         out_real[i, 0], out_real[i, 1], out_real[i, 2] = t_over, top, err
         out_int[i, 0], out_int[i, 1] = n_imp, n_rhs

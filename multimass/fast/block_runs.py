@@ -1,22 +1,30 @@
-"""Batched runs of a rigid block under single pulses: many map cells per compiled call.
+"""Batched runs of a rigid block: many map cells or suite runs per compiled call.
 
 An overturning map runs the same block, impact law and options under thousands of
-pulses. `BlockRuns.of` checks once that the compiled batch (`._block_kernel`) runs
-these cells exactly as ``simulate_outcome(..., backend="compiled")`` would — a rigid
-block, classical impacts with a restitution fixed per corner, an explicit method —
-and lays out the block's constants and options; `run_pulses` then runs a whole list
-of pulses in one call, with no Python per cell. Anything else (Dirac-delta or LCP
+pulses; a suite runs it under pulses and scaled records, each run with its own
+restitution (η_M of its own k, or its own value). `BlockRuns.of` (a map's runs:
+``stop_when_safe``, an undecided cell rerun) and `BlockRuns.of_runs` (runs as the
+options say) check once that the compiled batch (`._block_kernel`) runs them exactly
+as ``simulate_outcome(..., backend="compiled")`` would — a rigid block, classical
+impacts with a restitution fixed per corner, an explicit method — and lay out the
+block's constants and options; `restitution_pairs` gives each run's restitution of
+the right and left corner. Then `run_pulses` (a map's pulses) and `run_excitations`
+(any list of pulses and records, each with its own end time and restitution) run a
+whole list in one call, with no Python per run. Anything else (Dirac-delta or LCP
 impacts, random or impact-indexed restitution, Newmark, backend "scipy") gets None
-from `BlockRuns.of`: the caller runs those cells one `simulate_outcome` at a time.
+from `BlockRuns.of` and `restitution_pairs`: the caller runs those one
+`simulate_outcome` at a time — as `simulate_outcomes` does, which batches what it
+can and runs the rest (and any run the batch cannot finish) per run.
 
-The batch gives the per-cell path's results bit for bit: the same compiled
+The batch gives the per-run path's results bit for bit: the same compiled
 integrator and event code, the same transition rules and the same uplift search
-(`._block_uplift`); `tests/multimass/sweeps/test_batched_maps.py` compares them cell
-by cell.
+(`._block_uplift`); `tests/multimass/sweeps/test_batched_maps.py` and
+``test_batched_block_runs.py`` compare them run by run.
 """
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -25,9 +33,19 @@ import numpy as np
 
 from .. import kinematics as kin
 from .._rigid import uplift_threshold
+from .._run import QUIET_DELAY
 from ..checks import energy_floor
 from ..errors import InputError
-from ..excitations import RICKER_X0, TWO_PI, MPShape
+from ..excitations import (
+    RICKER_X0,
+    TWO_PI,
+    CosinePulse,
+    CosineWave,
+    MPPulse,
+    MPShape,
+    Ricker,
+    SineWave,
+)
 from ..impact_models import (
     AngularMomentumRestitution,
     Classical,
@@ -38,21 +56,28 @@ from ..impact_models import (
     ModifiedRestitution,
     impact_model,
 )
+from ..records import Record
 from ..simulation_options import SimulationOptions
 from . import _block_kernel as bk
 from . import _maths as mx
 from ._rk import METHOD_CODES
 from .compile import _drop_stale_cache, _fingerprint
+from .excitation import encode
 from .path import ROCKING_EVENTS, event_params
 
 __all__ = [
     "BlockRuns",
     "PulseRuns",
+    "ExcitationRuns",
     "run_pulses",
+    "run_excitations",
+    "restitution_pairs",
+    "simulate_outcomes",
     "encode_pulses",
     "ensure_ready",
     "warm_up_blocks",
     "PULSE_KINDS",
+    "EXCITATIONS",
     "OUTCOMES",
 ]
 
@@ -73,17 +98,52 @@ _PER_CORNER = (
     ModifiedRestitution,
     AngularMomentumRestitution,
 )
+#: The excitations `run_excitations` runs (exact classes: each starts from rest).
+EXCITATIONS = (SineWave, CosineWave, CosinePulse, Ricker, MPPulse, Record)
+#: Options a suite's runs may differ in within one batch (`restitution_pairs`).
+_PER_RUN = ("restitution", "k", "seed")
 _NO_SAMPLES = np.zeros(2)
+
+
+def _options_and_model(st, options: dict, stop_when_safe: bool | None):
+    """(SimulationOptions, impact model) of runs ``simulate_outcome(st, ..., **options)``
+    (`stop_when_safe` replacing the options' unless None), or None if invalid."""
+    opts = dict(options)
+    impact, base = opts.pop("impact", "DD2"), opts.pop("options", None)
+    fixed = {"output_dt": None}
+    if stop_when_safe is not None:
+        fixed["stop_when_safe"] = bool(stop_when_safe)
+    try:
+        o = SimulationOptions.of(base, **({"progress": False} | opts | fixed))
+        model = impact_model(impact, st.specimen, o.restitution, o.k, o.C_p, o.eps_p)
+    except (InputError, TypeError):
+        return None  # the per-run path reports it
+    return o, model
+
+
+def _corner_pair(st, model) -> tuple[float, float] | None:
+    """(r of an impact onto the right corner, onto the left) of classical impacts whose
+    restitution depends on the corner only, as `PhaseLoop.draw` draws them; else None."""
+    if type(model) is not Classical or type(model.restitution) not in _PER_CORNER:
+        return None
+    r = {
+        side: float(model.restitution.value(ImpactContext(st, side, np.zeros(0), 0, None, 0)))
+        for side in (1, -1)
+    }
+    return r[1], r[-1]
 
 
 @dataclass(frozen=True, eq=False)
 class BlockRuns:
-    """A rigid block, its classical impacts and the run options, laid out for `run_pulses`.
+    """A rigid block, its classical impacts and the run options, laid out for `run_pulses`
+    and `run_excitations`.
 
     Attributes
     ----------
     cfg, mp, ep : ndarray
-        Options and constants (``_block_kernel.CFG_*``), model scalars, event parameters.
+        Options and constants (``_block_kernel.CFG_*``; ``CFG_R_RIGHT`` and ``CFG_R_LEFT``
+        the options' restitution, the default of each run), model scalars, event
+        parameters.
     energy_tol : float
         A run whose end-of-run energy balance error exceeds it is "inaccurate".
     """
@@ -94,7 +154,9 @@ class BlockRuns:
     energy_tol: float
 
     @classmethod
-    def of(cls, st, options: dict, delay: float, retry: float) -> BlockRuns | None:
+    def of(
+        cls, st, options: dict, delay: float, retry: float, *, stop_when_safe: bool | None = True
+    ) -> BlockRuns | None:
         """The batch for runs ``simulate_outcome(st, pulse, t_end=..., stop_when_safe=True,
         **options)``, or None if the batch cannot reproduce them (see the module docstring).
 
@@ -107,46 +169,97 @@ class BlockRuns:
         delay : float
             The quiet guard after a restart (`multimass._run.QUIET_DELAY`).
         retry : float
-            An undecided cell is rerun with `retry` times the free rocking.
+            A map's undecided cell is rerun with `retry` times the free rocking
+            (`run_pulses`).
+        stop_when_safe : bool or None, optional
+            Replaces the options' ``stop_when_safe`` (default True, as a map runs);
+            None keeps the options' (`of_runs`).
         """
-        opts = dict(options)
-        impact, base = opts.pop("impact", "DD2"), opts.pop("options", None)
-        try:
-            o = SimulationOptions.of(
-                base, **({"progress": False} | opts | {"output_dt": None, "stop_when_safe": True})
-            )
-            model = impact_model(impact, st.specimen, o.restitution, o.k, o.C_p, o.eps_p)
-        except (InputError, TypeError):
-            return None  # the per-cell path reports it
+        made = _options_and_model(st, options, stop_when_safe)
+        if made is None:
+            return None
+        o, model = made
         if not (
             st.n == 0
             and o.integrator == "solve_ivp"
             and o.backend == "compiled"
             and isinstance(o.method, str)
             and o.method in METHOD_CODES
-            and type(model) is Classical
-            and type(model.restitution) in _PER_CORNER
         ):
             return None
-        r = {
-            side: float(model.restitution.value(ImpactContext(st, side, np.zeros(0), 0, None, 0)))
-            for side in (1, -1)
-        }  # as PhaseLoop.draw
+        r = _corner_pair(st, model)
+        if r is None:
+            return None
         cfg = np.zeros(bk.CFG_SIZE)
         cfg[bk.CFG_A_TH] = uplift_threshold(st)
         cfg[bk.CFG_ALPHA] = st.alpha_cg
         cfg[bk.CFG_SAFE] = kin.gravitational_energy(st, 1, np.zeros(0), st.alpha_cg)
         cfg[bk.CFG_FLOOR] = energy_floor(st, o.atol)
         cfg[bk.CFG_TDMIN], cfg[bk.CFG_WINDOW] = o.thetadot_min, o.chatter_window
-        cfg[bk.CFG_R_RIGHT], cfg[bk.CFG_R_LEFT] = r[1], r[-1]
+        cfg[bk.CFG_R_RIGHT], cfg[bk.CFG_R_LEFT] = r
         cfg[bk.CFG_DELAY] = delay
         cfg[bk.CFG_RTOL] = max(float(o.rtol), 100 * np.finfo(float).eps)  # as FastPath
         cfg[bk.CFG_ATOL], cfg[bk.CFG_MAX_STEP] = o.atol, o.max_step
         cfg[bk.CFG_METHOD] = METHOD_CODES[o.method]
         cfg[bk.CFG_STOP_AT_REST] = float(o.stop_at_rest)
         cfg[bk.CFG_CHATTER], cfg[bk.CFG_RETRY] = o.chatter_count, retry
+        cfg[bk.CFG_STOP_WHEN_SAFE] = float(o.stop_when_safe)
         ep = event_params(st, o.thetadot_min, o.overturn_angle)
         return cls(cfg, mx.model_params(st), ep, float(o.energy_tol))
+
+    @classmethod
+    def of_runs(cls, st, options: dict) -> BlockRuns | None:
+        """The batch for runs ``simulate_outcome(st, excitation, t_end=..., **options)`` as
+        the options say (``stop_when_safe`` off unless given; no rerun), or None.
+
+        A suite's runs differ in their restitution only (``restitution``, ``k``):
+        `restitution_pairs` gives each run's pair for `run_excitations`.
+        """
+        return cls.of(st, options, QUIET_DELAY, math.nan, stop_when_safe=None)
+
+    @property
+    def r_pair(self) -> tuple[float, float]:
+        """The options' restitution of an impact onto the right and onto the left corner."""
+        return float(self.cfg[bk.CFG_R_RIGHT]), float(self.cfg[bk.CFG_R_LEFT])
+
+
+def restitution_pairs(st, options) -> np.ndarray | None:
+    """Each run's restitution of an impact onto the right and the left corner, or None.
+
+    Parameters
+    ----------
+    st : Structure
+        A rigid block.
+    options : sequence of dict
+        The `simulate_outcome` options of each run (``impact`` included); they may
+        differ in ``restitution``, ``k`` and ``seed`` only.
+
+    Returns
+    -------
+    ndarray (n, 2) or None
+        Row i is the (r_right, r_left) that ``simulate_outcome(st, ..., **options[i])``
+        uses (as `PhaseLoop.draw` draws it; η_M(k) for ``restitution="modified"``).
+        None if the runs differ in another option, or one's restitution is not fixed
+        per corner (random, impact-indexed) or its impacts not classical: run those
+        per run.
+    """
+    options = list(options)
+    out = np.empty((len(options), 2))
+    if not options:
+        return out
+    rest = lambda o: {k: v for k, v in o.items() if k not in _PER_RUN}  # noqa: E731
+    common, pairs = rest(options[0]), {}
+    for i, opts in enumerate(options):
+        if rest(opts) != common:
+            return None
+        key = (repr(opts.get("restitution")), repr(opts.get("k")))
+        if key not in pairs:
+            made = _options_and_model(st, opts, None)
+            pairs[key] = None if made is None else _corner_pair(st, made[1])
+        if pairs[key] is None:
+            return None
+        out[i] = pairs[key]
+    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -241,16 +354,19 @@ def run_pulses(runs: BlockRuns, pulse: str, amplitude, omega, t_free: float) -> 
     """
     if not isinstance(pulse, MPShape) and pulse not in PULSE_KINDS:
         raise InputError(f"`pulse` = {pulse!r}: use one of {', '.join(PULSE_KINDS)}")
-    ensure_ready()
     kind, durations, par = encode_pulses(pulse, amplitude, omega)
     n = durations.size
-    code, real, ints = np.empty(n, np.int64), np.empty((n, 3)), np.empty((n, 2), np.int64)
-    names, codes, dirs, term, quiet, guarded = ROCKING_EVENTS
-    events = (codes, dirs, term, quiet, guarded.astype(np.int64))
-    bk.run_cells(
-        durations, kind, par, _NO_SAMPLES, float(t_free), runs.cfg, runs.mp, runs.ep, events,
-        code, real, ints,
-    )  # fmt: skip
+    bounds = np.zeros((n, 2))
+    bounds[:, 0] = par[:, 5] if kind == mx.EXC_MP else 0.0  # MPPulse.start (0 for a shape)
+    bounds[:, 1] = durations
+    t_free = float(t_free)
+    t_ends = np.empty((n, 2))  # map_cell's exc.duration + t_free, then with the retry's
+    t_ends[:, 0] = durations + t_free
+    t_ends[:, 1] = durations + runs.cfg[bk.CFG_RETRY] * t_free
+    kinds = np.full(n, kind, dtype=np.int64)
+    spans = np.zeros((n, 2), np.int64)
+    pairs = np.tile(np.array(runs.r_pair), (n, 1))
+    code, real, ints = _run_cells(runs, kinds, par, _NO_SAMPLES, spans, bounds, t_ends, pairs)
     return PulseRuns(
         outcome=code,
         overturn_time=real[:, 0],
@@ -259,6 +375,255 @@ def run_pulses(runs: BlockRuns, pulse: str, amplitude, omega, t_free: float) -> 
         n_rhs=ints[:, 1],
         accurate=real[:, 2] <= runs.energy_tol,
     )
+
+
+def _run_cells(runs, kinds, pars, smp, spans, bounds, t_ends, pairs):
+    """`_block_kernel.run_cells` of these cells: (codes, real columns, integer columns)."""
+    ensure_ready()
+    n = kinds.size
+    code, real, ints = np.empty(n, np.int64), np.empty((n, 3)), np.empty((n, 2), np.int64)
+    names, codes, dirs, term, quiet, guarded = ROCKING_EVENTS
+    events = (codes, dirs, term, quiet, guarded.astype(np.int64))
+    bk.run_cells(
+        kinds, pars, smp, spans, bounds, t_ends, pairs, runs.cfg, runs.mp, runs.ep, events,
+        code, real, ints,
+    )  # fmt: skip
+    return code, real, ints
+
+
+@dataclass(frozen=True, eq=False)
+class ExcitationRuns:
+    """What `run_excitations` and `simulate_outcomes` return, one entry per run.
+
+    Entry i is what ``simulate_outcome(st, excitations[i], t_end=t_end[i], **options)``
+    returns, as columns.
+
+    Attributes
+    ----------
+    outcome : ndarray of int
+        Index into `OUTCOMES` ("no_rocking", "rest": stopped at rest or safe,
+        "overturned", "undecided": still rocking at t_end), or -1: `run_excitations`
+        could not run it as the per-run path would (that path ends it with status
+        "failed"); `simulate_outcomes` then has run it per run, and -1 stays for a
+        failed run.
+    status : ndarray of str
+        The `Outcome`'s ``status``: "completed", "overturned", "inaccurate" (the
+        energy balance check failed) or "failed".
+    message : list of str
+        The `Outcome`'s ``message`` ("|θ| reached ... rad" for an overturned run, the
+        solver's message for a failed one, else "").
+    overturn_time : ndarray
+        Time of the "overturn" event (s; NaN if none).
+    theta_max : ndarray
+        ``Outcome.theta_max``: max ``|θ|`` over the half-cycle peaks (rad; 0 if none).
+    n_impacts, n_rhs : ndarray of int
+    energy_balance_error : ndarray
+        ``Outcome.energy_balance_error`` (0 for a failed run of the batch).
+    accurate : ndarray of bool
+        The energy balance check passed (``status != "inaccurate"``).
+    batched : ndarray of bool
+        The run's numbers come from the batch (False: from `simulate_outcome`).
+    """
+
+    outcome: np.ndarray
+    status: np.ndarray
+    message: list
+    overturn_time: np.ndarray
+    theta_max: np.ndarray
+    n_impacts: np.ndarray
+    n_rhs: np.ndarray
+    energy_balance_error: np.ndarray
+    accurate: np.ndarray
+    batched: np.ndarray
+
+    @property
+    def overturned(self) -> np.ndarray:
+        """``Outcome.outcome == "overturned"`` (accurate or not)."""
+        return self.outcome == bk.OVERTURNED
+
+    def __len__(self) -> int:
+        return self.outcome.size
+
+
+def _encoded(excitations):
+    """(kinds, params, samples, spans, bounds) of the excitations, for `run_cells`."""
+    n = len(excitations)
+    kinds, pars = np.empty(n, np.int64), np.empty((n, mx.PAR_SIZE))
+    bounds, spans = np.empty((n, 2)), np.zeros((n, 2), np.int64)
+    chunks, at, seen = [], 0, {}
+    for i, exc in enumerate(excitations):
+        if type(exc) not in EXCITATIONS:
+            name = type(exc).__name__
+            raise InputError(
+                f"excitation {i} is a {name}: the batch runs "
+                f"{', '.join(e.__name__ for e in EXCITATIONS)} (use simulate_outcomes)"
+            )
+        kind, par, samples = encode(exc)
+        kinds[i], pars[i] = kind, par
+        bps = exc.breakpoints  # (start, duration): PhaseLoop's breakpoints
+        bounds[i] = (float(bps[0]) if bps else 0.0), float(exc.duration)
+        if kind == mx.EXC_RECORD:
+            key = id(exc.accel)  # a record run at several draws: its samples once
+            if key not in seen:
+                seen[key] = (at, at + samples.size)
+                chunks.append(samples)
+                at += samples.size
+            spans[i] = seen[key]
+    smp = np.concatenate(chunks) if chunks else _NO_SAMPLES
+    return kinds, pars, smp, spans, bounds
+
+
+def run_excitations(runs: BlockRuns, excitations, t_end, r_pairs=None) -> ExcitationRuns:
+    """Run the block from rest under each excitation, all in one compiled call.
+
+    Run i is ``simulate_outcome(st, excitations[i], t_end=t_end[i], **options)`` with
+    the options of `runs` (`BlockRuns.of_runs`) and the restitution pair ``r_pairs[i]``
+    (`restitution_pairs`): the same numbers, bit for bit (no rerun of an undecided run).
+
+    Parameters
+    ----------
+    runs : BlockRuns
+        The block, its impacts and the options.
+    excitations : sequence
+        `EXCITATIONS` (pulses, M&P pulses and records, mixed as wished; a scaled
+        record is a `Record`, ``record.scaled(f)``).
+    t_end : float or array_like
+        End time of each run (s).
+    r_pairs : array_like (n, 2), optional
+        Restitution of an impact onto the right and onto the left corner, per run
+        (default: the options', `BlockRuns.r_pair`).
+
+    Returns
+    -------
+    ExcitationRuns
+        Outcome -1 (status "failed", ``batched``) for a run the batch could not finish
+        as the per-run path would: run it with `simulate_outcome` (`simulate_outcomes`
+        does).
+
+    Raises
+    ------
+    InputError
+        For an excitation not in `EXCITATIONS`, or a t_end not after the excitation's
+        start (as `simulate_outcome`).
+    """
+    excitations = list(excitations)
+    n = len(excitations)
+    kinds, pars, smp, spans, bounds = _encoded(excitations)
+    t_ends = np.empty((n, 1))
+    t_ends[:, 0] = np.broadcast_to(np.asarray(t_end, dtype=float), (n,))
+    bad = np.flatnonzero(~(t_ends[:, 0] > np.maximum(bounds[:, 0], 0.0)))
+    if bad.size:
+        i = int(bad[0])
+        raise InputError(
+            f"run {i}: t_end = {t_ends[i, 0]!r} s is not after the start of its excitation "
+            f"({bounds[i, 0]:g} s)"
+        )
+    pairs = np.empty((n, 2))
+    pairs[:] = runs.r_pair if r_pairs is None else np.asarray(r_pairs, dtype=float)
+    code, real, ints = _run_cells(runs, kinds, pars, smp, spans, bounds, t_ends, pairs)
+    err = real[:, 2]
+    accurate = err <= runs.energy_tol  # multimass.checks.energy_check
+    over = code == bk.OVERTURNED
+    status = np.where(over, "overturned", "completed").astype("<U11")
+    status[~accurate] = "inaccurate"  # multimass.result.status_of
+    status[code == bk.FAILED] = "failed"
+    reached = f"|θ| reached {runs.ep[mx.EP_OVERTURN]:.4g} rad"  # the overturn event's message
+    return ExcitationRuns(
+        outcome=code,
+        status=status,
+        message=[reached if o else "" for o in over.tolist()],
+        overturn_time=real[:, 0],
+        theta_max=real[:, 1],
+        n_impacts=ints[:, 0],
+        n_rhs=ints[:, 1],
+        energy_balance_error=err,
+        accurate=accurate | (code == bk.FAILED),
+        batched=np.ones(n, bool),
+    )
+
+
+def _outcome_code(resp) -> int:
+    """The `OUTCOMES` index of a `simulate_outcome` result (as `map_cells._classify`)."""
+    if resp.status == "failed":
+        return bk.FAILED
+    if resp.outcome == "overturned":
+        return bk.OVERTURNED
+    if not any(e.kind == "uplift" for e in resp.events):
+        return bk.NO_ROCKING
+    return bk.REST if any(e.kind == "rest" for e in resp.events) else bk.UNDECIDED
+
+
+def simulate_outcomes(st, excitations, t_end, options) -> ExcitationRuns:
+    """``simulate_outcome(st, excitations[i], t_end=t_end[i], **options[i])`` of every run,
+    batched where the batch reproduces it (`BlockRuns.of_runs`, `restitution_pairs`,
+    `EXCITATIONS`), else — and for a run the batch cannot finish — one run at a time.
+
+    Parameters
+    ----------
+    st : Structure
+        A rigid block (any structure: its runs go per run).
+    excitations : sequence
+    t_end : float or array_like
+        End time of each run (s).
+    options : dict or sequence of dict
+        The options of every run, or of each (``impact`` included; differing in
+        ``restitution``, ``k`` and ``seed`` only, else the runs go per run).
+
+    Returns
+    -------
+    ExcitationRuns
+        ``batched`` says which runs the batch gave.
+    """
+    from ..simulation import simulate_outcome
+
+    excitations = list(excitations)
+    n = len(excitations)
+    per_run = [dict(o) for o in options] if not isinstance(options, dict) else [options] * n
+    if len(per_run) != n:
+        raise InputError(f"{len(per_run)} option sets for {n} excitations: give one per run")
+    t_ends = np.broadcast_to(np.asarray(t_end, dtype=float), (n,))
+    mine = np.array([type(e) in EXCITATIONS for e in excitations], dtype=bool)
+    runs = BlockRuns.of_runs(st, per_run[0]) if n else None
+    pairs = restitution_pairs(st, per_run) if runs is not None else None
+    if runs is None or pairs is None:
+        mine[:] = False
+    idx = np.flatnonzero(mine)
+    out = ExcitationRuns(
+        outcome=np.full(n, bk.FAILED, np.int64),
+        status=np.full(n, "failed", dtype="<U11"),
+        message=[""] * n,
+        overturn_time=np.full(n, math.nan),
+        theta_max=np.zeros(n),
+        n_impacts=np.zeros(n, np.int64),
+        n_rhs=np.zeros(n, np.int64),
+        energy_balance_error=np.zeros(n),
+        accurate=np.ones(n, bool),
+        batched=np.zeros(n, bool),
+    )
+    if idx.size:
+        b = run_excitations(runs, [excitations[i] for i in idx], t_ends[idx], pairs[idx])
+        for name in ("outcome", "status", "overturn_time", "theta_max", "n_impacts", "n_rhs"):
+            getattr(out, name)[idx] = getattr(b, name)
+        out.energy_balance_error[idx], out.accurate[idx] = b.energy_balance_error, b.accurate
+        out.batched[idx] = b.outcome != bk.FAILED
+        for i, m in zip(idx.tolist(), b.message):
+            out.message[i] = m
+    for i in np.flatnonzero(~out.batched).tolist():
+        resp = simulate_outcome(st, excitations[i], t_end=float(t_ends[i]), **per_run[i])
+        out.outcome[i], out.status[i], out.message[i] = (
+            _outcome_code(resp),
+            resp.status,
+            resp.message,
+        )
+        out.overturn_time[i] = next((e.time for e in resp.events if e.kind == "overturn"), math.nan)
+        out.theta_max[i], out.n_impacts[i], out.n_rhs[i] = (
+            resp.theta_max,
+            resp.n_impacts,
+            resp.n_rhs,
+        )
+        out.energy_balance_error[i] = resp.energy_balance_error
+        out.accurate[i] = resp.status != "inaccurate"
+    return out
 
 
 # ---------------------------------------------------------------------------- compile once
@@ -316,17 +681,19 @@ def warm_up_blocks() -> float:
     start = time.perf_counter()
     cache_dir, stamp = Path(bk.run_cells.stats.cache_path), _fingerprint(_sources())
     _drop_stale_cache(cache_dir, _STAMP, stamp, _OWN)
-    z = np.zeros(1)  # one empty run (no time to run) with the argument types of every call
+    # one empty run (no time to run) with the argument types of every call
     names, codes, dirs, term, quiet, guarded = ROCKING_EVENTS
     events = (codes, dirs, term, quiet, guarded.astype(np.int64))
     cfg = np.zeros(bk.CFG_SIZE)
     cfg[bk.CFG_CHATTER], cfg[bk.CFG_A_TH] = 2.0, 1.0
     bk.run_cells(
-        z,
-        mx.EXC_SINE,
+        np.full(1, mx.EXC_SINE, np.int64),
         np.zeros((1, mx.PAR_SIZE)),
         _NO_SAMPLES,
-        0.0,
+        np.zeros((1, 2), np.int64),
+        np.zeros((1, 2)),
+        np.zeros((1, 1)),
+        np.zeros((1, 2)),
         cfg,
         np.ones(mx.MP_SIZE),
         np.ones(mx.EP_SIZE),
