@@ -212,24 +212,70 @@ def _draw_options(suite: Suite, seed: int) -> tuple[dict, float]:
     return opts, math.nan
 
 
+def _result(job: _Job, theta_max, overturned, n_impacts, status, t_over, message) -> tuple:
+    """The tuple of one run (see `suite_run`), from its outcome's numbers."""
+    theta = theta_max / job.structure.alpha_cg
+    if not math.isfinite(theta):
+        theta = math.nan if status == "failed" else 0.0
+    return (
+        float(theta),
+        bool(overturned),
+        int(n_impacts),
+        str(status),
+        float(t_over),
+        message if status in ("failed", "inaccurate") else "",
+        None if job.ims is None else pulse_ims(job.excitation, job.ims),
+    )
+
+
 def suite_run(job: _Job) -> tuple:
     """One run: (θ_max/α, overturned, impacts, status, overturn time or NaN, message, IMs
     of the excitation or None)."""
     st = job.structure
     resp = simulate_outcome(st, job.excitation, t_end=job.t_end, seed=job.seed, **job.options)
     t_over = next((e.time for e in resp.events if e.kind == "overturn"), math.nan)
-    theta = resp.theta_max / st.alpha_cg
-    if not math.isfinite(theta):
-        theta = math.nan if resp.status == "failed" else 0.0
-    return (
-        float(theta),
+    return _result(
+        job,
+        resp.theta_max,
         resp.outcome == "overturned",
-        int(resp.n_impacts),
+        resp.n_impacts,
         resp.status,
         t_over,
-        resp.message if resp.status in ("failed", "inaccurate") else "",
-        None if job.ims is None else pulse_ims(job.excitation, job.ims),
+        resp.message,
     )
+
+
+def suite_batch(jobs: list) -> list[tuple]:
+    """`suite_run` of every job, a rigid block's in compiled batches where they reproduce
+    `simulate_outcome` run for run (`multimass.fast.block_runs.simulate_outcomes`; the
+    others, and runs the batch cannot finish, one at a time)."""
+    from ..fast.block_runs import simulate_outcomes
+
+    st = jobs[0].structure
+    r = simulate_outcomes(
+        st,
+        [j.excitation for j in jobs],
+        [j.t_end for j in jobs],
+        [j.options | {"seed": j.seed} for j in jobs],
+    )
+    return [
+        _result(
+            j,
+            r.theta_max[i],
+            r.overturned[i],
+            r.n_impacts[i],
+            r.status[i],
+            r.overturn_time[i],
+            r.message[i],
+        )
+        for i, j in enumerate(jobs)
+    ]
+
+
+#: Rigid-block suites run in compiled batches (`suite_batch`); False: one job per run.
+BATCHED = True
+#: A chunk of a batched suite is cut into this many jobs (strided, so they cost alike).
+BATCHES_PER_CHUNK = 8
 
 
 # --------------------------------------------------------------------------- the table
@@ -423,12 +469,21 @@ def run_suite(
     )
     tables = {}
     compiled = options.get("backend") == "compiled"
+    batched = BATCHED and compiled and st.n == 0
     try:
-        with executor_session(executor, workers, compiled) as ex:
+        with executor_session(executor, workers, compiled, batched) as ex:
             for c in todo:
                 index = np.arange(c * chunk, min((c + 1) * chunk, n))
                 jobs = [job(int(i)) for i in index]
-                results = run_jobs(suite_run, jobs, executor=ex, progress=False)
+                if batched:
+                    k = min(BATCHES_PER_CHUNK, len(jobs))
+                    batches = [jobs[b::k] for b in range(k)]
+                    parts_ = run_jobs(suite_batch, batches, executor=ex, progress=False)
+                    results = [None] * len(jobs)
+                    for b, part_results in enumerate(parts_):
+                        results[b::k] = part_results
+                else:
+                    results = run_jobs(suite_run, jobs, executor=ex, progress=False)
                 tables[c] = rows(index, results)
                 if folder is not None:
                     _write(part(c), tables[c])
