@@ -299,6 +299,31 @@ def test_a_spectrum_from_the_command_line_equals_the_serial_spectrum(dask_cluste
     assert len(runs) == 8 and runs.seed.nunique() == 8  # random restitution, seeded per job
 
 
+def test_a_suite_on_the_cluster_equals_the_serial_suite(dask_cluster, tmp_path):
+    # issue 16: `multimass suite` runs on the sweep engine, so on a cluster too
+    suite = tmp_path / "suite.toml"
+    suite.write_text(
+        'name = "B6M on a cluster"\n[structure]\nspecimen = "B6M"\n'
+        "[monte_carlo]\ndraws = 3\nseed = 5\n"
+        "k = { distribution = 'normal', mean = 0.82, std = 0.05 }\n"
+        "[intensity]\nmeasure = 'amp_over_g_tan_alpha'\nlevels = [1.5, 3.0, 6.0]\n"
+        "[pulses]\nomega_p_over_p = [1.5, 3.0]\n"
+        "gamma = { distribution = 'uniform', low = 1.5, high = 3.0 }\n"
+    )
+    args = ["suite", str(suite), "--bootstrap", "0", "--no-progress"]
+    assert main([*args, "--executor", "serial", "--out", str(tmp_path / "s")]) == 0
+    before = _transitions(dask_cluster.client)
+    with _deadline(SWEEP_TIMEOUT, "the suite on the cluster"):
+        code = main(
+            [*args, "--executor", "dask", "--dask-address", dask_cluster.address]
+            + ["--out", str(tmp_path / "d")]
+        )
+    assert code == 0
+    assert _transitions(dask_cluster.client) > before
+    runs = _same_tables(tmp_path, "runs.csv")
+    assert len(runs) == 2 * 3 * 3 and runs.seed.nunique() == 18
+
+
 # --- a worker killed mid-sweep -------------------------------------------------------
 
 
