@@ -23,7 +23,6 @@ from multimass.errors import InputError
 from multimass.fast import block_runs
 from multimass.records import Record, read_record
 from multimass.simulation import simulate_outcome
-from multimass.sweeps import maps
 
 TOL = 1e-12  # rad for θ_max, s for overturning times (see the module docstring)
 RECORDS = Path(__file__).parents[3] / "examples" / "data" / "records"
@@ -209,26 +208,6 @@ def test_a_run_the_batch_cannot_finish_runs_per_run(monkeypatch):
     got = block_runs.simulate_outcomes(st, excitations, 12.0, options)
     np.testing.assert_array_equal(got.batched, [True, False, True, True])
     _assert_same(got, _reference(st, excitations, 12.0, options))
-
-
-@pytest.mark.parametrize(
-    "options, batched",
-    [
-        (dict(impact="CIM", restitution="modified", k=0.7), True),
-        (dict(impact="CIM", restitution="housner", method="RK45", rtol=1e-7), True),
-        (dict(impact="CIM", restitution=0.8), True),
-        (dict(impact="DD2"), False),  # a Dirac-delta force
-        (dict(impact="LCP"), False),  # Poisson's law
-        (dict(impact="CIM", restitution="random"), False),  # a draw per impact
-        (dict(impact="CIM", restitution="modified", backend="scipy"), False),
-        (dict(impact="CIM", restitution="modified", integrator="newmark"), False),
-        (dict(impact="CIM", restitution="modified", method="Radau"), False),
-    ],
-)
-def test_which_runs_batch(options, batched):
-    st = multimass.rigid_block("B6M")
-    options = maps.default_backend(options)
-    assert (block_runs.BlockRuns.of_runs(st, options) is not None) is batched
 
 
 def test_restitution_pairs():

@@ -118,6 +118,7 @@ def test_a_cell_the_batch_cannot_finish_runs_per_cell(monkeypatch):
     "options, batched",
     [
         (dict(impact="CIM", restitution="modified"), True),
+        (dict(impact="CIM", restitution="modified", k=0.7), True),
         (dict(impact="CIM", restitution="housner", method="RK45", rtol=1e-7), True),
         (dict(impact="CIM", restitution=0.8), True),
         (dict(impact="DD2"), False),  # a Dirac-delta force
@@ -128,10 +129,12 @@ def test_a_cell_the_batch_cannot_finish_runs_per_cell(monkeypatch):
         (dict(impact="CIM", restitution="modified", method="Radau"), False),
     ],
 )
-def test_which_maps_run_in_batches(options, batched):
+def test_which_maps_and_runs_go_in_batches(options, batched):
     st = multimass.rigid_block("B6M")
     runs = map_cells.batch_runs(st, maps.default_backend(options))
     assert (runs is not None) is batched
+    # the same rule for the runs of a suite (block_runs.simulate_outcomes)
+    assert (block_runs.BlockRuns.of_runs(st, maps.default_backend(options)) is not None) is batched
 
 
 def test_outcome_codes_match_the_map():
