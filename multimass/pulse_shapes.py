@@ -34,8 +34,11 @@ _TWO_PI = 2.0 * math.pi
 def mp_velocity(t, amplitude, fp, gamma, nu, t0):
     """Ground velocity v(t) of the M&P pulse inside its window (m/s); M&P 2003's model."""
     tau = t - t0
-    return 0.5 * amplitude * (1.0 + math.cos(_TWO_PI * fp * tau / gamma)) * math.cos(
-        _TWO_PI * fp * tau + nu
+    return (
+        0.5
+        * amplitude
+        * (1.0 + math.cos(_TWO_PI * fp * tau / gamma))
+        * math.cos(_TWO_PI * fp * tau + nu)
     )
 
 

@@ -72,6 +72,8 @@ def pulse_label(pulse) -> str:
             return "mp"
         return f"mp_g{pulse.gamma:g}_nu{pulse.nu:g}"
     return str(pulse)
+
+
 #: Cells per chunk of a batched map (one compiled call each; ~5-20 ms of work).
 CHUNK_CELLS = 64
 #: A batched map is cut into at least this many chunks per worker (small maps spread too).
