@@ -14,7 +14,7 @@ free rocking (no ``stop_when_safe``; stop at rest), on the compiled path (DOP853
 
 Each set runs two ways in this process: ``per_run``, one `simulate_outcome` per run
 (what ``run_suite`` does today), and ``batched``, one
-`multimass.fast.block_runs.simulate_outcomes` call (the restitution pairs, the
+`multimass.sweeps.block_outcomes.simulate_outcomes` call (the restitution pairs, the
 encoding and one compiled call for all runs). Each repeat runs both, alternating
 which goes first, timed in CPU time of this process (other jobs on a shared machine
 barely change it) and in wall time; the ratio of a repeat is per-run time over batched
@@ -124,7 +124,7 @@ def _equality(want, got) -> dict:
 
 def _compare(st, excitations, options, repeats: int, say) -> dict:
     from multimass.bench.targets import spread
-    from multimass.fast.block_runs import simulate_outcomes
+    from multimass.sweeps.block_outcomes import simulate_outcomes
 
     n = len(excitations)
     t_end = np.array([e.duration + T_FREE for e in excitations])

@@ -15,7 +15,12 @@ from . import kinematics as kin
 from ._phase import ActiveForce, guard
 from .result import Event
 
-__all__ = ["phase_events", "handle_event"]
+__all__ = ["phase_events", "handle_event", "overturn_message"]
+
+
+def overturn_message(angle: float) -> str:
+    """The message of a run that overturned at `angle` (rad)."""
+    return f"|θ| reached {angle:.4g} rad"
 
 
 def phase_events(run, s, delay: float) -> tuple[list[str], list]:
@@ -80,8 +85,7 @@ def handle_event(run, s, name: str):
             Event("overturn", s.t, s.phase, s.phase, theta=float(th), thetadot_minus=float(thd))
         )
         run.recorder.end_phase(s.t, s.y, s.phase)
-        message = f"|θ| reached {run.overturn:.4g} rad"
-        return s.but(t=run.t_end, status="overturned", message=message)
+        return s.but(t=run.t_end, status="overturned", message=overturn_message(run.overturn))
     if name == "activate":
         return _activate(run, s, u, th, ud, thd)
     if name == "deactivate":

@@ -537,7 +537,7 @@ class MPPulse(Excitation):
 
     Notes
     -----
-    ``duration`` = t0 + γ/(2 f_p). `peak_acceleration` is the exact peak of |ü_g| (the
+    ``duration`` = t0 + γ/(2 f_p). `peak_acceleration` is the exact peak of ``|ü_g|`` (the
     pulse's PGA), used by `MPShape` and the dimensionless fragility (a_p/(g tan α)).
     """
 
@@ -654,7 +654,7 @@ class MPPulse(Excitation):
 
     @property
     def peak_acceleration(self) -> float:
-        """max |ü_g| over the pulse (m/s²): A f_p times the peak of the unit pulse."""
+        """max ``|ü_g|`` over the pulse (m/s²): A f_p times the peak of the unit pulse."""
         return self.amplitude * self.fp * _unit_peak(self.gamma, self.nu)
 
     def describe(self) -> dict:
@@ -672,9 +672,9 @@ class MPPulse(Excitation):
 
 @lru_cache(maxsize=256)
 def _unit_peak(gamma: float, nu: float) -> float:
-    """max |ü_g| of the M&P pulse with A = 1 m/s, f_p = 1 Hz (m/s²): ü_g scales as A·f_p.
+    """max ``|ü_g|`` of the M&P pulse with A = 1 m/s, f_p = 1 Hz (m/s²): ü_g scales as A·f_p.
 
-    A grid over the window with ~100 points per lobe of |ü_g| (the window holds γ carrier
+    A grid over the window with ~100 points per lobe of ``|ü_g|`` (the window holds γ carrier
     periods, two lobes each), then a bounded golden-section search around the largest
     sample, on the same `mp_acceleration` the runs evaluate.
     """

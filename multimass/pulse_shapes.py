@@ -3,7 +3,7 @@
 Mavroeidis, G.P. and Papageorgiou, A.S. (2003), "A mathematical representation of
 near-fault ground motions", Bull. Seismol. Soc. Am. 93(3), 1099–1131 (M&P 2003).
 The model is the ground *velocity* of a near-fault pulse, a harmonic carrier under a
-raised-cosine envelope,
+raised-cosine envelope::
 
     v(t) = A/2 [1 + cos(2π f_p τ / γ)] cos(2π f_p τ + ν),   τ = t − t0,
     for |τ| ≤ γ / (2 f_p), else 0,
@@ -11,7 +11,7 @@ raised-cosine envelope,
 with A the amplitude (m/s), f_p the prevailing frequency (Hz), γ > 1 the oscillatory
 character (the number of half-cycles grows with γ), ν the phase (rad) and t0 the time
 of the envelope's peak (s). The acceleration is its exact derivative and the
-displacement its exact integral (written here with ψ = 2π f_p τ/γ, φ = 2π f_p τ + ν):
+displacement its exact integral (written here with ψ = 2π f_p τ/γ, φ = 2π f_p τ + ν)::
 
     a(t) = −(A π f_p / γ) [sin ψ cos φ + γ (1 + cos ψ) sin φ],
     d(t) = A/(4π f_p) [sin φ + γ/(2(γ+1)) sin(φ + ψ) + γ/(2(γ−1)) sin(φ − ψ)] − d(t0 − γ/(2f_p)).

@@ -13,8 +13,9 @@ the right and left corner. Then `run_pulses` (a map's pulses) and `run_excitatio
 whole list in one call, with no Python per run. Anything else (Dirac-delta or LCP
 impacts, random or impact-indexed restitution, Newmark, backend "scipy") gets None
 from `BlockRuns.of` and `restitution_pairs`: the caller runs those one
-`simulate_outcome` at a time — as `simulate_outcomes` does, which batches what it
-can and runs the rest (and any run the batch cannot finish) per run.
+`simulate_outcome` at a time — as `multimass.sweeps.block_outcomes.simulate_outcomes`
+does, which batches what it can and runs the rest (and any run the batch cannot
+finish) per run.
 
 The batch gives the per-run path's results bit for bit: the same compiled
 integrator and event code, the same transition rules and the same uplift search
@@ -32,6 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import kinematics as kin
+from .._events import overturn_message
 from .._rigid import uplift_threshold
 from .._run import QUIET_DELAY
 from ..checks import energy_floor
@@ -72,7 +74,6 @@ __all__ = [
     "run_pulses",
     "run_excitations",
     "restitution_pairs",
-    "simulate_outcomes",
     "encode_pulses",
     "ensure_ready",
     "warm_up_blocks",
@@ -404,13 +405,13 @@ class ExcitationRuns:
         Index into `OUTCOMES` ("no_rocking", "rest": stopped at rest or safe,
         "overturned", "undecided": still rocking at t_end), or -1: `run_excitations`
         could not run it as the per-run path would (that path ends it with status
-        "failed"); `simulate_outcomes` then has run it per run, and -1 stays for a
-        failed run.
+        "failed"); `multimass.sweeps.block_outcomes.simulate_outcomes` then has run it
+        per run, and -1 stays for a failed run.
     status : ndarray of str
         The `Outcome`'s ``status``: "completed", "overturned", "inaccurate" (the
         energy balance check failed) or "failed".
     message : list of str
-        The `Outcome`'s ``message`` ("|θ| reached ... rad" for an overturned run, the
+        The `Outcome`'s ``message`` (``"|θ| reached ... rad"`` for an overturned run, the
         solver's message for a failed one, else "").
     overturn_time : ndarray
         Time of the "overturn" event (s; NaN if none).
@@ -456,7 +457,8 @@ def _encoded(excitations):
             name = type(exc).__name__
             raise InputError(
                 f"excitation {i} is a {name}: the batch runs "
-                f"{', '.join(e.__name__ for e in EXCITATIONS)} (use simulate_outcomes)"
+                f"{', '.join(e.__name__ for e in EXCITATIONS)} "
+                "(use multimass.sweeps.block_outcomes.simulate_outcomes)"
             )
         kind, par, samples = encode(exc)
         kinds[i], pars[i] = kind, par
@@ -497,8 +499,8 @@ def run_excitations(runs: BlockRuns, excitations, t_end, r_pairs=None) -> Excita
     -------
     ExcitationRuns
         Outcome -1 (status "failed", ``batched``) for a run the batch could not finish
-        as the per-run path would: run it with `simulate_outcome` (`simulate_outcomes`
-        does).
+        as the per-run path would: run it with `simulate_outcome`
+        (`multimass.sweeps.block_outcomes.simulate_outcomes` does).
 
     Raises
     ------
@@ -527,7 +529,7 @@ def run_excitations(runs: BlockRuns, excitations, t_end, r_pairs=None) -> Excita
     status = np.where(over, "overturned", "completed").astype("<U11")
     status[~accurate] = "inaccurate"  # multimass.result.status_of
     status[code == bk.FAILED] = "failed"
-    reached = f"|θ| reached {runs.ep[mx.EP_OVERTURN]:.4g} rad"  # the overturn event's message
+    reached = overturn_message(runs.ep[mx.EP_OVERTURN])
     return ExcitationRuns(
         outcome=code,
         status=status,
@@ -540,90 +542,6 @@ def run_excitations(runs: BlockRuns, excitations, t_end, r_pairs=None) -> Excita
         accurate=accurate | (code == bk.FAILED),
         batched=np.ones(n, bool),
     )
-
-
-def _outcome_code(resp) -> int:
-    """The `OUTCOMES` index of a `simulate_outcome` result (as `map_cells._classify`)."""
-    if resp.status == "failed":
-        return bk.FAILED
-    if resp.outcome == "overturned":
-        return bk.OVERTURNED
-    if not any(e.kind == "uplift" for e in resp.events):
-        return bk.NO_ROCKING
-    return bk.REST if any(e.kind == "rest" for e in resp.events) else bk.UNDECIDED
-
-
-def simulate_outcomes(st, excitations, t_end, options) -> ExcitationRuns:
-    """``simulate_outcome(st, excitations[i], t_end=t_end[i], **options[i])`` of every run,
-    batched where the batch reproduces it (`BlockRuns.of_runs`, `restitution_pairs`,
-    `EXCITATIONS`), else — and for a run the batch cannot finish — one run at a time.
-
-    Parameters
-    ----------
-    st : Structure
-        A rigid block (any structure: its runs go per run).
-    excitations : sequence
-    t_end : float or array_like
-        End time of each run (s).
-    options : dict or sequence of dict
-        The options of every run, or of each (``impact`` included; differing in
-        ``restitution``, ``k`` and ``seed`` only, else the runs go per run).
-
-    Returns
-    -------
-    ExcitationRuns
-        ``batched`` says which runs the batch gave.
-    """
-    from ..simulation import simulate_outcome
-
-    excitations = list(excitations)
-    n = len(excitations)
-    per_run = [dict(o) for o in options] if not isinstance(options, dict) else [options] * n
-    if len(per_run) != n:
-        raise InputError(f"{len(per_run)} option sets for {n} excitations: give one per run")
-    t_ends = np.broadcast_to(np.asarray(t_end, dtype=float), (n,))
-    mine = np.array([type(e) in EXCITATIONS for e in excitations], dtype=bool)
-    runs = BlockRuns.of_runs(st, per_run[0]) if n else None
-    pairs = restitution_pairs(st, per_run) if runs is not None else None
-    if runs is None or pairs is None:
-        mine[:] = False
-    idx = np.flatnonzero(mine)
-    out = ExcitationRuns(
-        outcome=np.full(n, bk.FAILED, np.int64),
-        status=np.full(n, "failed", dtype="<U11"),
-        message=[""] * n,
-        overturn_time=np.full(n, math.nan),
-        theta_max=np.zeros(n),
-        n_impacts=np.zeros(n, np.int64),
-        n_rhs=np.zeros(n, np.int64),
-        energy_balance_error=np.zeros(n),
-        accurate=np.ones(n, bool),
-        batched=np.zeros(n, bool),
-    )
-    if idx.size:
-        b = run_excitations(runs, [excitations[i] for i in idx], t_ends[idx], pairs[idx])
-        for name in ("outcome", "status", "overturn_time", "theta_max", "n_impacts", "n_rhs"):
-            getattr(out, name)[idx] = getattr(b, name)
-        out.energy_balance_error[idx], out.accurate[idx] = b.energy_balance_error, b.accurate
-        out.batched[idx] = b.outcome != bk.FAILED
-        for i, m in zip(idx.tolist(), b.message):
-            out.message[i] = m
-    for i in np.flatnonzero(~out.batched).tolist():
-        resp = simulate_outcome(st, excitations[i], t_end=float(t_ends[i]), **per_run[i])
-        out.outcome[i], out.status[i], out.message[i] = (
-            _outcome_code(resp),
-            resp.status,
-            resp.message,
-        )
-        out.overturn_time[i] = next((e.time for e in resp.events if e.kind == "overturn"), math.nan)
-        out.theta_max[i], out.n_impacts[i], out.n_rhs[i] = (
-            resp.theta_max,
-            resp.n_impacts,
-            resp.n_rhs,
-        )
-        out.energy_balance_error[i] = resp.energy_balance_error
-        out.accurate[i] = resp.status != "inaccurate"
-    return out
 
 
 # ---------------------------------------------------------------------------- compile once

@@ -247,9 +247,9 @@ def suite_run(job: _Job) -> tuple:
 
 def suite_batch(jobs: list) -> list[tuple]:
     """`suite_run` of every job, a rigid block's in compiled batches where they reproduce
-    `simulate_outcome` run for run (`multimass.fast.block_runs.simulate_outcomes`; the
+    `simulate_outcome` run for run (`multimass.sweeps.block_outcomes.simulate_outcomes`; the
     others, and runs the batch cannot finish, one at a time)."""
-    from ..fast.block_runs import simulate_outcomes
+    from ..sweeps.block_outcomes import simulate_outcomes
 
     st = jobs[0].structure
     r = simulate_outcomes(

@@ -1,7 +1,8 @@
 """Batched rigid-block runs under pulses and records, each with its own restitution (issue 15).
 
-`multimass.fast.block_runs.run_excitations` (and `simulate_outcomes`, which falls back
-to one `simulate_outcome` per run) must give, run by run, what
+`multimass.fast.block_runs.run_excitations` (and
+`multimass.sweeps.block_outcomes.simulate_outcomes`, which falls back to one
+`simulate_outcome` per run) must give, run by run, what
 ``simulate_outcome(st, excitation, t_end=..., impact="CIM", restitution=..., k=...,
 backend="compiled")`` gives: the same outcome, status, message, impacts, RHS
 evaluations and accuracy flag, and the same peak angle, overturning time and energy
@@ -23,6 +24,7 @@ from multimass.errors import InputError
 from multimass.fast import block_runs
 from multimass.records import Record, read_record
 from multimass.simulation import simulate_outcome
+from multimass.sweeps import block_outcomes
 
 TOL = 1e-12  # rad for θ_max, s for overturning times (see the module docstring)
 RECORDS = Path(__file__).parents[3] / "examples" / "data" / "records"
@@ -50,7 +52,7 @@ def _assert_same(got, want):
         assert got.n_impacts[i] == r.n_impacts, i
         assert got.n_rhs[i] == r.n_rhs, i
         assert bool(got.accurate[i]) == (r.status != "inaccurate"), i
-        assert got.outcome[i] == block_runs._outcome_code(r), i
+        assert got.outcome[i] == block_outcomes._outcome_code(r), i
         assert abs(got.theta_max[i] - r.theta_max) <= TOL, i
         assert math.isnan(t_over) == math.isnan(got.overturn_time[i]), i
         if not math.isnan(t_over):
@@ -185,10 +187,10 @@ def test_simulate_outcomes_batches_what_it_can_and_runs_the_rest():
     excitations, options = _mp_runs(st, 6, seed=8)
     excitations[2] = FreeRelease(theta0=0.1)  # not from rest: per run
     t_end = 4.0
-    got = block_runs.simulate_outcomes(st, excitations, t_end, options)
+    got = block_outcomes.simulate_outcomes(st, excitations, t_end, options)
     np.testing.assert_array_equal(got.batched, [True, True, False, True, True, True])
     _assert_same(got, _reference(st, excitations, t_end, options))
-    dd = block_runs.simulate_outcomes(st, excitations[:2], t_end, dict(impact="DD2"))
+    dd = block_outcomes.simulate_outcomes(st, excitations[:2], t_end, dict(impact="DD2"))
     assert not dd.batched.any()  # Dirac-delta impacts: per run
     _assert_same(dd, _reference(st, excitations[:2], t_end, dict(impact="DD2")))
 
@@ -205,7 +207,7 @@ def test_a_run_the_batch_cannot_finish_runs_per_run(monkeypatch):
     monkeypatch.setattr(block_runs, "run_excitations", second_fails)
     st = multimass.rigid_block("B6M")
     excitations, options = _record_runs(st, 4, seed=1)
-    got = block_runs.simulate_outcomes(st, excitations, 12.0, options)
+    got = block_outcomes.simulate_outcomes(st, excitations, 12.0, options)
     np.testing.assert_array_equal(got.batched, [True, False, True, True])
     _assert_same(got, _reference(st, excitations, 12.0, options))
 

@@ -133,7 +133,7 @@ def test_which_maps_and_runs_go_in_batches(options, batched):
     st = multimass.rigid_block("B6M")
     runs = map_cells.batch_runs(st, maps.default_backend(options))
     assert (runs is not None) is batched
-    # the same rule for the runs of a suite (block_runs.simulate_outcomes)
+    # the same rule for the runs of a suite (block_outcomes.simulate_outcomes)
     assert (block_runs.BlockRuns.of_runs(st, maps.default_backend(options)) is not None) is batched
 
 
