@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from ..errors import InputError
 from . import _types as types
 from ._output import output_folder
 from ._sweep_args import add_executor_args, executor_kwargs
@@ -50,6 +51,10 @@ def run(args) -> int:
     from multimass.suites.runs import run_suite
     from multimass.suites.spec import Suite
 
+    if 0 < args.bootstrap < 10:  # checked now, not after the runs
+        raise InputError(
+            f"`--bootstrap` = {args.bootstrap}: give 0 (the Fisher band) or ≥ 10 resamples"
+        )
     suite = Suite.from_toml(args.suite)
     out = output_folder(args.out)
     ex = executor_kwargs(args)

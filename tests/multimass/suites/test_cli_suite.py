@@ -62,6 +62,8 @@ def test_suite_bad_input_is_one_line_exit_2(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "amp_over_g_tan_alpha or pga" in err and "Traceback" not in err
     assert main(["suite", str(tmp_path / "none.toml"), "--out", str(tmp_path / "o")]) == 2
+    assert main(["suite", str(bad), "--out", str(tmp_path / "o"), "--bootstrap", "5"]) == 2
+    assert "≥ 10 resamples" in capsys.readouterr().err
     other = tmp_path / "other.toml"
     other.write_text(SMALL.replace("draws = 4", "draws = 2"))
     good = tmp_path / "good.toml"
