@@ -71,6 +71,8 @@ __all__ = [
     "PulseFragility",
     "pulse_fragility",
     "summary_dict",
+    "summary_tables",
+    "as_json",
     "json_ready",
 ]
 
@@ -948,7 +950,7 @@ def json_ready(obj):
     return obj if isinstance(obj, str) else str(obj)
 
 
-def summary_dict(
+def summary_tables(
     runs,
     im: str = "im",
     measures=DAMAGE_STATES,
@@ -957,15 +959,15 @@ def summary_dict(
     level: float = 0.95,
     structure=None,
 ) -> dict:
-    """Everything the analysis has to say about a runs table, JSON-ready (`json_ready`).
+    """Everything the analysis has to say about a runs table, each piece computed once.
 
     Keys: ``structure``, ``im``, ``im_name``, ``unit``, ``n_runs`` (analysed),
     ``n_excluded``, ``excluded`` (per status), ``grouping``, ``fragility``
-    (`fragility_curves` records), ``exceedance`` (`exceedance_counts` records),
-    ``im_efficiency`` (`im_efficiency` records for overturning, or None when the table
-    has no IM column), ``ida`` (`ida_summary` records of the record runs, or None when
-    there are none) and ``pulse`` (`PulseFragility.as_dict`, or None when there are no
-    pulse runs).
+    (`fragility_curves`), ``exceedance`` (`exceedance_counts`), ``im_efficiency``
+    (`im_efficiency` for overturning, or None when the table has no IM column), ``ida``
+    (`ida_summary` of the record runs, or None when there are none) and ``pulse``
+    (`pulse_fragility`, or None when there are no pulse runs). `summary_dict` is its
+    JSON-ready form.
     """
     curves = fragility_curves(runs, im, measures, bootstrap, seed, level, structure)
     counts = exceedance_counts(runs, im, measures, structure)
@@ -995,5 +997,26 @@ def summary_dict(
         and (kind == "pulse").any()
         and {"omega_p_over_p", "amp_over_g_tan_alpha"} <= set(runs.columns)
     ):
-        out["pulse"] = pulse_fragility(runs, structure=structure).as_dict()
+        out["pulse"] = pulse_fragility(runs, structure=structure)
+    return out
+
+
+def summary_dict(
+    runs,
+    im: str = "im",
+    measures=DAMAGE_STATES,
+    bootstrap: int = 0,
+    seed: int = 0,
+    level: float = 0.95,
+    structure=None,
+) -> dict:
+    """`summary_tables`, JSON-ready (`json_ready`; ``pulse`` as `PulseFragility.as_dict`)."""
+    return as_json(summary_tables(runs, im, measures, bootstrap, seed, level, structure))
+
+
+def as_json(tables: dict) -> dict:
+    """The JSON-ready form of a `summary_tables` dict."""
+    out = dict(tables)
+    if out.get("pulse") is not None:
+        out["pulse"] = out["pulse"].as_dict()
     return json_ready(out)

@@ -19,9 +19,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import pandas as pd
-
-from .analysis import ida_summary, im_efficiency, json_ready, pulse_fragility, summary_dict
+from .analysis import as_json, summary_tables
 from .plots import plot_fragility, plot_ida, plot_im_efficiency, plot_pulse_fragility
 from .runs import SuiteRuns
 
@@ -45,33 +43,28 @@ def write_report(result: SuiteRuns, out, *, bootstrap: int = 200, seed: int = 0)
     runs, suite = result.runs, result.suite
     runs.to_parquet(out / "runs.parquet", index=False)
     runs.to_csv(out / "runs.csv", index=False)
-    info = summary_dict(runs, bootstrap=bootstrap, seed=seed)
-    info = {"summary": result.summary()} | info
-    curves = pd.DataFrame(info["fragility"])
-    curves.to_csv(out / "fragility.csv", index=False)
+    tables = summary_tables(runs, bootstrap=bootstrap, seed=seed)
+    summary = result.summary()
     title = suite.name
-    from .analysis import fragility_curves
-
+    tables["fragility"].to_csv(out / "fragility.csv", index=False)
     plot_fragility(
         runs,
-        fragility_curves(runs, bootstrap=bootstrap, seed=seed),
+        tables["fragility"],
         out / "fragility.png",
-        title=f"{title} — {result.summary()['n_runs']} runs",
+        title=f"{title} — {summary['n_runs']} runs",
     )
-    eff = im_efficiency(runs)
+    eff = tables["im_efficiency"]
     eff.to_csv(out / "im_efficiency.csv", index=False)
     plot_im_efficiency(eff, out / "im_efficiency.png", title=f"{title}: IM efficiency")
     kind = runs.motion_kind.astype(str)
-    if (kind == "record").any():
-        rec = runs[kind == "record"]
-        plot_ida(rec, out / "ida.png", title=f"{title}: IDA curves")
-        ida_summary(rec).to_csv(out / "ida.csv", index=False)
-    if (kind == "pulse").any():
-        pf = pulse_fragility(runs[kind == "pulse"])
-        pf.curves.to_csv(out / "pulse_fragility.csv", index=False)
+    if tables["ida"] is not None:
+        plot_ida(runs[kind == "record"], out / "ida.png", title=f"{title}: IDA curves")
+        tables["ida"].to_csv(out / "ida.csv", index=False)
+    if tables["pulse"] is not None:
+        tables["pulse"].curves.to_csv(out / "pulse_fragility.csv", index=False)
         plot_pulse_fragility(
             runs[kind == "pulse"], out / "pulse_fragility.png", title=f"{title}: pulses"
         )
-    info = json_ready(info)
+    info = {"summary": summary} | as_json(tables)
     (out / "summary.json").write_text(json.dumps(info, indent=1))
     return info

@@ -195,6 +195,7 @@ class _Job:
     seed: int
     options: dict
     ims: _ImSpec | None = None  # compute the IMs of this (drawn) pulse in the worker
+    draw: float = math.nan  # the restitution value drawn for this run (k or r), if any
 
 
 def _draw_options(suite: Suite, seed: int) -> tuple[dict, float]:
@@ -407,16 +408,17 @@ def run_suite(
         j = rest // n_d
         m = ms[mi]
         exc = m.excitation(float(factors[mi, j]), int(seeds[i]))
-        opts, _ = _draw_options(suite, seeds[i])
+        opts, drawn = _draw_options(suite, seeds[i])
         ims = _ImSpec.of(suite) if m.drawn else None
-        return _Job(st, exc, exc.duration + suite.t_free, int(seeds[i]), options | opts, ims)
+        t_end = exc.duration + suite.t_free
+        return _Job(st, exc, t_end, int(seeds[i]), options | opts, ims, drawn)
 
     # the options and the longest run checked here, before any worker starts
     longest = max(range(len(ms)), key=lambda mi: ms[mi].excitation(1.0, 0).duration)
     probe = job(longest * n_l * n_d + (n_l - 1) * n_d)
     estimate(st, probe.excitation, t_end=probe.t_end, seed=probe.seed, **probe.options)
 
-    def rows(index: np.ndarray, results: list) -> pd.DataFrame:
+    def rows(index: np.ndarray, jobs: list, results: list) -> pd.DataFrame:
         mi, rest = np.divmod(index, n_l * n_d)
         j, d = np.divmod(rest, n_d)
         f = factors[mi, j]
@@ -432,7 +434,7 @@ def run_suite(
             "draw": d,
             "seed": [int(seeds[i]) for i in index],
             "scale": f,
-            "restitution_draw": [_draw_options(suite, seeds[i])[1] for i in index],
+            "restitution_draw": [j.draw for j in jobs],
         }
         names = ("theta_max_over_alpha", "overturned", "n_impacts", "status", "overturn_time")
         for c, name in enumerate(names + ("message",)):
@@ -445,10 +447,9 @@ def run_suite(
             ]
         for key in ("omega_p_over_p", "fp", "gamma", "nu"):
             cols[key] = [ms[k].pulse[key] for k in mi]
-        for row, (k, i) in enumerate(zip(mi, index)):
-            if ms[k].drawn:
-                shape = ms[k].shape_for(int(seeds[i]))
-                cols["gamma"][row], cols["nu"][row] = shape.gamma, shape.nu
+        for row, (k, jb) in enumerate(zip(mi, jobs)):
+            if ms[k].drawn:  # the run's own shape, drawn in `job`
+                cols["gamma"][row], cols["nu"][row] = jb.excitation.gamma, jb.excitation.nu
         pulse = np.array([ms[k].kind == "pulse" for k in mi])
         cols["amp_over_g_tan_alpha"] = np.where(pulse, f, np.nan)
         cols["fp"] = np.asarray(cols["fp"], dtype=float)  # a_p = f · g tan α; f_p = ω_p/2π
@@ -484,7 +485,7 @@ def run_suite(
                         results[b::k] = part_results
                 else:
                     results = run_jobs(suite_run, jobs, executor=ex, progress=False)
-                tables[c] = rows(index, results)
+                tables[c] = rows(index, jobs, results)
                 if folder is not None:
                     _write(part(c), tables[c])
                 bar.update(len(index))
