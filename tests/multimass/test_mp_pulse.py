@@ -87,6 +87,10 @@ def test_shape_builds_the_pulse_of_a_given_peak_acceleration():
     p = shape(amplitude=3.0, omega=4.0)
     assert p.fp == pytest.approx(4.0 / (2 * math.pi), rel=1e-15)
     assert p.peak_acceleration == pytest.approx(3.0, rel=1e-12)
+    # independent of MPShape's own peak search: the paper's v, differentiated numerically
+    t = np.linspace(p.start, p.duration, 400_001)
+    v = np.array([_velocity_closed_form(p, x) for x in t])
+    assert np.max(np.abs(np.gradient(v, t))) == pytest.approx(3.0, rel=1e-6)
     assert p.start == 0.0 and (p.gamma, p.nu) == (2.5, 0.4)
     assert multimass.excitations.pulse("mp", amplitude=3.0, omega=4.0, gamma=2.5, nu=0.4) == p
 

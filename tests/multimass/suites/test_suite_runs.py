@@ -19,6 +19,9 @@ from multimass.suites.runs import RUN_COLUMNS, SuiteMismatch, _draw_options, run
 from multimass.suites.spec import PulseSet, Suite
 
 ROOT = Path(__file__).resolve().parents[3]
+# B6M's uplift acceleration g tan α = g b/h: b = 0.045 m, h = 0.2025 m, g = 9.81 m/s²
+# (paper 004, Table 1: h/b = 4.5, α = 0.2187 rad; specimens/data/B6M.toml)
+B6M_G_TAN_ALPHA = 9.81 * 0.045 / 0.2025
 SUITES = ROOT / "examples" / "suites"
 RECORDS = ROOT / "examples" / "data" / "records"
 
@@ -88,7 +91,7 @@ def test_pulse_runs_are_scaled_in_a_p_over_g_tan_alpha():
     r = run_suite(_block_suite(), executor="serial", progress=False).runs
     assert len(r) == 2 * 4 * 3
     np.testing.assert_array_equal(r.amp_over_g_tan_alpha, r.im)
-    g_tan_alpha = G * math.tan(0.218669)  # B6M: α = 0.218669 rad (paper 004, Table 1)
+    g_tan_alpha = B6M_G_TAN_ALPHA
     np.testing.assert_allclose(r.pga, r.im * g_tan_alpha, rtol=2e-4)  # sampled peak ≤ exact
     assert (r.pga <= r.im * g_tan_alpha * (1 + 1e-12)).all()
     assert set(r.omega_p_over_p) == {1.0, 3.0}
@@ -203,7 +206,7 @@ def test_drawn_pulse_shapes_vary_per_run_within_their_ranges():
     assert r.gamma.nunique() == len(r) and r.nu.nunique() == len(r)
     assert set(r.motion) == {"mp_wp1", "mp_wp3"}
     # each run's own IMs: its sampled peak is the a_p it was scaled to (MPShape's exact peak)
-    g_tan_alpha = G * math.tan(0.218669)
+    g_tan_alpha = B6M_G_TAN_ALPHA
     np.testing.assert_allclose(r.pga, r.amp_over_g_tan_alpha * g_tan_alpha, rtol=2e-4)
     assert r.pgv.nunique() == len(r)  # PGV depends on the drawn shape
 
