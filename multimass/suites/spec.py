@@ -563,10 +563,10 @@ def _intensity(w: str, data):
     damping = v.number(
         "intensity.damping", data.get("damping", 0.05), low=0.0, high=1.0, low_open=True
     )
-    extra = _values(
-        w, "intensity.sa_periods_s", data.get("sa_periods_s", []) or [1.0], positive=True
-    )
-    sa_periods = tuple(sorted(set(map(float, extra)) | ({period} if period else set())))
-    if "sa_periods_s" not in data and period is None:
-        sa_periods = ()
-    return measure, levels, period, damping, sa_periods
+    periods = set()  # the periods of the Sa columns written beside the other IMs
+    if data.get("sa_periods_s"):
+        listed = _values(w, "intensity.sa_periods_s", data["sa_periods_s"], positive=True)
+        periods = set(map(float, listed))
+    if period is not None:
+        periods.add(period)
+    return measure, levels, period, damping, tuple(sorted(periods))

@@ -254,3 +254,13 @@ def test_a_block_under_records_batched_as_per_run(monkeypatch):
     monkeypatch.setattr(runs_mod, "BATCHED", False)
     pd.testing.assert_frame_equal(batched, run_suite(s, executor="serial", progress=False).runs)
     assert batched.n_impacts.gt(0).any()
+
+
+def test_sa_columns_are_the_listed_periods_and_the_measure_s(tmp_path):
+    rec = _record(RECORDS / "kobe_1995.dat", "m/s2")
+    body = "[intensity]\nmeasure = 'sa'\nperiod_s = 0.5\nlevels = [0.5]\nunit = 'g'\n"
+    assert Suite.from_toml(_toml(tmp_path, S1_HEAD + body + rec)).sa_periods == (0.5,)
+    body = "[intensity]\nmeasure = 'pga'\nlevels = [0.5]\nunit = 'g'\nsa_periods_s = [0.2, 1.0]\n"
+    assert Suite.from_toml(_toml(tmp_path, S1_HEAD + body + rec)).sa_periods == (0.2, 1.0)
+    body = "[intensity]\nmeasure = 'pga'\nlevels = [0.5]\nunit = 'g'\n"
+    assert Suite.from_toml(_toml(tmp_path, S1_HEAD + body + rec)).sa_periods == ()
