@@ -18,7 +18,7 @@ __all__ = [
     "solver_kwargs",
     "PULSES",
     "add_mp_args",
-    "mp_shape_from_args",
+    "pulse_from_args",
 ]
 
 PULSES = PULSE_NAMES
@@ -84,10 +84,20 @@ def add_mp_args(g) -> None:
     )
 
 
-def mp_shape_from_args(args):
-    """The `MPShape` of --gamma/--nu (validated), or None when they are the defaults."""
-    shape = MPShape(gamma=args.gamma, nu=args.nu)
-    return None if shape == MPShape() else shape
+def pulse_from_args(args):
+    """The pulse of --pulse: its name, or for ``mp`` the `MPShape` of --gamma/--nu.
+
+    Raises
+    ------
+    InputError
+        For --gamma or --nu given with another pulse (they would be ignored).
+    """
+    shape = MPShape(gamma=args.gamma, nu=args.nu)  # validates them
+    if args.pulse == "mp":
+        return shape
+    if shape != MPShape():
+        raise InputError("`--gamma` and `--nu` shape an M&P pulse: add `--pulse mp`")
+    return args.pulse
 
 
 def excitation_from_args(args, structure):
@@ -116,15 +126,11 @@ def excitation_from_args(args, structure):
         if args.omega is None or args.amp is None:
             raise InputError("`--pulse` needs --omega (rad/s) and --amp (e.g. 0.4g)")
         amp = parse_acceleration(args.amp, "g", argument="--amp")
+        family = pulse_from_args(args)
+        if isinstance(family, MPShape):
+            return family(amplitude=amp, omega=args.omega)
         kind = getattr(getattr(structure, "specimen", None), "kind", "column")
-        return pulse(
-            args.pulse,
-            amplitude=amp,
-            omega=args.omega,
-            structure_kind=kind,
-            gamma=getattr(args, "gamma", 2.0),
-            nu=getattr(args, "nu", 0.0),
-        )
+        return pulse(family, amplitude=amp, omega=args.omega, structure_kind=kind)
     return read_record(args.record, units=args.units, scale=args.scale)
 
 

@@ -13,7 +13,7 @@ from ._args import (
     add_mp_args,
     add_solver_args,
     impact_kwargs,
-    mp_shape_from_args,
+    pulse_from_args,
     solver_kwargs,
 )
 from ._output import output_folder
@@ -113,11 +113,8 @@ def run(args) -> int:
             parse_range(args.amp, "--amp", lambda x: parse_acceleration(x, "g", argument="--amp")),
             nonnegative=True,
         )
-        shape = mp_shape_from_args(args)
-        if shape is not None and args.pulse != "mp":
-            raise InputError("`--gamma` and `--nu` shape an M&P pulse: add `--pulse mp`")
-        kind = shape if shape is not None else args.pulse
-        sp = pulse_spectrum(st, kind, omega, amp, repeats=args.repeats or 1, **common)
+        family = pulse_from_args(args)
+        sp = pulse_spectrum(st, family, omega, amp, repeats=args.repeats or 1, **common)
         x = "omega" if omega.size >= amp.size else "amp"
         xlabel = "ω (rad/s)" if x == "omega" else "amplitude (m/s²)"
         title = (

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from . import _types as types
-from ._args import add_mp_args, mp_shape_from_args
+from ._args import add_mp_args, pulse_from_args
 from ._output import output_folder
 from ._sweep_args import add_executor_args, executor_kwargs
 
@@ -131,11 +131,8 @@ def run(args) -> int:
         )
     if store and args.adaptive:
         raise InputError("`--store` and `--adaptive` do not combine: adaptive maps stay in memory")
-    shape = mp_shape_from_args(args)
-    if shape is not None and args.pulse != "mp":
-        raise InputError("`--gamma` and `--nu` shape an M&P pulse: add `--pulse mp`")
     kw = dict(
-        pulse=shape if shape is not None else args.pulse,
+        pulse=pulse_from_args(args),
         omega_p=omega_p,
         amp=amp,
         k=args.k,

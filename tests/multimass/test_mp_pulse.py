@@ -189,6 +189,10 @@ def test_stability_cli_maps_an_mp_pulse(tmp_path, capsys):
     assert main(["stability", "B6M", "--gamma", "3", "--executor", "serial"]) == 2
     assert "--pulse mp" in capsys.readouterr().err
     assert main(["simulate", "B6M", "--pulse", "mp", "--omega", "10", "--amp", "0.5g"]) == 0
+    capsys.readouterr()
+    args = ["simulate", "B6M", "--pulse", "sine", "--nu", "1", "--omega", "10", "--amp", "0.5g"]
+    assert main(args) == 2  # --nu would be ignored by a sine
+    assert "--pulse mp" in capsys.readouterr().err
 
 
 def test_spectrum_sweeps_an_mp_pulse_on_both_paths(capsys):
