@@ -15,32 +15,37 @@ Python::
     fragility_curves(runs, im="pga")
 """
 
-from .analysis import (
-    exceedance_counts,
-    fragility_curves,
-    ida_curves,
-    ida_summary,
-    im_efficiency,
-    pulse_fragility,
-    summary_dict,
-)
-from .report import write_report
-from .runs import SuiteMismatch, SuiteRuns, run_suite
-from .spec import Distribution, PulseSet, Suite
+import importlib
 
-__all__ = [
-    "Suite",
-    "PulseSet",
-    "Distribution",
-    "run_suite",
-    "SuiteRuns",
-    "SuiteMismatch",
-    "exceedance_counts",
-    "fragility_curves",
-    "im_efficiency",
-    "ida_curves",
-    "ida_summary",
-    "pulse_fragility",
-    "summary_dict",
-    "write_report",
-]
+# public name -> the module that defines it; loaded on first use (PEP 562), so that
+# `import multimass.suites.spec` does not load pandas' analysis or matplotlib
+_PUBLIC = {
+    "spec": ("Suite", "PulseSet", "Distribution"),
+    "runs": ("run_suite", "SuiteRuns", "SuiteMismatch"),
+    "analysis": (
+        "exceedance_counts",
+        "fragility_curves",
+        "im_efficiency",
+        "ida_curves",
+        "ida_summary",
+        "pulse_fragility",
+        "summary_dict",
+    ),
+    "report": ("write_report",),
+}
+_WHERE = {name: module for module, names in _PUBLIC.items() for name in names}
+
+__all__ = [name for names in _PUBLIC.values() for name in names]
+
+
+def __getattr__(name: str):
+    module = _WHERE.get(name)
+    if module is None:
+        raise AttributeError(f"module 'multimass.suites' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{module}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
