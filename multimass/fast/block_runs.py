@@ -248,7 +248,7 @@ def restitution_pairs(st, options) -> np.ndarray | None:
     out = np.empty((len(options), 2))
     if not options:
         return out
-    rest = lambda o: {k: v for k, v in o.items() if k not in _PER_RUN}  # noqa: E731
+    rest = lambda o: {k: v for k, v in o.items() if k not in _PER_RUN}
     common, pairs = rest(options[0]), {}
     for i, opts in enumerate(options):
         if rest(opts) != common:

@@ -162,7 +162,7 @@ def _excitation(data, w: str, folder: Path):
 
 def _mp_pulse(data, w: str) -> MPPulse:
     """An M&P pulse (`multimass.MPPulse`) from its TOML keys; MPPulse checks its ranges."""
-    num = lambda key, what: _number(w, f"excitation.{key}", data[key], what=what)  # noqa: E731
+    num = lambda key, what: _number(w, f"excitation.{key}", data[key], what=what)
     kw = {
         "amplitude": num("amplitude_m_per_s", "the velocity amplitude A in m/s"),
         "fp": num("fp_hz", "the pulse frequency f_p in Hz"),

@@ -174,7 +174,7 @@ def motions(suite: Suite) -> list[_Motion]:
             unit = (ratio, gamma, nu, omega, a_unit)
             meta = dict(omega_p_over_p=ratio, fp=omega / TWO_PI, gamma=math.nan, nu=math.nan)
             if isinstance(gamma, Distribution) or isinstance(nu, Distribution):
-                tag = lambda x, s: f"_{s}{x:g}" if not isinstance(x, Distribution) else ""  # noqa: E731
+                tag = lambda x, s: f"_{s}{x:g}" if not isinstance(x, Distribution) else ""
                 name = f"mp_wp{ratio:g}" + tag(gamma, "g") + tag(nu, "nu")
                 out.append(_Motion(name, "pulse", unit, {"pga": a_unit}, meta))
                 continue
@@ -461,7 +461,7 @@ def run_suite(
     if folder is not None:
         _open(folder, _manifest(suite))
         (folder / "runs").mkdir(exist_ok=True)
-    part = lambda c: folder / "runs" / f"part-{c:05d}.parquet"  # noqa: E731
+    part = lambda c: folder / "runs" / f"part-{c:05d}.parquet"
     todo = [c for c in range(n_chunks) if folder is None or not part(c).exists()]
     done = n - sum(min(chunk, n - c * chunk) for c in todo)
     show = progress if progress is not None else bool(getattr(sys.stderr, "isatty", bool)())

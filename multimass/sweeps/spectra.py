@@ -169,7 +169,7 @@ def pulse_spectrum(
     if isinstance(pulse, MPShape):
         build, label = pulse, pulse_label(pulse)
     else:
-        build = lambda **kw: make_pulse(pulse, structure_kind=kind, **kw)  # noqa: E731
+        build = lambda **kw: make_pulse(pulse, structure_kind=kind, **kw)
         label = pulse
     points = []
     for (w, a, _), s in zip(grid, seeds):
