@@ -226,7 +226,8 @@ class RandomRestitution(Restitution):
 
     def value(self, ctx: ImpactContext) -> float:
         mean = self.right if ctx.side_new > 0 else self.left
-        return float(np.clip(ctx.rng.normal(mean, self.sigma), self.floor, 1.0))
+        # min(max(...)) is np.clip of one float, without numpy's per-call overhead
+        return float(min(max(float(ctx.rng.normal(mean, self.sigma)), self.floor), 1.0))
 
 
 @dataclass(frozen=True)

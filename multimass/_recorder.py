@@ -57,11 +57,14 @@ class Recorder:
             self.last_t = float(t[-1])
 
     def _row(self, t, y, phase, force):
-        self._block([t], [y], phase, force)
+        """One row: `_block` of ([t], [y]), without converting lists (a run makes many)."""
+        t, row = float(t), np.array(y, dtype=float).reshape(1, -1)
+        self.blocks.append((np.array([t]), row, phase, force, self.loss))
+        self.last_t = t
 
     def segment(self, sol, rhs, phase, force, names):
         """Store one solve_ivp segment and its θ̇ = 0 (peak) events."""
-        if np.size(sol.t):
+        if len(sol.t):
             self._block(sol.t, np.asarray(sol.y).T, phase, force)
         if phase and "peak" in names:
             k = names.index("peak")

@@ -12,7 +12,9 @@ samples, peaks and ledger, the restitution draws, the chattering guard's window.
 
 from __future__ import annotations
 
+import bisect
 import dataclasses
+import itertools
 import math
 from collections import deque
 from dataclasses import dataclass
@@ -70,8 +72,8 @@ class State:
     def but(self, **changes) -> State:
         """This state with `changes` (fields only; a shallow copy, as dataclasses.replace
         makes, without its per-call overhead: a run makes one per transition)."""
-        unknown = changes.keys() - _STATE_FIELDS
-        if unknown:
+        if not _STATE_FIELDS.issuperset(changes):
+            unknown = changes.keys() - _STATE_FIELDS
             raise TypeError(f"State has no field {sorted(unknown)[0]!r}")
         new = object.__new__(State)
         new.__dict__.update(self.__dict__, **changes)
@@ -123,6 +125,7 @@ class PhaseLoop:
         self.ivp, self.thetadot_min, self.overturn = o.ivp, o.thetadot_min, o.overturn_angle
         self.rng = np.random.default_rng(o.seed)
         self.n_draws = 0
+        self.n_impacts, self.n_counted = 0, 0  # impacts among the first n_counted events
         self.chatter = deque(maxlen=o.chatter_count)
         self.chatter_window, self.stop_at_rest = o.chatter_window, o.stop_at_rest
         self.safe_energy = None
@@ -142,12 +145,18 @@ class PhaseLoop:
     # -- restitution draws -------------------------------------------------
     def draw(self, side_new: int, y: np.ndarray) -> float:
         """The restitution of the next impact onto pivot `side_new` at state `y` (one draw)."""
-        n_impacts = sum(e.kind == "impact" for e in self.events)
         ctx = ImpactContext(
-            self.st, side_new, y[: self.st.n].copy(), self.n_draws, self.rng, n_impacts
+            self.st, side_new, y[: self.st.n].copy(), self.n_draws, self.rng, self.impacts_so_far()
         )
         self.n_draws += 1
         return float(self.model.restitution.value(ctx))
+
+    def impacts_so_far(self) -> int:
+        """Events of kind "impact" logged so far (the log only grows: each is counted once)."""
+        for e in itertools.islice(self.events, self.n_counted, None):
+            self.n_impacts += e.kind == "impact"
+        self.n_counted = len(self.events)
+        return self.n_impacts
 
     # -- main loop -----------------------------------------------------------
     def run(self, progress=None) -> State:
@@ -158,7 +167,7 @@ class PhaseLoop:
         self.progress = progress
         s = self.start
         while s.t < self.t_end and s.status == "completed":
-            t_stop = next(b for b in self.breakpoints if b > s.t)
+            t_stop = self.breakpoints[bisect.bisect_right(self.breakpoints, s.t)]  # first > s.t
             if s.phase == 0 and self.st.n == 0:
                 s, go_on = self.rest_until_uplift(s, t_stop)
                 if not go_on:
