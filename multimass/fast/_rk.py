@@ -42,7 +42,7 @@ from scipy.integrate._ivp.rk import RK23, RK45
 
 from ._maths import event_value, rhs, rhs_call
 
-__all__ = ["METHOD_CODES", "OK", "EVENT", "FAILED"]
+__all__ = ["METHOD_CODES", "OK", "EVENT", "FAILED", "zeroin_next"]
 
 #: Methods the compiled path supports, by solve_ivp name.
 METHOD_CODES = {"RK23": 0, "RK45": 1, "DOP853": 2}
@@ -99,20 +99,28 @@ def _rk_step(t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, m, H, K, C_, mp, f
         Kst[0, j] = f[j]
     # stages 1 … ns-1, then (s = ns) the solution and its slope: one call site of the
     # inlined rhs (each inlined copy costs seconds of compile time)
+    # Each sum runs over k in order, as scipy's dot products; the loop over the components
+    # j is the inner one, so the components' sums advance together (vectorised).
     for s in range(1, ns + 1):
         if s < ns:
             for j in range(ny):
-                acc = 0.0
-                for k in range(s):
-                    acc += Kst[k, j] * A[s, k]
-                ytmp[j] = y[j] + acc * h
+                ytmp[j] = 0.0
+            for k in range(s):
+                a = A[s, k]
+                for j in range(ny):
+                    ytmp[j] += Kst[k, j] * a
+            for j in range(ny):
+                ytmp[j] = y[j] + ytmp[j] * h
             ts, ys = t + C[s] * h, ytmp
         else:
             for j in range(ny):
-                acc = 0.0
-                for k in range(ns):
-                    acc += Kst[k, j] * Bw[k]
-                ynew[j] = y[j] + h * acc
+                ynew[j] = 0.0
+            for k in range(ns):
+                b = Bw[k]
+                for j in range(ny):
+                    ynew[j] += Kst[k, j] * b
+            for j in range(ny):
+                ynew[j] = y[j] + h * ynew[j]
             ts, ys = t + h, ynew
         rhs(ts, ys, Kst[s], side, m, H, K, C_, mp, fp, kind, par, smp)
 
@@ -204,6 +212,55 @@ def _dense_eval(method, t, t_old, h, y_old, Q, out):
 
 
 @njit(cache=True, error_model="numpy")
+def zeroin_next(a, fa, b, fb, c, fc, d, e):
+    """One iteration of Brent's zeroin (tolerance 4 ε in t), without the evaluation.
+
+    The caller holds the state (a, fa, b, fb, c, fc, d, e), starting from
+    ``c, fc, d, e = b, fb, b - a, b - a`` with f(a), f(b) of opposite signs, and
+    evaluates f at the point proposed. Returns (done, a, fa, b, c, fc, d, e): when
+    `done`, `b` is the root; otherwise f is wanted at the new `b` (and `a`, `fa`
+    are the previous `b`, `fb`). Brent's method, as SciPy's brentq.
+    """
+    if (fb > 0.0) == (fc > 0.0):  # keep the root between b and c
+        c, fc = a, fa
+        d = b - a
+        e = d
+    if abs(fc) < abs(fb):  # b is the best estimate
+        a, fa = b, fb
+        b, fb = c, fc
+        c, fc = a, fa
+    tol1 = 0.5 * (4.0 * _EPS + 4.0 * _EPS * abs(b))
+    xm = 0.5 * (c - b)
+    if abs(xm) < tol1 or fb == 0.0:
+        return True, a, fa, b, c, fc, d, e
+    if abs(e) >= tol1 and abs(fa) > abs(fb):
+        s = fb / fa
+        if a == c:  # secant
+            p = 2.0 * xm * s
+            q = 1.0 - s
+        else:  # inverse quadratic interpolation
+            q = fa / fc
+            r = fb / fc
+            p = s * (2.0 * xm * q * (q - r) - (b - a) * (r - 1.0))
+            q = (q - 1.0) * (r - 1.0) * (s - 1.0)
+        if p > 0.0:
+            q = -q
+        p = abs(p)
+        if 2.0 * p < min(3.0 * xm * q - abs(tol1 * q), abs(e * q)):
+            e = d
+            d = p / q
+        else:  # bisection
+            d = xm
+            e = d
+    else:
+        d = xm
+        e = d
+    a, fa = b, fb
+    b += d if abs(d) > tol1 else math.copysign(tol1, xm)
+    return False, a, fa, b, c, fc, d, e
+
+
+@njit(cache=True, error_model="numpy")
 def _brent(
     code,
     a,
@@ -227,7 +284,7 @@ def _brent(
     par,
     smp,
 ):
-    """Root of event `code` on the dense output in [a, b]: Brent's zeroin, tolerance 4 ε.
+    """Root of event `code` on the dense output in [a, b] (`zeroin_next`).
 
     The end values bracket a root by construction (signs at the step ends);
     if round-off in the interpolant at `b` spoils the bracket, `b` is the root.
@@ -240,46 +297,11 @@ def _brent(
         return a
     if fb == 0.0 or (fa > 0.0) == (fb > 0.0):
         return b
-    c, fc = b, fb
-    d = b - a
-    e = d
+    c, fc, d, e = b, fb, b - a, b - a
     for _ in range(_MAX_BRENT):
-        if (fb > 0.0) == (fc > 0.0):  # keep the root between b and c
-            c, fc = a, fa
-            d = b - a
-            e = d
-        if abs(fc) < abs(fb):  # b is the best estimate
-            a, fa = b, fb
-            b, fb = c, fc
-            c, fc = a, fa
-        tol1 = 0.5 * (4.0 * _EPS + 4.0 * _EPS * abs(b))
-        xm = 0.5 * (c - b)
-        if abs(xm) < tol1 or fb == 0.0:
+        done, a, fa, b, c, fc, d, e = zeroin_next(a, fa, b, fb, c, fc, d, e)
+        if done:
             return b
-        if abs(e) >= tol1 and abs(fa) > abs(fb):
-            s = fb / fa
-            if a == c:  # secant
-                p = 2.0 * xm * s
-                q = 1.0 - s
-            else:  # inverse quadratic interpolation
-                q = fa / fc
-                r = fb / fc
-                p = s * (2.0 * xm * q * (q - r) - (b - a) * (r - 1.0))
-                q = (q - 1.0) * (r - 1.0) * (s - 1.0)
-            if p > 0.0:
-                q = -q
-            p = abs(p)
-            if 2.0 * p < min(3.0 * xm * q - abs(tol1 * q), abs(e * q)):
-                e = d
-                d = p / q
-            else:  # bisection
-                d = xm
-                e = d
-        else:
-            d = xm
-            e = d
-        a, fa = b, fb
-        b += d if abs(d) > tol1 else math.copysign(tol1, xm)
         _dense_eval(method, b, t_old, h, y_old, Q, ytmp)
         fb = event_value(code, b, ytmp, t_on, quiet, side, m, H, K, C_, mp, ep, kind, par, smp)
     return b
