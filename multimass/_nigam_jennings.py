@@ -18,7 +18,13 @@ import math
 
 import numpy as np
 
-__all__ = ["coefficients", "nj_coefficients", "peak_displacement", "quadratic_roots"]
+__all__ = [
+    "coefficients",
+    "free_vibration",
+    "nj_coefficients",
+    "peak_displacement",
+    "quadratic_roots",
+]
 
 #: Steps whose lengths agree to this relative tolerance share their coefficients.
 _DT_RTOL = 1e-9
@@ -46,6 +52,20 @@ def quadratic_roots(c2, c1, c0):
     return r1, r2
 
 
+def free_vibration(w, z, h):
+    """Exact map of the free oscillator ``ü + 2ζωu̇ + ω²u = 0`` (0 ≤ ζ < 1) over a step `h`.
+
+    ``[u, u̇](h) = [[a11, a12], [a21, a22]] [u, u̇](0)``; returns a11, a12, a21, a22 (the A
+    of Nigam & Jennings 1969, BSSA 59(2)). No term cancels as h → 0. Plain arithmetic on
+    scalars or arrays: `multimass.fast` compiles it unchanged.
+    """
+    r = math.sqrt(1.0 - z * z)
+    wd = w * r
+    e = np.exp(-z * w * h)
+    s, c = np.sin(wd * h), np.cos(wd * h)
+    return e * (z / r * s + c), e * s / wd, -w / r * e * s, e * (c - z / r * s)
+
+
 def nj_coefficients(w, z, h):
     """Exact one-step maps of ``ü + 2ζωu̇ + ω²u = -a`` for a linear `a` over a step `h`.
 
@@ -54,14 +74,11 @@ def nj_coefficients(w, z, h):
     against the matrix exponential of the augmented system in the tests). Use
     `coefficients`, which also covers ωh → 0.
     """
+    a11, a12, a21, a22 = free_vibration(w, z, h)
     r = math.sqrt(1.0 - z * z)
     wd = w * r
     e = np.exp(-z * w * h)
     s, c = np.sin(wd * h), np.cos(wd * h)
-    a11 = e * (z / r * s + c)
-    a12 = e * s / wd
-    a21 = -w / r * e * s
-    a22 = e * (c - z / r * s)
     k1 = (2.0 * z * z - 1.0) / (w * w * h)
     k2 = 2.0 * z / (w**3 * h)
     cs = c - z / r * s

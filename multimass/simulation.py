@@ -210,7 +210,12 @@ class _Plan:
             excitation=exc.describe() if hasattr(exc, "describe") else repr(exc),
             backend=o.backend,
             engine=o.engine,
-        )
+        ) | ({"full_contact": self.full_contact} if self.fast is not None else {})
+
+    @property
+    def full_contact(self) -> str:
+        """How the compiled path advances full contact in this run: "exact" or "integrate"."""
+        return "integrate" if self.fast is None or self.fast.contact is None else "exact"
 
     def run(self, lean: bool):
         """Integrate; a `Response` (or an `Outcome` if `lean`) with the raw status."""
@@ -305,7 +310,7 @@ def _prepare(structure, excitation, impact, t_end, o: SimulationOptions) -> _Pla
     elif o.backend == "compiled":
         from .fast import FastPath  # numba loads only for backend="compiled"
 
-        fast = FastPath.of(st, model, excitation, o.method, QUIET_DELAY)
+        fast = FastPath.of(st, model, excitation, o.method, QUIET_DELAY, o.full_contact)
     cost = simulation_cost(
         st,
         t_end,

@@ -18,7 +18,7 @@ from . import validation as v
 from .errors import InputError
 from .progress import budget_seconds
 
-__all__ = ["SimulationOptions", "INTEGRATORS", "BACKENDS", "METHODS", "DEFAULTS"]
+__all__ = ["SimulationOptions", "INTEGRATORS", "BACKENDS", "METHODS", "FULL_CONTACT", "DEFAULTS"]
 
 #: Integrators of `simulate`: name → what it is.
 INTEGRATORS = {
@@ -31,6 +31,8 @@ BACKENDS = {
     "scipy": "scipy.integrate.solve_ivp, one call per phase segment (the reference)",
     "compiled": "the same Runge–Kutta steps, events and output in numba kernels (multimass.fast)",
 }
+#: How the compiled path may advance full contact (`SimulationOptions.full_contact`).
+FULL_CONTACT = ("auto", "exact", "integrate")
 #: The solve_ivp methods by name (an ``scipy.integrate.OdeSolver`` subclass is accepted too).
 METHODS = ("RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")
 
@@ -78,6 +80,12 @@ class SimulationOptions:
         A key of `BACKENDS`: "scipy" (the reference) or "compiled" (RK23/RK45/DOP853
         and the known excitations; compiled once per machine, never timed in
         ``wall_time_s``).
+    full_contact : str
+        How backend "compiled" advances a column's full contact (paper 001, Eq 3):
+        "exact" in closed form between the samples of a record or in free vibration
+        (classical, underdamped modes; `multimass.fast.contact_modes`), "integrate"
+        with the Runge–Kutta pair like every other phase, or "auto" (the default:
+        exact where it applies). Backend "scipy" always integrates.
     energy_tol : float
         A run whose energy ledger's balance error exceeds this share of its energy
         scale gets status "inaccurate" (`multimass.checks`).
@@ -108,6 +116,7 @@ class SimulationOptions:
     integrator: str = "solve_ivp"
     dt: float = 1e-3
     backend: str = "scipy"
+    full_contact: str = "auto"
     energy_tol: float = 1e-3
     max_hours: float | None = None
     progress: bool | None = None
@@ -140,6 +149,13 @@ class SimulationOptions:
             raise InputError(f"`progress` = {self.progress!r}: expected True, False or None")
         put("integrator", v.choice("integrator", self.integrator, tuple(INTEGRATORS)))
         put("backend", v.choice("backend", self.backend, tuple(BACKENDS)))
+        put("full_contact", v.choice("full_contact", self.full_contact, FULL_CONTACT))
+        if self.full_contact == "exact" and self.backend != "compiled":
+            raise InputError(
+                "`full_contact` = 'exact' needs backend='compiled' (backend "
+                f"{self.backend!r} integrates full contact); drop full_contact or pass "
+                "backend='compiled'"
+            )
         method = self.method
         if not (
             (isinstance(method, str) and method in METHODS)

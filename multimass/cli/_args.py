@@ -231,6 +231,14 @@ def add_solver_args(p) -> None:
         "one simulation)",
     )
     g.add_argument(
+        "--full-contact",
+        choices=("auto", "exact", "integrate"),
+        default=None,
+        help="how --backend compiled advances a column's full contact: exact (closed "
+        "form between a record's samples or in free vibration), integrate (the RK "
+        "steps), auto (the default: exact where it applies)",
+    )
+    g.add_argument(
         "--energy-tol",
         type=types.positive,
         default=DEFAULTS["energy_tol"],
@@ -257,6 +265,8 @@ def solver_kwargs(args) -> dict:
     )
     if getattr(args, "backend", None) is not None:
         kw["backend"] = args.backend
+    if getattr(args, "full_contact", None) is not None:
+        kw["full_contact"] = args.full_contact
     if getattr(args, "max_hours", None) is not None:
         kw["max_hours"] = args.max_hours
     return kw

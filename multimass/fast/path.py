@@ -22,14 +22,17 @@ from .._events import handle_event
 from ..errors import InputError
 from ..result import Event
 from . import _maths as mx
+from ._contact_kernel import contact_phase
 from ._kernel import integrate_phase
 from ._rk import EVENT, FAILED, METHOD_CODES
+from .contact_modes import ContactModes
 from .excitation import encode
 
 __all__ = ["FastPath", "check_model", "event_params", "ROCKING_EVENTS"]
 
 _FAIL_MESSAGE = "Required step size is less than spacing between numbers."
 _NONE = np.empty(0)
+_RTOL_MIN = 100 * np.finfo(float).eps  # as solve_ivp's floor on rtol
 
 
 def _table(*rows):
@@ -135,15 +138,23 @@ class FastPath:
     samples: np.ndarray
     delay: float
     dd: tuple = field(default=(0.0, 0.0, 0.0))  # C_p, n_min, z
+    contact: ContactModes | None = None  # full contact in closed form (`._contact_kernel`)
 
     @classmethod
-    def of(cls, st, model, excitation, method, delay: float) -> FastPath:
+    def of(
+        cls, st, model, excitation, method, delay: float, full_contact: str = "auto"
+    ) -> FastPath:
         """Validate that the compiled path can run this case, and lay out its arrays.
+
+        `full_contact` is "exact" (`._contact_kernel`: a record or free vibration, a
+        column with classical, underdamped modes), "integrate" (the Runge–Kutta pair,
+        as every other phase) or "auto" (exact where it applies).
 
         Raises
         ------
         InputError
-            For an excitation, impact model or method the kernels do not know.
+            For an excitation, impact model or method the kernels do not know, or
+            ``full_contact="exact"`` where it does not apply.
         """
         if not (isinstance(method, str) and method in METHOD_CODES):
             raise InputError(
@@ -159,6 +170,21 @@ class FastPath:
             else (0.0, 0.0, 0.0)
         )
         arr = lambda a: np.array(a, dtype=np.float64, order="C")  # writable C copies
+        contact = None
+        if full_contact != "integrate":
+            contact = (
+                ContactModes.of(st)
+                if kind in (mx.EXC_RECORD, mx.EXC_NONE)
+                else "its excitation is not a record or a free release (ü_g must be "
+                "piecewise linear in time)"
+            )
+            if isinstance(contact, str):
+                if full_contact == "exact":
+                    raise InputError(
+                        f"`full_contact` = 'exact': {st.name} cannot use it: {contact}; "
+                        "use full_contact='auto' or 'integrate'"
+                    )
+                contact = None
         return cls(
             method=method,
             code=METHOD_CODES[method],
@@ -172,6 +198,7 @@ class FastPath:
             samples=arr(samples),
             delay=float(delay),
             dd=dd,
+            contact=contact,
         )
 
     # -- the events of the current phase (multimass._events.phase_events) --------------------
@@ -202,32 +229,61 @@ class FastPath:
         names, codes, dirs, term, quiet, t_on, ep, fp = self.events(run, s)
         t_eval = np.ascontiguousarray(run.recorder.grid(s.t, t_stop), dtype=np.float64)
         ivp = run.ivp
-        status, t, y, ev, nfev, samples, _, nt_t, nt_y = integrate_phase(
-            float(s.t),
-            float(t_stop),
-            np.ascontiguousarray(s.y, dtype=np.float64),
-            t_eval,
-            int(s.phase),
-            self.m,
-            self.H,
-            self.K,
-            self.C,
-            self.mp,
-            fp,
-            codes,
-            dirs,
-            term,
-            quiet,
-            t_on,
-            ep,
-            self.kind,
-            self.par,
-            self.samples,
-            self.code,
-            max(float(ivp["rtol"]), 100 * np.finfo(float).eps),
-            float(ivp["atol"]),
-            float(ivp["max_step"]),
-        )
+        if s.phase == 0 and self.contact is not None:
+            cm = self.contact
+            out = contact_phase(
+                float(s.t),
+                float(t_stop),
+                np.ascontiguousarray(s.y, dtype=np.float64),
+                t_eval,
+                self.m,
+                self.H,
+                self.K,
+                self.C,
+                self.mp,
+                codes,
+                dirs,
+                quiet,
+                t_on,
+                ep,
+                self.kind,
+                self.par,
+                self.samples,
+                cm.phi,
+                cm.w,
+                cm.z,
+                cm.gam,
+                cm.h_max,
+                cm.screen,
+            )
+        else:
+            out = integrate_phase(
+                float(s.t),
+                float(t_stop),
+                np.ascontiguousarray(s.y, dtype=np.float64),
+                t_eval,
+                int(s.phase),
+                self.m,
+                self.H,
+                self.K,
+                self.C,
+                self.mp,
+                fp,
+                codes,
+                dirs,
+                term,
+                quiet,
+                t_on,
+                ep,
+                self.kind,
+                self.par,
+                self.samples,
+                self.code,
+                max(float(ivp["rtol"]), _RTOL_MIN),
+                float(ivp["atol"]),
+                float(ivp["max_step"]),
+            )
+        status, t, y, ev, nfev, samples, _, nt_t, nt_y = out
         run.n_rhs += int(nfev)
         k = len(samples)
         if status == FAILED:

@@ -117,6 +117,19 @@ def test_simulate_record(ground_motions, capsys):
     assert _json(capsys)["status"] == "completed"
 
 
+def test_simulate_full_contact_flag(ground_motions, capsys):
+    argv = ["simulate", "S1", "--record", str(ground_motions / "elcentro_1940_NS.dat")]
+    argv += ["--units", "g", "--scale", "1.1", "--t-end", "3", "--json", "--backend", "compiled"]
+    runs = {}
+    for how in ("exact", "integrate"):
+        assert main(argv + ["--full-contact", how]) == 0
+        runs[how] = _json(capsys)
+    assert runs["exact"]["n_impacts"] == runs["integrate"]["n_impacts"] >= 3
+    # both at the default rtol = 1e-8: they differ by the rocking phases' error (3.5e-6 here)
+    assert runs["exact"]["theta_max"] == pytest.approx(runs["integrate"]["theta_max"], rel=1e-4)
+    assert runs["exact"]["options"]["full_contact"] == "exact"
+
+
 @pytest.mark.parametrize(
     "argv, fragment",
     [
@@ -129,6 +142,15 @@ def test_simulate_record(ground_motions, capsys):
         (["simulate", "S1"], "exactly one excitation"),
         (["simulate", "S1", "--pulse", "sine", "--omega", "10", "--amp", "0.4parsecs"], "--amp"),
         (["simulate", "S1", "--record", "x.dat", "--units", "furlongs"], "units"),
+        (
+            ["simulate", "S1", "--release", "0.05", "--full-contact", "exact"],
+            "needs backend='compiled'",
+        ),
+        (
+            ["simulate", "S1", "--pulse", "sine", "--omega", "10", "--amp", "0.4g"]
+            + ["--backend", "compiled", "--full-contact", "exact"],
+            "not a record or a free release",
+        ),
         (["stability", "B6M", "--omega-p", "5:1:4", "--executor", "serial"], "inverted"),
         (["stability", "B6M", "--amp", "1:2:0", "--executor", "serial"], "empty"),
         (
