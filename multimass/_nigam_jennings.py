@@ -53,17 +53,29 @@ def quadratic_roots(c2, c1, c0):
 
 
 def free_vibration(w, z, h):
-    """Exact map of the free oscillator ``ü + 2ζωu̇ + ω²u = 0`` (0 ≤ ζ < 1) over a step `h`.
+    """Exact map of the free oscillator ``ü + 2ζωu̇ + ω²u = 0`` (ζ ≥ 0) over a step `h`.
 
-    ``[u, u̇](h) = [[a11, a12], [a21, a22]] [u, u̇](0)``; returns a11, a12, a21, a22 (the A
-    of Nigam & Jennings 1969, BSSA 59(2)). No term cancels as h → 0. Plain arithmetic on
-    scalars or arrays: `multimass.fast` compiles it unchanged.
+    ``[u, u̇](h) = [[a11, a12], [a21, a22]] [u, u̇](0)``; returns a11, a12, a21, a22.
+    Underdamped (ζ < 1): the A of Nigam & Jennings 1969, BSSA 59(2), on scalars or
+    arrays. Critically or overdamped (ζ ≥ 1; scalars only): with the roots
+    λ1,2 = −ω(ζ ∓ √(ζ² − 1)), a12 = (e^{λ1 h} − e^{λ2 h})/(λ1 − λ2) formed as
+    e^{λ1 h}(1 − e^{−(λ1 − λ2)h})/(λ1 − λ2) (no overflow; h e^{−ωh} at ζ = 1), and
+    a11 = e^{λ2 h} − λ2 a12, a21 = −ω² a12, a22 = e^{λ1 h} + λ2 a12. No term cancels
+    as h → 0. Plain arithmetic: `multimass.fast` compiles it unchanged.
     """
-    r = math.sqrt(1.0 - z * z)
-    wd = w * r
-    e = np.exp(-z * w * h)
-    s, c = np.sin(wd * h), np.cos(wd * h)
-    return e * (z / r * s + c), e * s / wd, -w / r * e * s, e * (c - z / r * s)
+    if z < 1.0:
+        r = math.sqrt(1.0 - z * z)
+        wd = w * r
+        e = np.exp(-z * w * h)
+        s, c = np.sin(wd * h), np.cos(wd * h)
+        return e * (z / r * s + c), e * s / wd, -w / r * e * s, e * (c - z / r * s)
+    r = math.sqrt(z * z - 1.0)
+    lam1, lam2 = -w * (z - r), -w * (z + r)
+    delta = lam1 - lam2  # 2ωr ≥ 0
+    e1, e2 = np.exp(lam1 * h), np.exp(lam2 * h)
+    x = delta * h
+    a12 = e1 * h if x == 0.0 else e1 * (-np.expm1(-x)) / delta
+    return e2 - lam2 * a12, a12, -w * w * a12, e1 + lam2 * a12
 
 
 def nj_coefficients(w, z, h):

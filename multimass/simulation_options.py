@@ -83,7 +83,7 @@ class SimulationOptions:
     full_contact : str
         How backend "compiled" advances a column's full contact (paper 001, Eq 3):
         "exact" in closed form between the samples of a record or in free vibration
-        (classical, underdamped modes; `multimass.fast.contact_modes`), "integrate"
+        (classical damping; `multimass.fast.contact_modes`), "integrate"
         with the Runge–Kutta pair like every other phase, or "auto" (the default:
         exact where it applies). Backend "scipy" always integrates.
     energy_tol : float

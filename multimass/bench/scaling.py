@@ -13,8 +13,11 @@ series summarised by the least-squares slope of log cost against log size
   and beside it the machine's own scaling: pure-Python loops on the same pools
   (`multimass.bench.targets.machine_times`), right after each map pair.
 * ``nodes`` — 10 s of free rocking of uniform N-node columns (`uniform_column`)
-  on the compiled path and on the solve_ivp path. A run whose
-  `multimass.estimate` exceeds its path's budget is skipped and listed.
+  on three paths (`NODE_PATHS`): the compiled path as run by default (full contact
+  in closed form), the compiled path integrating every phase (``compiled_rk``) and
+  the solve_ivp path. A run whose `multimass.estimate` exceeds its backend's
+  budget is skipped and listed. Cost per RHS evaluation is fitted for the paths
+  that integrate every phase.
 
 `run_scaling` writes ``scaling.json``, ``scaling.md`` and the charts
 ``scaling_cells.png``, ``scaling_workers.png``, ``scaling_nodes.png``.
@@ -37,6 +40,7 @@ from .targets import machine_times, map_axes, spread
 __all__ = [
     "fit_exponent",
     "uniform_column",
+    "NODE_PATHS",
     "cells_series",
     "workers_series",
     "nodes_series",
@@ -235,24 +239,32 @@ def uniform_column(n: int, like: str = "S1"):
     )
 
 
+#: The nodes series' paths: simulate options, and whether every phase takes RHS calls.
+NODE_PATHS = {
+    "compiled": (dict(backend="compiled"), False),
+    "compiled_rk": (dict(backend="compiled", full_contact="integrate"), True),
+    "scipy": (dict(backend="scipy"), True),
+}
+
+
 def nodes_series(cfg: ScalingConfig, say) -> dict:
-    """Free rocking of uniform N-node columns: compiled and solve_ivp wall time against N."""
+    """Free rocking of uniform N-node columns: wall time of each of `NODE_PATHS` against N."""
     import multimass
 
     release = multimass.FreeRelease(theta0=cfg.theta0)
     impact, t_end = cfg.nodes_impact, cfg.nodes_t_end
     multimass.simulate("S1", release, impact, 0.1, backend="compiled")  # kernels loaded
-    series = {"compiled": [], "scipy": []}
+    series = {path: [] for path in NODE_PATHS}
     budget = {"compiled": cfg.compiled_budget_s, "scipy": cfg.scipy_budget_s}
     skipped = []
     for n in cfg.nodes:
         st = uniform_column(n)
-        for backend, pts in series.items():
-            kw = dict(backend=backend, progress=False, max_hours=1e3)
+        for path, pts in series.items():
+            kw = NODE_PATHS[path][0] | dict(progress=False, max_hours=1e3)
             est = multimass.estimate(st, release, impact, t_end, **kw).seconds
-            if est > budget[backend]:
-                skipped.append({"N": n, "backend": backend, "estimate_s": est})
-                say(f"scaling nodes: N={n} {backend} skipped (estimate {est:.3g} s)")
+            if est > budget[kw["backend"]]:
+                skipped.append({"N": n, "backend": path, "estimate_s": est})
+                say(f"scaling nodes: N={n} {path} skipped (estimate {est:.3g} s)")
                 continue
             times = []
             for _ in range(cfg.repeats):
@@ -271,7 +283,7 @@ def nodes_series(cfg: ScalingConfig, say) -> dict:
                     "outcome": r.outcome,
                 }
             )
-            say(f"scaling nodes: N={n} {backend}: {s['median']:.3g} s ({r.n_rhs} RHS)")
+            say(f"scaling nodes: N={n} {path}: {s['median']:.3g} s ({r.n_rhs} RHS)")
     fits = {
         b: fit_exponent([p["N"] for p in pts], [p["seconds"]["median"] for p in pts])
         for b, pts in series.items()
@@ -281,6 +293,7 @@ def nodes_series(cfg: ScalingConfig, say) -> dict:
             [p["N"] for p in pts], [p["seconds"]["median"] / p["n_rhs"] for p in pts]
         )
         for b, pts in series.items()
+        if NODE_PATHS[b][1]
     }
     return {
         "case": f"uniform N-node S1-like columns (`uniform_column`), FreeRelease({cfg.theta0:g}), "

@@ -217,7 +217,7 @@ def contact_phase(
         As `multimass.fast._kernel.integrate_phase` (every event is terminal); the
         excitation is a record or none.
     phi, w, z, gam :
-        Mass-normalised modes (columns), circular frequencies, damping ratios (< 1)
+        Mass-normalised modes (columns), circular frequencies, damping ratios (≥ 0)
         and participation factors Φᵀ M 1 of full contact.
     h_max : float
         Longest interval between two event checks (s).

@@ -1,9 +1,9 @@
 """The modes of full contact that `._contact_kernel.contact_phase` advances exactly.
 
 `ContactModes.of` decides whether a structure's full-contact phase can be solved
-in closed form — classical damping (Φᵀ C Φ diagonal, as Rayleigh damping is) and
-every mode underdamped — and lays out the modes; otherwise it gives the reason,
-and the compiled path integrates Eq 3 with its Runge–Kutta pair as before.
+in closed form — classical damping (Φᵀ C Φ diagonal, as Rayleigh damping is), no
+negative damping — and lays out the modes; otherwise it gives the reason, and the
+compiled path integrates Eq 3 with its Runge–Kutta pair as before.
 """
 
 from __future__ import annotations
@@ -19,8 +19,9 @@ __all__ = ["ContactModes", "CLASSICAL_RTOL", "CHECKS_PER_PERIOD"]
 #: Largest off-diagonal of Φᵀ C Φ, relative to its largest diagonal term, still taken as
 #: classical damping (a Rayleigh C built in floating point sits near 1e-15).
 CLASSICAL_RTOL = 1e-9
-#: Event checks per period of the stiffest mode (the compiled DOP853 steps of this phase
-#: are about half that period on the bundled columns).
+#: Event checks per period of the stiffest underdamped mode (the compiled DOP853 steps of
+#: this phase are about half that period on the bundled columns). Overdamped modes do
+#: not oscillate: their free part changes sign at most once.
 CHECKS_PER_PERIOD = 4
 
 
@@ -33,10 +34,12 @@ class ContactModes:
     phi : ndarray (n, n)
         Mode shapes in columns, Φᵀ M Φ = I.
     w, z, gam : ndarray (n,)
-        Circular frequencies (rad/s), damping ratios and participation factors Φᵀ M 1.
+        Circular frequencies (rad/s), damping ratios (any ≥ 0: many-node columns
+        with Rayleigh damping have overdamped top modes) and participation factors
+        Φᵀ M 1.
     h_max : float
-        Longest interval between two event checks (s): the shortest period over
-        `CHECKS_PER_PERIOD`.
+        Longest interval between two event checks (s): 2π/ω of the stiffest
+        underdamped mode (of any mode if none is) over `CHECKS_PER_PERIOD`.
     screen : ndarray (3, n)
         Rows a, b, c with which paper 001's Eq 8 reads, in modes, M_o^fc =
         a·q + b·q̇ + m0 h0 ü_g and L_p^fc = c·q̇ (M_res^fc = g (m_t B ∓ Γ·q)):
@@ -73,18 +76,19 @@ class ContactModes:
                 f"{off / np.abs(diag).max():.2g} of its diagonal)"
             )
         z = diag / (2.0 * w)
-        if np.any(z < 0.0) or np.any(z >= 1.0):
-            i = int(np.argmax(np.abs(z - 0.5)))
+        if np.any(z < 0.0):
+            i = int(np.argmin(z))
             return (
-                f"its mode {i + 1} ({w[i] / (2 * math.pi):.4g} Hz) has damping ratio "
-                f"{z[i]:.3g}; the exact phase needs 0 ≤ ζ < 1"
+                f"its mode {i + 1} ({w[i] / (2 * math.pi):.4g} Hz) has negative damping "
+                f"(ζ = {z[i]:.3g})"
             )
+        oscillating = w[z < 1.0] if np.any(z < 1.0) else w
         return cls(
             phi=np.ascontiguousarray(phi),
             w=w,
             z=z,
             gam=phi.T @ m,
-            h_max=float(2.0 * math.pi / w.max() / CHECKS_PER_PERIOD),
+            h_max=float(2.0 * math.pi / oscillating.max() / CHECKS_PER_PERIOD),
             screen=np.ascontiguousarray(
                 np.stack([-(phi.T @ K @ st.H), -(phi.T @ C @ st.H), phi.T @ (m * st.H)])
             ),

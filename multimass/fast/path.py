@@ -147,7 +147,7 @@ class FastPath:
         """Validate that the compiled path can run this case, and lay out its arrays.
 
         `full_contact` is "exact" (`._contact_kernel`: a record or free vibration, a
-        column with classical, underdamped modes), "integrate" (the Runge–Kutta pair,
+        column with classical damping), "integrate" (the Runge–Kutta pair,
         as every other phase) or "auto" (exact where it applies).
 
         Raises
