@@ -13,9 +13,11 @@ import pickle
 import sys
 import traceback
 from collections.abc import Callable, Iterable
+from dataclasses import dataclass
 from functools import partial
 from typing import Any
 
+import numpy as np
 from tqdm import tqdm
 
 from ..errors import InputError, SolverError
@@ -219,6 +221,8 @@ def run_jobs(
     batch_size: int | None = None,
     progress: bool | None = None,
     desc: str | None = None,
+    weights=None,
+    unit: str = "job",
 ) -> list:
     """Apply `func` to every job and return the results in job order.
 
@@ -249,6 +253,11 @@ def run_jobs(
         only if there are more than 50 jobs and stderr is a terminal.
     desc : str, optional
         Label of the progress bar.
+    weights : sequence of int, optional
+        What each job counts for on the progress bar (e.g. the cells of a chunk of
+        a map); default 1 each. With `unit`, the bar counts those, not jobs.
+    unit : str, default "job"
+        The unit the progress bar counts.
 
     Returns
     -------
@@ -275,7 +284,8 @@ def run_jobs(
         raise InputError(f"`func` = {func!r}: expected a callable taking one job")
     jobs = list(jobs)
     batch_size = _validate_batch_size(batch_size)
-    show = _show_progress(progress, len(jobs))
+    weights = _validate_weights(weights, len(jobs))
+    show = _show_progress(progress, sum(weights))
     ex = get_executor(executor, workers)  # validates `executor` and `workers` first
     owned = ex is not executor
     try:
@@ -283,18 +293,48 @@ def run_jobs(
             return []
         ex.prepare(func)
         plan = batch_plan(len(jobs), ex.workers, batch_size)
-        return _drive(func, plan, jobs, ex, show, desc)
+        return _drive(func, plan, jobs, ex, _Progress(show, desc, weights, unit))
     finally:
         if owned:
             ex.close()
 
 
-def _drive(func, plan, jobs, ex: Executor, show: bool, desc: str | None) -> list:
+def _validate_weights(weights, n_jobs: int) -> list:
+    if weights is None:
+        return [1] * n_jobs
+    weights = list(weights)
+    if len(weights) != n_jobs or not all(
+        isinstance(w, (int, np.integer)) and not isinstance(w, bool) and w >= 0 for w in weights
+    ):
+        raise InputError(
+            f"`weights`: expected one integer ≥ 0 per job ({n_jobs}), got {len(weights)} "
+            "values or a non-integer"
+        )
+    return [int(w) for w in weights]
+
+
+@dataclass(frozen=True)
+class _Progress:
+    """What the progress bar shows: on or off, its label, each job's count and the unit."""
+
+    show: bool
+    desc: str | None
+    weights: list
+    unit: str
+
+
+def _drive(func, plan, jobs, ex: Executor, progress: _Progress) -> list:
     """Run the batches of `plan` on `ex`, fill the results in order, advance the bar."""
     n_jobs = len(jobs)
     batches = [_Batch([jobs[i] for i in index]) for index in plan]
     results: list = [None] * n_jobs
-    bar = _Bar(total=n_jobs, desc=desc, unit="job", file=sys.stderr, disable=not show)
+    bar = _Bar(
+        total=sum(progress.weights),
+        desc=progress.desc,
+        unit=progress.unit,
+        file=sys.stderr,
+        disable=not progress.show,
+    )
     stream = None
     done = 0
     try:
@@ -312,7 +352,7 @@ def _drive(func, plan, jobs, ex: Executor, show: bool, desc: str | None) -> list
             for i, r in zip(index, out):
                 results[i] = r
             done += size
-            bar.update(size)
+            bar.update(sum(progress.weights[i] for i in index))
     except (JobError, ExecutorError):
         raise
     except Exception as exc:

@@ -203,7 +203,13 @@ def simulate_cells(pairs, cells_for, chunks_for, runs, executor, progress, desc)
     n = len(pairs)
     k = max(math.ceil(n / CHUNK_CELLS), min(n, CHUNKS_PER_WORKER * executor.workers))
     done = run_jobs(
-        _map_chunk, chunks_for(pairs, k), executor=executor, progress=progress, desc=desc
+        _map_chunk,
+        chunks_for(pairs, k),
+        executor=executor,
+        progress=progress,
+        desc=desc,
+        weights=[len(range(j, n, k)) for j in range(k)],  # chunk j: cells j, j + k, ...
+        unit="cell",
     )
     out: list = [None] * n
     for j, results in enumerate(done):  # chunk j holds cells j, j + k, j + 2k, ...

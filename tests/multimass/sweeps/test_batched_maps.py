@@ -182,3 +182,12 @@ def test_compiled_uplift_search_is_next_uplift(case):
     found, t, side, ok = compiled_next_uplift(t0, t1, uplift_threshold(st), kind, par, smp)
     assert ok
     assert (found, (t, side) if found else None) == (want is not None, want)
+
+
+def test_progress_bar_counts_cells_not_chunks(capsys):
+    overturning_map(
+        "B6M", "sine", omega_p=np.linspace(1, 8, 6), amp=np.linspace(1, 6, 5), refine=0,
+        executor="serial", progress=True,
+    )  # fmt: skip
+    err = capsys.readouterr().err
+    assert "30/30" in err and "cell" in err

@@ -470,6 +470,18 @@ def test_progress_bar_shown_when_asked_even_off_a_terminal(capsys):
     assert "spectra" in err and "10/10" in err
 
 
+def test_progress_bar_counts_weights(capsys):
+    # e.g. the chunks of a batched map, counted in cells
+    run_jobs(
+        square, range(4), executor="serial", progress=True, weights=[30, 30, 30, 10], unit="cell"
+    )
+    err = capsys.readouterr().err
+    assert "100/100" in err and "cell" in err
+    for bad in ([1, 2], [1, 2, 3, -1], [1.5, 1, 1, 1], [True, 1, 1, 1]):
+        with pytest.raises(InputError, match="weights"):
+            run_jobs(square, range(4), executor="serial", weights=bad)
+
+
 def test_no_progress_bar_by_default_off_a_terminal(capsys):
     run_jobs(square, range(200), executor="serial")
     assert capsys.readouterr().err == ""
