@@ -98,3 +98,17 @@ def test_cli_adaptive_reports_the_computed_cells(capsys):
     assert main(argv + ["--amp", "0.25:8:33", "--adaptive", "--coarse", "4"]) == 0
     out = capsys.readouterr().out
     assert " of 1089 grid cells computed" in out
+
+
+def test_cli_writes_a_large_adaptive_map_as_parquet(tmp_path, capsys, monkeypatch):
+    import pandas as pd
+
+    from multimass.cli import main, stability_cmd
+
+    monkeypatch.setattr(stability_cmd, "STORE_MIN_CELLS", 1000)  # 33 × 33 counts as large
+    argv = ["stability", "B6M", "--executor", "serial", "--omega-p", "0.5:10:33"]
+    argv += ["--amp", "0.25:8:33", "--adaptive", "--coarse", "4", "--out", str(tmp_path)]
+    assert main(argv) == 0
+    cells = pd.read_parquet(tmp_path / "B6M_sine_modified_cells.parquet")
+    assert int(cells.grid.sum()) == 1089
+    assert not (tmp_path / "B6M_sine_modified_cells.csv").exists()
