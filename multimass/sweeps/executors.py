@@ -9,8 +9,11 @@ is in `multimass.sweeps.base`.
 from __future__ import annotations
 
 import multiprocessing
+import os
 import pickle
 import sys
+import threading
+import time
 import types
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
@@ -26,6 +29,7 @@ __all__ = [
     "DaskExecutor",
     "EXECUTORS",
     "get_executor",
+    "exit_with_parent",
 ]
 
 
@@ -64,6 +68,42 @@ def _default_start_method() -> str:
     """
     methods = multiprocessing.get_all_start_methods()
     return "forkserver" if "forkserver" in methods else "spawn"
+
+
+#: Seconds between a pool worker's checks that the process that made its pool is alive.
+PARENT_CHECK_S = 1.0
+
+
+def _alive(pid: int) -> bool:
+    """Whether process `pid` runs (a zombie, killed but not yet reaped, does not)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as f:  # Linux: state after "(name)"
+            return f.read().rsplit(b")", 1)[1].split()[0] != b"Z"
+    except (OSError, IndexError):
+        return True
+
+
+def exit_with_parent(parent_pid: int) -> None:
+    """Initializer of pool workers: end the worker once `parent_pid` has gone.
+
+    A pool's workers otherwise outlive a parent killed with SIGKILL (or by the
+    out-of-memory killer), blocked on their task queue; a daemon thread checks
+    every `PARENT_CHECK_S` seconds. (A normal exit or Ctrl-C shuts the pool down.)
+    """
+
+    def watch():
+        while True:
+            time.sleep(PARENT_CHECK_S)
+            if not _alive(parent_pid):
+                os._exit(1)
+
+    threading.Thread(target=watch, name="multimass-parent-watch", daemon=True).start()
 
 
 def _preload_in_forkserver(*modules: str | None) -> None:
@@ -194,7 +234,12 @@ class ProcessExecutor(Executor):
     def _get_pool(self) -> ProcessPoolExecutor:
         if self._pool is None:
             ctx = multiprocessing.get_context(self.start_method)
-            self._pool = ProcessPoolExecutor(self._workers, mp_context=ctx)
+            self._pool = ProcessPoolExecutor(
+                self._workers,
+                mp_context=ctx,
+                initializer=exit_with_parent,
+                initargs=(os.getpid(),),
+            )
         return self._pool
 
     def map_unordered(self, fn, args):

@@ -5,9 +5,12 @@ Job functions live at module level so worker processes can import them.
 
 import io
 import os
+import signal
+import subprocess
 import sys
 import time
 import types
+from pathlib import Path
 
 import numba
 import numpy as np
@@ -563,3 +566,59 @@ def test_an_unreachable_dask_scheduler_is_an_input_error_naming_the_address():
     assert time.perf_counter() - t0 < 20.0
     with pytest.raises(InputError, match="`address` = ''"):
         DaskExecutor(address="")
+
+
+# --- a parent killed with SIGKILL --------------------------------------------------------
+
+
+def _children(pid: int) -> list[int]:
+    """Every descendant of `pid` (Linux /proc)."""
+    kids = {}
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_bytes().rsplit(b")", 1)[1].split()
+        except OSError:
+            continue
+        kids.setdefault(int(fields[1]), []).append(int(stat.parent.name))
+    out, todo = [], [pid]
+    while todo:
+        for c in kids.get(todo.pop(), []):
+            out.append(c)
+            todo.append(c)
+    return out
+
+
+def _running(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_bytes().rsplit(b")", 1)[1].split()[0]
+    except (OSError, IndexError):
+        return False
+    return state != b"Z"
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs Linux /proc")
+def test_pool_workers_end_when_their_parent_is_killed(tmp_path):
+    script = tmp_path / "sweep.py"
+    script.write_text(
+        "import time\n"
+        "from multimass.sweeps import run_jobs\n"
+        "run_jobs(time.sleep, [60.0, 60.0], executor='process', workers=2)\n"
+    )
+    parent = subprocess.Popen([sys.executable, str(script)])
+    try:
+        deadline = time.monotonic() + 60.0
+        workers = []
+        while time.monotonic() < deadline and len(workers) < 3:  # forkserver + 2 workers
+            time.sleep(0.2)
+            workers = [p for p in _children(parent.pid) if _running(p)]
+        assert len(workers) >= 3, "the pool did not start"
+        parent.send_signal(signal.SIGKILL)
+        parent.wait()
+        deadline = time.monotonic() + 20.0
+        while time.monotonic() < deadline and any(_running(p) for p in workers):
+            time.sleep(0.2)
+        left = [p for p in workers if _running(p)]
+        assert not left, f"processes {left} outlived their killed parent"
+    finally:
+        if parent.poll() is None:
+            parent.kill()
