@@ -300,6 +300,7 @@ def contact_phase(
                     _physical(q, v, ledger0, w_f, phi, y)  # events do not read the ledger
                     mapped = True
                 g_new[k] = event_value(ev_code[k], t_new, y, ev_ton[k], ev_quiet[k], 0, *args)
+        for k in range(ne):  # then the roots (their search overwrites q, v and y)
             up = g[k] <= 0.0 and g_new[k] >= 0.0
             down = g[k] >= 0.0 and g_new[k] <= 0.0
             dk = ev_dir[k]
