@@ -74,7 +74,10 @@ def free_vibration(w, z, h):
     delta = lam1 - lam2  # 2ωr ≥ 0
     e1, e2 = np.exp(lam1 * h), np.exp(lam2 * h)
     x = delta * h
-    a12 = e1 * h if x == 0.0 else e1 * (-np.expm1(-x)) / delta
+    if x == 0.0:  # ζ = 1 (or h = 0)
+        a12 = e1 * h
+    else:
+        a12 = e1 * (-np.expm1(-x)) / delta
     return e2 - lam2 * a12, a12, -w * w * a12, e1 + lam2 * a12
 
 

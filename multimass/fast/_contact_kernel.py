@@ -24,11 +24,12 @@ exact too, and are formed only where the state is wanted (output, events, end):
 The ledger is thus not closed by construction; tests/multimass/test_fast_contact.py
 checks that it closes. Events — the uplift of paper 001's Eq 8 — are checked at
 points at most `h_max` apart (a quarter of the shortest modal period,
-`multimass.fast.contact_modes`): first from Eq 8's functions with sums formed
-in modes, which settles every check far from uplift; otherwise, and for every
-root, with the compiled `event_value` of the Runge–Kutta kernel on the state
-mapped back to u, u̇, located by zeroin (`._rk.zeroin_next`) on the exact
-solution. The output grid is filled from the exact solution.
+`multimass.fast.contact_modes`; closer at the start of a phase, `_RAMP`): first
+from Eq 8's functions with sums formed in modes, which settles every check far
+from uplift; otherwise, and for every root, with the compiled `event_value` of
+the Runge–Kutta kernel on the state mapped back to u, u̇, located by zeroin
+(`._rk.zeroin_next`) on the exact solution. The output grid is filled from the
+exact solution.
 """
 
 from __future__ import annotations
@@ -57,13 +58,18 @@ from ._rk import _MAX_BRENT, EVENT, OK, zeroin_next
 
 __all__ = ["contact_phase"]
 
-_free_vibration = register_jitable(inline="always")(nj.free_vibration)
+_free_vibration = register_jitable(nj.free_vibration)  # a call: tables serve whole steps
 #: An uplift margin below −_SCREEN in modes is negative without asking `event_value`
 #: (the two sums differ by round-off, ~1e-12 of the margin's scale).
 _SCREEN = 1e-6
 #: A step within this many ε·|t| of the sub-grid's step is that step (the grid's times
 #: carry the rounding of t; the tabulated map is exact for the step itself).
 _ULPS = 64 * 2.220446049250313e-16
+#: The first event check of a phase comes this share of `h_max` after its start, and
+#: the interval doubles up to the sub-grid's: a column can uplift again within tens of
+#: µs of entering full contact (a one-node column at rest, 70 µs), which a check a
+#: quarter period later misses. The Runge–Kutta kernel's first steps are as short.
+_RAMP = 1.0 / 1024.0
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -256,6 +262,7 @@ def contact_phase(
         g[k] = event_value(ev_code[k], t0, y, ev_ton[k], ev_quiet[k], 0, *args)
     t, i_eval, end = t0, 0, t0
     t_a, a0, s, start, step, seg = t0, 0.0, 0.0, t0, h_max, -1  # set at t0 in the loop
+    ramp = h_max * _RAMP
     while True:
         if t >= end:  # a new linear piece of ü_g: anchor its particular solution at t
             if t > t0:
@@ -275,6 +282,9 @@ def contact_phase(
         t_new = min(start + k_next * step, end, t_stop)
         if t_new <= t:  # the sub-grid point rounded onto t
             t_new = min(start + (k_next + 1.0) * step, end, t_stop)
+        if ramp < step:  # the first checks of the phase: t0 + δ, + 2δ, + 4δ, ...
+            t_new = min(t_new, t + ramp)
+            ramp *= 2.0
         tau = t_new - t
         table = none
         if abs(tau - step) <= _ULPS * max(1.0, abs(t_new)):  # a whole step: tabulated
