@@ -257,11 +257,13 @@ def contact_phase(
     tables = np.empty((2, n, 4))  # free vibration over a record's sub-step and over h_max
     table_h = np.array([-1.0, -1.0])
     args = (m, H, K, C_, mp, ep, kind, par, smp)
+    modes, events, scratch = (w, z, gam, phi), (ev_code, ev_quiet, ev_ton), (er, dr, q, v)
     _physical(q, v, ledger0, w_f, phi, y)
     for k in range(ne):
         g[k] = event_value(ev_code[k], t0, y, ev_ton[k], ev_quiet[k], 0, *args)
     t, i_eval, end = t0, 0, t0
     t_a, a0, s, start, step, seg = t0, 0.0, 0.0, t0, h_max, -1  # set at t0 in the loop
+    anchor = (t_a, a0, s, piece, ledger0)
     ramp = h_max * _RAMP
     while True:
         if t >= end:  # a new linear piece of ü_g: anchor its particular solution at t
@@ -276,6 +278,7 @@ def contact_phase(
                 s = (smp[seg + 1] - smp[seg]) * par[2]
             t_a = t
             _anchor(q, v, a0, s, w, z, gam, piece)
+            anchor = (t_a, a0, s, piece, ledger0)
             for i in range(n):
                 e[i], d[i] = piece[2, i], piece[3, i]
         k_next = np.floor((t - start) / step) + 1.0
@@ -316,80 +319,15 @@ def contact_phase(
             dk = ev_dir[k]
             if not ((up and dk > 0.0) or (down and dk < 0.0) or ((up or down) and dk == 0.0)):
                 continue
-            r = _root(
-                k,
-                t,
-                t_new,
-                g_new[k],
-                e,
-                d,
-                t_a,
-                piece,
-                w,
-                z,
-                phi,
-                w_f,
-                ledger0,
-                ev_code,
-                ev_quiet,
-                ev_ton,
-                args,
-                er,
-                dr,
-                q,
-                v,
-                y,
-            )
+            r = _root(k, t, t_new, g_new[k], e, d, anchor, modes, w_f, events, args, scratch, y)
             if terminal < 0 or r < t_root:
                 terminal, t_root = k, r
         t_end = t_root if terminal >= 0 else t_new
         while i_eval < t_eval.size and t_eval[i_eval] <= t_end:
-            _out(
-                t_eval[i_eval],
-                t,
-                t_a,
-                e,
-                d,
-                a0,
-                s,
-                w,
-                z,
-                gam,
-                phi,
-                w_f,
-                piece,
-                ledger0,
-                er,
-                dr,
-                q,
-                v,
-                ledger,
-                samples[i_eval],
-            )
+            _out(t_eval[i_eval], t, e, d, anchor, modes, w_f, scratch, ledger, samples[i_eval])
             i_eval += 1
         if terminal >= 0:
-            _out(
-                t_root,
-                t,
-                t_a,
-                e,
-                d,
-                a0,
-                s,
-                w,
-                z,
-                gam,
-                phi,
-                w_f,
-                piece,
-                ledger0,
-                er,
-                dr,
-                q,
-                v,
-                ledger,
-                y,
-            )
+            _out(t_root, t, e, d, anchor, modes, w_f, scratch, ledger, y)
             return _result(EVENT, t_root, y, terminal, samples[:i_eval], ny)
         for i in range(n):
             e[i], d[i] = e1[i], d1[i]
@@ -404,8 +342,12 @@ def contact_phase(
 
 
 @njit(cache=True, error_model="numpy")
-def _out(tb, t, t_a, e, d, a0, s, w, z, gam, phi, w_f, piece, ledger0, er, dr, q, v, ledger, y):
-    """The state vector at tb (in the step from t) into y, ledger included."""
+def _out(tb, t, e, d, anchor, modes, w_f, scratch, ledger, y):
+    """The state vector at tb (in the step from t, where the free part is e, ė) into y,
+    ledger included. `anchor` = (t_a, a0, s, piece, ledger0), `modes` = (w, z, gam, phi)."""
+    t_a, a0, s, piece, ledger0 = anchor
+    w, z, gam, phi = modes
+    er, dr, q, v = scratch
     _free(e, d, tb - t, w, z, np.empty((0, 4)), er, dr)
     _modes_at(tb - t_a, er, dr, piece, q, v)
     _ledger_at(tb - t_a, er, dr, q, a0, s, w, z, gam, piece, ledger0, ledger)
@@ -429,32 +371,14 @@ def _result(status, t, y, ev, samples, ny):
 
 
 @njit(cache=True, error_model="numpy")
-def _root(
-    k,
-    ta,
-    tb,
-    fb,
-    e,
-    d,
-    t_a,
-    piece,
-    w,
-    z,
-    phi,
-    w_f,
-    ledger0,
-    ev_code,
-    ev_quiet,
-    ev_ton,
-    args,
-    er,
-    dr,
-    q,
-    v,
-    y,
-):
+def _root(k, ta, tb, fb, e, d, anchor, modes, w_f, events, args, scratch, y):
     """Root of event k in [ta, tb] on the exact solution from the free part (e, ė) at ta:
-    zeroin (`._rk`), from `event_value` at ta (the value kept there may be screened)."""
+    zeroin (`._rk`), from `event_value` at ta (the value kept there may be screened).
+    `anchor`, `modes` as `_out`; `events` = (codes, quiet values, guard ends)."""
+    t_a, _, _, piece, ledger0 = anchor
+    w, z, _, phi = modes
+    ev_code, ev_quiet, ev_ton = events
+    er, dr, q, v = scratch
     none = np.empty((0, 4))
     _modes_at(ta - t_a, e, d, piece, q, v)
     _physical(q, v, ledger0, w_f, phi, y)

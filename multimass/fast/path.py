@@ -229,45 +229,18 @@ class FastPath:
         names, codes, dirs, term, quiet, t_on, ep, fp = self.events(run, s)
         t_eval = np.ascontiguousarray(run.recorder.grid(s.t, t_stop), dtype=np.float64)
         ivp = run.ivp
+        start = (float(s.t), float(t_stop), np.ascontiguousarray(s.y, dtype=np.float64), t_eval)
+        model = (self.m, self.H, self.K, self.C, self.mp)
+        ground = (self.kind, self.par, self.samples)
         if s.phase == 0 and self.contact is not None:
             cm = self.contact
-            out = contact_phase(
-                float(s.t),
-                float(t_stop),
-                np.ascontiguousarray(s.y, dtype=np.float64),
-                t_eval,
-                self.m,
-                self.H,
-                self.K,
-                self.C,
-                self.mp,
-                codes,
-                dirs,
-                quiet,
-                t_on,
-                ep,
-                self.kind,
-                self.par,
-                self.samples,
-                cm.phi,
-                cm.w,
-                cm.z,
-                cm.gam,
-                cm.h_max,
-                cm.screen,
-            )
+            modes = (cm.phi, cm.w, cm.z, cm.gam, cm.h_max, cm.screen)
+            out = contact_phase(*start, *model, codes, dirs, quiet, t_on, ep, *ground, *modes)
         else:
             out = integrate_phase(
-                float(s.t),
-                float(t_stop),
-                np.ascontiguousarray(s.y, dtype=np.float64),
-                t_eval,
+                *start,
                 int(s.phase),
-                self.m,
-                self.H,
-                self.K,
-                self.C,
-                self.mp,
+                *model,
                 fp,
                 codes,
                 dirs,
@@ -275,9 +248,7 @@ class FastPath:
                 quiet,
                 t_on,
                 ep,
-                self.kind,
-                self.par,
-                self.samples,
+                *ground,
                 self.code,
                 max(float(ivp["rtol"]), _RTOL_MIN),
                 float(ivp["atol"]),

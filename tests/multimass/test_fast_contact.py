@@ -29,19 +29,9 @@ from multimass.fast._kernel import integrate_phase
 from multimass.fast.contact_modes import ContactModes
 from multimass.fast.path import FastPath, event_params
 from multimass.impact_models import impact_model
+from tests.multimass.test_fast import _arrays  # (m, H, K, C, mp) of a structure
 
 PEAK_TOL = 1e-6  # rad
-
-
-def _arrays(st):
-    n = st.n
-    return (
-        np.array(st.m, float),
-        np.array(st.H, float),
-        np.array(st.K, float).reshape(n, n),
-        np.array(st.C, float).reshape(n, n),
-        mx.model_params(st),
-    )
 
 
 def _record(seed=3, n=60, dt=0.02, peak=3.0):
