@@ -43,7 +43,7 @@ class ContactModes:
     screen : ndarray (3, n)
         Rows a, b, c with which paper 001's Eq 8 reads, in modes, M_o^fc =
         a·q + b·q̇ + m0 h0 ü_g and L_p^fc = c·q̇ (M_res^fc = g (m_t B ∓ Γ·q)):
-        a = −Φᵀ K H, b = −Φᵀ C H (as M(ü + 1 ü_g) = −C u̇ − K u), c = Φᵀ M H. The
+        a = −Φᵀ Kᵀ H, b = −Φᵀ Cᵀ H (as M(ü + 1 ü_g) = −C u̇ − K u), c = Φᵀ M H. The
         kernel uses them only to skip event checks far from uplift; the events
         themselves are the compiled `event_value`.
     """
@@ -63,6 +63,8 @@ class ContactModes:
         m = np.asarray(st.m, dtype=float)
         K = np.asarray(st.K, dtype=float).reshape(st.n, st.n)
         C = np.asarray(st.C, dtype=float).reshape(st.n, st.n)
+        if np.abs(K - K.T).max() > CLASSICAL_RTOL * np.abs(K).max():
+            return "its full-contact stiffness matrix is not symmetric"
         lam, phi = scipy.linalg.eigh(K, np.diag(m))
         if not np.all(lam > 0.0):
             return "its full-contact stiffness is not positive definite"
@@ -90,6 +92,6 @@ class ContactModes:
             gam=phi.T @ m,
             h_max=float(2.0 * math.pi / oscillating.max() / CHECKS_PER_PERIOD),
             screen=np.ascontiguousarray(
-                np.stack([-(phi.T @ K @ st.H), -(phi.T @ C @ st.H), phi.T @ (m * st.H)])
+                np.stack([-(phi.T @ K.T @ st.H), -(phi.T @ C.T @ st.H), phi.T @ (m * st.H)])
             ),
         )

@@ -139,6 +139,9 @@ def test_why_a_structure_has_no_exact_contact():
     assert "not classical" in ContactModes.of(like(C=coupled))
     assert "negative damping" in ContactModes.of(like(C=-C))
     assert "positive definite" in ContactModes.of(like(K=-K))
+    skew = K.copy()
+    skew[0, 1] *= 1.01
+    assert "not symmetric" in ContactModes.of(like(K=skew))
 
 
 @pytest.mark.parametrize("damping", [1.0, 10.0])
