@@ -256,9 +256,11 @@ class _Plan:
 
     def _phase_loop(self) -> PhaseLoop:
         if self.fast is not None:
-            from .fast import warm_up  # numba loads only for backend="compiled"
+            from .fast import warm_up, warm_up_contact  # numba loads only for "compiled"
 
             warm_up()  # compile or load once per process, before the clock
+            if self.fast.contact is not None:
+                warm_up_contact()
         phase, y = self.start
         return PhaseLoop(
             self.st, self.model, self.ground, self.t_end, phase, y.copy(), self.options, self.fast

@@ -22,6 +22,12 @@ def _fast(progress):
     return warm_up(progress)
 
 
+def _contact(progress):
+    from multimass.fast import warm_up_contact
+
+    return warm_up_contact(progress)
+
+
 def _blocks(progress):
     from multimass.fast import block_runs
     from multimass.fast.compile import compile_once
@@ -65,6 +71,7 @@ def _nscd(progress):
 #: name → (what it serves, warm-up function); warmed in this order.
 GROUPS = {
     "fast": ("simulate(..., backend='compiled'), spectra, sweeps", _fast),
+    "contact": ("a column's full contact in closed form (records, releases)", _contact),
     "blocks": ("overturning maps of rigid blocks, batched", _blocks),
     "newmark": ("simulate(..., integrator='newmark')", _newmark),
     "nscd": ("multimass nscd (block on a beam)", _nscd),
@@ -76,7 +83,7 @@ def register(sub) -> None:
         "warm-up",
         help="compile (or load) every compiled kernel now, and say what it did",
         description="The compiled kernels (numba) are built the first time a machine uses "
-        "them — about 17 s for the fast path, about 45 s for all of them — and "
+        "them — about 17 s for the fast path, about 50 s for all of them — and "
         "cached on disk; later runs load them in well under a second. This command "
         "does it now (for a container image, a cluster's nodes, before timing a run) "
         "and prints, for each group, whether it was compiled or loaded, the seconds "

@@ -4,12 +4,15 @@ solve_ivp stays the reference. This backend keeps the Python phase loop of
 `multimass.simulate` (transitions are rare) and runs each phase segment —
 steps, dense output, events, the output grid — in numba-compiled kernels
 that follow SciPy's explicit Runge–Kutta solvers (RK23, RK45, DOP853), so the
-two backends give the same events and the same `Response` up to round-off.
+two backends give the same events and the same `Response` up to round-off;
+a column's full contact under a record or after a release is solved in
+closed form by default (`multimass.fast.contact_modes`, ``full_contact``).
 
 * `FastPath` — replaces one solve_ivp call (`multimass.fast.path`);
 * `encode` — the excitations the kernels know (`multimass.fast.excitation`);
-* `warm_up` — compile or load the kernels once per process, timed apart,
-  with a notice and a progress bar when it compiles (`multimass.fast.compile`).
+* `warm_up`, `warm_up_contact` — compile or load the kernels (the closed-form
+  contact is a group of its own) once per process, timed apart, with a notice
+  and a progress bar when it compiles (`multimass.fast.compile`).
 
 `multimass.fast.compile` is imported first, on purpose: it decides where numba
 caches the kernels (``NUMBA_CACHE_DIR`` when the package folder is read-only)
@@ -17,8 +20,16 @@ before any kernel module defines its ``cache=True`` functions.
 """
 
 from . import compile as _compile  # noqa: F401  (first: the cache folder, before any kernel)
-from .compile import CompileReport, warm_up
+from .compile import CompileReport, warm_up, warm_up_contact
 from .excitation import KNOWN, encode
 from .path import FastPath, check_model
 
-__all__ = ["FastPath", "check_model", "encode", "KNOWN", "warm_up", "CompileReport"]
+__all__ = [
+    "FastPath",
+    "check_model",
+    "encode",
+    "KNOWN",
+    "warm_up",
+    "warm_up_contact",
+    "CompileReport",
+]

@@ -26,10 +26,10 @@ checks that it closes. Events — the uplift of paper 001's Eq 8 — are checked
 points at most `h_max` apart (a quarter of the shortest modal period,
 `multimass.fast.contact_modes`; closer at the start of a phase, `_RAMP`): first
 from Eq 8's functions with sums formed in modes, which settles every check far
-from uplift; otherwise, and for every root, with the compiled `event_value` of
-the Runge–Kutta kernel on the state mapped back to u, u̇, located by zeroin
-(`._rk.zeroin_next`) on the exact solution. The output grid is filled from the
-exact solution.
+from uplift; otherwise, and for every root, with the Runge–Kutta kernel's
+compiled uplift function (`._maths._uplift`) on the state mapped back to u, u̇,
+located by zeroin (`._rk.zeroin_next`) on the exact solution. The output grid is
+filled from the exact solution.
 """
 
 from __future__ import annotations
@@ -52,14 +52,14 @@ from ._maths import (
     MP_JP,
     MP_M0,
     MP_MT,
-    event_value,
+    _uplift,
 )
 from ._rk import _MAX_BRENT, EVENT, OK, zeroin_next
 
 __all__ = ["contact_phase"]
 
 _free_vibration = register_jitable(nj.free_vibration)  # a call: tables serve whole steps
-#: An uplift margin below −_SCREEN in modes is negative without asking `event_value`
+#: An uplift margin below −_SCREEN in modes is negative without asking `_uplift_value`
 #: (the two sums differ by round-off, ~1e-12 of the margin's scale).
 _SCREEN = 1e-6
 #: A step within this many ε·|t| of the sub-grid's step is that step (the grid's times
@@ -86,7 +86,7 @@ def _modal_sums(q, v, screen, gam):
 @njit(cache=True, error_model="numpy", inline="always")
 def _screen(k, t, sums, ag, ev_code, ev_quiet, ev_ton, mp, ep):
     """Event k at t from Eq 8 with the modal `sums`, or +inf when it is not clearly
-    negative there and `event_value` must decide."""
+    negative there and `_uplift_value` must decide."""
     if not (t > ev_ton[k]):
         return ev_quiet[k]
     code = ev_code[k]
@@ -99,6 +99,17 @@ def _screen(k, t, sums, ag, ev_code, ev_quiet, ev_ton, mp, ep):
     L = eq.pivot_momentum(h_m_ud, 0.0, mp[MP_JP], mp[MP_MT], mp[MP_B], 0.0)
     g = eq.uplift_margin(sgn, M_o, M_res, L, ep[EP_MREF], ep[EP_LREF])
     return g if g < -_SCREEN else np.inf
+
+
+@njit(cache=True, error_model="numpy")
+def _uplift_value(code, t, y, t_on, quiet, side, m, H, K, C, mp, ep, kind, par, smp):
+    """`._maths.event_value` of the phase's events — the uplifts about either pivot
+    (`multimass.fast.path`'s contact events), quiet until `t_on` — without compiling
+    the rocking events in (seconds of compile time)."""
+    if not (t > t_on):
+        return quiet
+    sgn = 1.0 if code == EV_UPLIFT_RIGHT else -1.0
+    return _uplift(sgn, t, y, m, H, K, C, mp, ep, kind, par, smp)
 
 
 @njit(cache=True, error_model="numpy")
@@ -260,7 +271,7 @@ def contact_phase(
     modes, events, scratch = (w, z, gam, phi), (ev_code, ev_quiet, ev_ton), (er, dr, q, v)
     _physical(q, v, ledger0, w_f, phi, y)
     for k in range(ne):
-        g[k] = event_value(ev_code[k], t0, y, ev_ton[k], ev_quiet[k], 0, *args)
+        g[k] = _uplift_value(ev_code[k], t0, y, ev_ton[k], ev_quiet[k], 0, *args)
     t, i_eval, end = t0, 0, t0
     t_a, a0, s, start, step, seg = t0, 0.0, 0.0, t0, h_max, -1  # set at t0 in the loop
     anchor = (t_a, a0, s, piece, ledger0)
@@ -312,7 +323,7 @@ def contact_phase(
                 if not mapped:
                     _physical(q, v, ledger0, w_f, phi, y)  # events do not read the ledger
                     mapped = True
-                g_new[k] = event_value(ev_code[k], t_new, y, ev_ton[k], ev_quiet[k], 0, *args)
+                g_new[k] = _uplift_value(ev_code[k], t_new, y, ev_ton[k], ev_quiet[k], 0, *args)
         for k in range(ne):  # then the roots (their search overwrites q, v and y)
             up = g[k] <= 0.0 and g_new[k] >= 0.0
             down = g[k] >= 0.0 and g_new[k] <= 0.0
@@ -354,7 +365,7 @@ def _out(tb, t, e, d, anchor, modes, w_f, scratch, ledger, y):
     _physical(q, v, ledger, w_f, phi, y)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")  # inlined: one compile, not three
 def _result(status, t, y, ev, samples, ny):
     """The tuple `integrate_phase` returns, without RHS calls or non-terminal events."""
     return (
@@ -373,7 +384,7 @@ def _result(status, t, y, ev, samples, ny):
 @njit(cache=True, error_model="numpy")
 def _root(k, ta, tb, fb, e, d, anchor, modes, w_f, events, args, scratch, y):
     """Root of event k in [ta, tb] on the exact solution from the free part (e, ė) at ta:
-    zeroin (`._rk`), from `event_value` at ta (the value kept there may be screened).
+    zeroin (`._rk`), from `_uplift_value` at ta (the value kept there may be screened).
     `anchor`, `modes` as `_out`; `events` = (codes, quiet values, guard ends)."""
     t_a, _, _, piece, ledger0 = anchor
     w, z, _, phi = modes
@@ -382,7 +393,7 @@ def _root(k, ta, tb, fb, e, d, anchor, modes, w_f, events, args, scratch, y):
     none = np.empty((0, 4))
     _modes_at(ta - t_a, e, d, piece, q, v)
     _physical(q, v, ledger0, w_f, phi, y)
-    fa = event_value(ev_code[k], ta, y, ev_ton[k], ev_quiet[k], 0, *args)
+    fa = _uplift_value(ev_code[k], ta, y, ev_ton[k], ev_quiet[k], 0, *args)
     if fa == 0.0:
         return ta
     if fb == 0.0 or (fa > 0.0) == (fb > 0.0):
@@ -396,5 +407,5 @@ def _root(k, ta, tb, fb, e, d, anchor, modes, w_f, events, args, scratch, y):
         _free(e, d, b - ta, w, z, none, er, dr)
         _modes_at(b - t_a, er, dr, piece, q, v)
         _physical(q, v, ledger0, w_f, phi, y)
-        fb = event_value(ev_code[k], b, y, ev_ton[k], ev_quiet[k], 0, *args)
+        fb = _uplift_value(ev_code[k], b, y, ev_ton[k], ev_quiet[k], 0, *args)
     return b

@@ -63,6 +63,7 @@ from ..progress import Progress, format_duration
 
 __all__ = [
     "warm_up",
+    "warm_up_contact",
     "compile_once",
     "watch_compiles",
     "CompileReport",
@@ -72,6 +73,7 @@ __all__ = [
     "CACHE",
     "QUIET_ENV",
     "COLD_COMPILE_S",
+    "CONTACT_COMPILE_S",
     "LOAD_S",
 ]
 
@@ -84,6 +86,10 @@ LOAD_S = 0.3
 
 _HERE = Path(__file__).resolve().parent
 _KERNEL_MODULES = ("_maths", "_rk", "_kernel")  # the modules holding njit(cache=True) code
+_CONTACT = "_contact_kernel"  # its own group: compiled when a run first needs it
+_CONTACT_STAMP = "multimass_contact.sources"
+#: Wall time of a cold compile of the closed-form full contact (s; 2-core machine, idle).
+CONTACT_COMPILE_S = 7.0
 _STAMP = "multimass_fast.sources"
 
 
@@ -432,7 +438,7 @@ _REPORT: CompileReport | None = None
 
 
 def _tiny_call() -> None:
-    """Call the kernel once with the argument types of every real call (1 node, rocking)."""
+    """Call the kernels once with the argument types of every real call (1 node)."""
     import numpy as np
 
     from . import _maths as mx
@@ -470,13 +476,57 @@ def _tiny_call() -> None:
     )
 
 
-def _sources() -> list[Path]:
-    """The kernel modules and the equations they compile."""
+def _tiny_contact_call() -> None:
+    """Call the closed-form full contact once with the argument types of every real call."""
+    import numpy as np
+
+    from . import _maths as mx
+    from ._contact_kernel import contact_phase
+
+    one, eye = np.ones(1), np.eye(1)
+    mp = np.array([2.0, 1.0, 1.0, 1.0, 0.2, 9.81, 0.0, 0.0])
+    y0 = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
+    contact_phase(
+        0.0,
+        1e-3,
+        y0,
+        np.array([1e-3]),
+        one,
+        one,
+        eye * 1e4,
+        eye,
+        mp,
+        np.array([mx.EV_UPLIFT_RIGHT, mx.EV_UPLIFT_LEFT], dtype=np.int64),
+        np.ones(2),
+        -np.ones(2),
+        np.full(2, -np.inf),
+        np.zeros(mx.EP_SIZE) + 1.0,
+        mx.EXC_NONE,
+        np.zeros(mx.PAR_SIZE),
+        np.zeros(2),
+        eye.copy(),
+        one * 100.0,
+        one * 0.05,
+        one.copy(),
+        1e-4,
+        np.zeros((3, 1)),
+    )
+
+
+def _sources(contact: bool = False) -> list[Path]:
+    """The kernel modules and the equations they compile (of the contact group's kernel)."""
+    from .._nigam_jennings import __file__ as nigam_jennings
     from ..equations import __file__ as equations
     from ..impact_models.gaussian_force import __file__ as gaussian_force
     from ..pulse_shapes import __file__ as pulse_shapes
 
     physics = [Path(equations), Path(gaussian_force), Path(pulse_shapes)]
+    if contact:  # the closed-form contact compiles the others' event code too
+        return (
+            [_HERE / f"{m}.py" for m in (*_KERNEL_MODULES, _CONTACT)]
+            + physics
+            + [Path(nigam_jennings)]
+        )
     return [_HERE / f"{m}.py" for m in _KERNEL_MODULES] + physics
 
 
@@ -509,3 +559,30 @@ def warm_up(progress: bool | None = None) -> CompileReport:
         progress=progress,
     )
     return _REPORT
+
+
+_CONTACT_REPORT: CompileReport | None = None
+
+
+def warm_up_contact(progress: bool | None = None) -> CompileReport:
+    """Compile (or load) the closed-form full contact (`._contact_kernel`), once per process.
+
+    A group of its own, compiled on the first run that uses it (a column under a record
+    or released, backend "compiled"), with the notice of `warm_up`. Arguments and
+    result as `warm_up`.
+    """
+    global _CONTACT_REPORT
+    if _CONTACT_REPORT is not None:
+        r = _CONTACT_REPORT
+        return CompileReport(0.0, "in memory", r.cache_dir, 0, r.what)
+    _CONTACT_REPORT = compile_once(
+        "the closed-form full contact",
+        _tiny_contact_call,
+        (f"{__package__}.{_CONTACT}",),
+        sources=_sources(contact=True),
+        stamp_file=_CONTACT_STAMP,
+        progress=progress,
+        estimate=CONTACT_COMPILE_S,
+        load=0.1,
+    )
+    return _CONTACT_REPORT

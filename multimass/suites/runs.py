@@ -472,7 +472,8 @@ def run_suite(
     compiled = options.get("backend") == "compiled"
     batched = BATCHED and compiled and st.n == 0
     try:
-        with executor_session(executor, workers, compiled, batched) as ex:
+        contact = compiled and st.n > 0  # a column: records use the closed-form contact
+        with executor_session(executor, workers, compiled, batched, contact) as ex:
             for c in todo:
                 index = np.arange(c * chunk, min((c + 1) * chunk, n))
                 jobs = [job(int(i)) for i in index]

@@ -58,20 +58,25 @@ BATCHED = True
 
 
 @contextmanager
-def executor_session(executor, workers, compiled: bool = False, batched: bool = False):
+def executor_session(
+    executor, workers, compiled: bool = False, batched: bool = False, contact: bool = False
+):
     """One executor for several `run_jobs` calls; closed after unless the caller owns it.
 
     With `compiled`, a process pool's forkserver loads the compiled kernels once
     (`multimass.fast.preload`; with `batched` also the batch kernels of
-    `multimass.fast.block_preload`), so its workers start with them in memory.
+    `multimass.fast.block_preload`, with `contact` the closed-form full contact of
+    `multimass.fast.contact_preload`), so its workers start with them in memory.
     """
     if isinstance(executor, Executor):
         yield executor
         return
     options = {}
     if compiled and isinstance(executor, str) and executor.lower() == "process":
-        options["preload"] = ("multimass.fast.preload",) + (
-            ("multimass.fast.block_preload",) if batched else ()
+        options["preload"] = (
+            ("multimass.fast.preload",)
+            + (("multimass.fast.block_preload",) if batched else ())
+            + (("multimass.fast.contact_preload",) if contact else ())
         )
     ex = get_executor(executor, workers, **options)
     try:

@@ -110,7 +110,9 @@ def _check_in_parent(points) -> None:
 
 def _run(st, points, sweep_cols, executor, workers, progress, desc, kind, options):
     wall = time.perf_counter()
-    with executor_session(executor, workers, options.get("backend") == "compiled") as ex:
+    compiled = options.get("backend") == "compiled"
+    contact = compiled and st.n > 0 and options.get("full_contact", "auto") != "integrate"
+    with executor_session(executor, workers, compiled, contact=contact) as ex:
         res = run_jobs(spectrum_point, points, executor=ex, progress=progress, desc=desc)
     table = pd.DataFrame(sweep_cols)
     table["theta_max"] = [r[0] for r in res]

@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 
 from multimass.fast import compile as fc
-from multimass.fast import warm_up
+from multimass.fast import warm_up, warm_up_contact
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -254,7 +254,8 @@ def test_read_only_install_caches_in_the_user_cache_across_processes(tmp_path):
 
 # ---------------------------------------------------------------------------- the kernels
 def test_warm_up_keeps_the_report_and_has_one_signature_per_kernel():
-    from multimass import FreeRelease, SineWave, simulate
+    from multimass import FreeRelease, Record, SineWave, simulate
+    from multimass.fast._contact_kernel import contact_phase
     from multimass.fast._kernel import integrate_phase
 
     first = warm_up(progress=False)
@@ -267,10 +268,19 @@ def test_warm_up_keeps_the_report_and_has_one_signature_per_kernel():
     simulate("B6M", SineWave(amplitude=3.0, omega=20.0), "CIM", 0.5, backend="compiled")
     simulate("B6M", FreeRelease(0.1), "CIM", 0.3, backend="compiled", method="RK23")
     assert len(integrate_phase.signatures) == 1
+    # and the closed-form full contact: a free release that settles, a record
+    simulate("S1", FreeRelease(0.02), "DD2", 2.0, backend="compiled", output_dt=None)
+    rec = Record.from_arrays([0.0, 0.02, 0.04], [0.0, 1.0, 0.0], units="m/s2")
+    simulate("S1", rec, "DD2", 0.1, backend="compiled")
+    assert len(contact_phase.signatures) == 1
+    assert warm_up_contact().source == "in memory"
 
 
 def test_the_kernel_count_of_the_notice():
     kernels = fc._kernels_of(f"multimass.fast.{m}" for m in fc._KERNEL_MODULES)
     names = {k.py_func.__name__ for k in kernels}
     assert "integrate_phase" in names and "rhs_call" in names
+    assert "contact_phase" not in names  # a group of its own (`warm_up_contact`)
+    contact = fc._kernels_of([f"multimass.fast.{fc._CONTACT}"])
+    assert "contact_phase" in {k.py_func.__name__ for k in contact}
     assert "rhs" not in names and "rocking_rhs" not in names  # inlined, not compiled alone
