@@ -111,7 +111,9 @@ def _check_in_parent(points) -> None:
 def _run(st, points, sweep_cols, executor, workers, progress, desc, kind, options):
     wall = time.perf_counter()
     compiled = options.get("backend") == "compiled"
-    contact = compiled and st.n > 0 and options.get("full_contact", "auto") != "integrate"
+    contact = (  # a column under a record: the closed-form full contact
+        compiled and st.n > 0 and kind == "record" and options.get("full_contact") != "integrate"
+    )
     with executor_session(executor, workers, compiled, contact=contact) as ex:
         res = run_jobs(spectrum_point, points, executor=ex, progress=progress, desc=desc)
     table = pd.DataFrame(sweep_cols)
