@@ -34,6 +34,8 @@ filled from the exact solution.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 from numba.extending import register_jitable
@@ -99,6 +101,48 @@ def _screen(k, t, sums, ag, ev_code, ev_quiet, ev_ton, mp, ep):
     L = eq.pivot_momentum(h_m_ud, 0.0, mp[MP_JP], mp[MP_MT], mp[MP_B], 0.0)
     g = eq.uplift_margin(sgn, M_o, M_res, L, ep[EP_MREF], ep[EP_LREF])
     return g if g < -_SCREEN else np.inf
+
+
+@njit(cache=True, error_model="numpy")
+def _no_uplift_before(tau_a, tau_b, e, d, a0, s, w, gam, screen, piece, mp, ep):
+    """True if neither uplift (Eq 8) can hold anywhere in τ ∈ [τa, τb] of the current piece.
+
+    Eq 8 holds about pivot ± only where both of its conditions do: f1 = (∓M_o − M_res)/M_ref
+    ≥ 0 and f2 = ±L/L_ref ≥ 0. Each is linear in the modal state: its particular part is
+    linear in τ (largest at an end of the interval) and its free part is bounded by the
+    free energy ½ ė² + ½ ω² e², which never grows (|e| ≤ √(2E)/ω, |ė| ≤ √(2E)): so if, for
+    both pivots, f1 or f2 stays below zero with those bounds, no check in the interval
+    can find an uplift. Eq 8 itself is `equations.uplift_margin` (its other condition set
+    to +∞ to read one).
+    """
+    m_ref, l_ref = ep[EP_MREF], ep[EP_LREF]
+    b1 = b2 = 0.0  # bounds of the free parts of f1 and f2
+    for i in range(w.size):
+        amp = math.sqrt(d[i] * d[i] + w[i] * w[i] * (e[i] * e[i]))  # √(2E)
+        b1 += amp * (abs(mp[MP_G] * gam[i] - screen[0, i]) / w[i] + abs(screen[1, i]))
+        b2 += amp * abs(screen[2, i])
+    b1, b2 = b1 / m_ref, b2 / l_ref
+    f1_top = np.full(2, -np.inf)  # particular parts, largest of the two ends, per pivot
+    f2_top = np.full(2, -np.inf)
+    for tau in (tau_a, tau_b):
+        h_m_acc, smu, h_m_ud = 0.0, 0.0, 0.0
+        for i in range(w.size):
+            qp, vp = piece[0, i] + piece[1, i] * tau, piece[1, i]
+            h_m_acc += screen[0, i] * qp + screen[1, i] * vp
+            smu += gam[i] * qp
+            h_m_ud += screen[2, i] * vp
+        M_o = eq.overturning_moment(h_m_acc, mp[MP_M0] * mp[MP_H0], a0 + s * tau)
+        L = eq.pivot_momentum(h_m_ud, 0.0, mp[MP_JP], mp[MP_MT], mp[MP_B], 0.0)
+        for j in range(2):
+            sgn = 1.0 - 2.0 * j
+            M_res = eq.restoring_moment(sgn, mp[MP_G], mp[MP_MT], mp[MP_B], smu)
+            f1 = eq.uplift_margin(sgn, M_o, M_res, sgn * np.inf, m_ref, l_ref)
+            f2 = eq.uplift_margin(sgn, -sgn * np.inf, M_res, L, m_ref, l_ref)
+            f1_top[j], f2_top[j] = max(f1_top[j], f1), max(f2_top[j], f2)
+    for j in range(2):
+        if not (f1_top[j] + b1 < -_SCREEN or f2_top[j] + b2 < -_SCREEN):
+            return False
+    return True
 
 
 @njit(cache=True, error_model="numpy")
@@ -276,6 +320,7 @@ def contact_phase(
     t_a, a0, s, start, step, seg = t0, 0.0, 0.0, t0, h_max, -1  # set at t0 in the loop
     anchor = (t_a, a0, s, piece, ledger0)
     ramp = h_max * _RAMP
+    t_safe = t0  # checks may be skipped up to here (`_no_uplift_before`)
     while True:
         if t >= end:  # a new linear piece of ü_g: anchor its particular solution at t
             if t > t0:
@@ -299,6 +344,8 @@ def contact_phase(
         if ramp < step:  # the first checks of the phase: t0 + δ, + 2δ, + 4δ, ...
             t_new = min(t_new, t + ramp)
             ramp *= 2.0
+        elif t_safe > t:  # nothing to check up to t_safe: one step there
+            t_new = max(t_new, min(t_safe, end, t_stop))
         tau = t_new - t
         table = none
         if abs(tau - step) <= _ULPS * max(1.0, abs(t_new)):  # a whole step: tabulated
@@ -311,9 +358,22 @@ def contact_phase(
                         tables[slot, i, j] = a[j]
             table = tables[slot]
         _free(e, d, tau, w, z, table, e1, d1)
+        terminal, t_root = -1, t_new
+        if t_new <= t_safe:  # no uplift possible here (`_no_uplift_before`): no checks
+            while i_eval < t_eval.size and t_eval[i_eval] <= t_new:
+                _out(t_eval[i_eval], t, e, d, anchor, modes, w_f, scratch, ledger, samples[i_eval])
+                i_eval += 1
+            for i in range(n):
+                e[i], d[i] = e1[i], d1[i]
+            t = t_new
+            if t >= t_stop:
+                _modes_at(t - t_a, e, d, piece, q, v)
+                _ledger_at(t - t_a, e, d, q, a0, s, w, z, gam, piece, ledger0, ledger)
+                _physical(q, v, ledger, w_f, phi, y)
+                return _result(OK, t, y, -1, samples[:i_eval], ny)
+            continue
         _modes_at(t_new - t_a, e1, d1, piece, q, v)
         mapped = False
-        terminal, t_root = -1, t_new
         sums = _modal_sums(q, v, screen, gam)
         for k in range(ne):
             g_new[k] = _screen(
@@ -345,6 +405,17 @@ def contact_phase(
         for k in range(ne):
             g[k] = g_new[k]
         t = t_new
+        horizon = min(end, t_stop)  # the bound holds within the piece (one anchor)
+        if ne and not (ramp < step):
+            for share in (1.0, 0.125):
+                t_try = t + share * (horizon - t)
+                if _no_uplift_before(
+                    t - t_a, t_try - t_a, e, d, a0, s, w, gam, screen, piece, mp, ep
+                ):
+                    t_safe = t_try
+                    for k in range(ne):
+                        g[k] = min(g[k], -_SCREEN)  # negative throughout, whatever the guard
+                    break
         if t >= t_stop:
             _modes_at(t - t_a, e, d, piece, q, v)
             _ledger_at(t - t_a, e, d, q, a0, s, w, z, gam, piece, ledger0, ledger)
