@@ -23,13 +23,14 @@ exact too, and are formed only where the state is wanted (output, events, end):
 
 The ledger is thus not closed by construction; tests/multimass/test_fast_contact.py
 checks that it closes. Events — the uplift of paper 001's Eq 8 — are checked at
-points at most `h_max` apart (a quarter of the shortest modal period,
+points at most `h_max` apart (1/16 of the period of the stiffest oscillating mode,
 `multimass.fast.contact_modes`; closer at the start of a phase, `_RAMP`): first
 from Eq 8's functions with sums formed in modes, which settles every check far
 from uplift; otherwise, and for every root, with the Runge–Kutta kernel's
 compiled uplift function (`._maths._uplift`) on the state mapped back to u, u̇,
-located by zeroin (`._rk.zeroin_next`) on the exact solution. The output grid is
-filled from the exact solution.
+located by zeroin (`._rk.zeroin_next`) on the exact solution. Where a bound shows
+that Eq 8 cannot hold over the rest of a piece (`_no_uplift_before`) the kernel
+steps over it without checks. The output grid is filled from the exact solution.
 """
 
 from __future__ import annotations
