@@ -437,28 +437,29 @@ def compile_once(
 _REPORT: CompileReport | None = None
 
 
+def _one_node() -> tuple:
+    """(start, model) arguments of a one-node column for the tiny calls below."""
+    import numpy as np
+
+    one, eye = np.ones(1), np.eye(1)
+    mp = np.array([2.0, 1.0, 1.0, 1.0, 0.2, 9.81, 0.0, 0.0])
+    y0 = np.array([0.0, 0.01, 0.0, 0.0, 0.0, 0.0, 0.0])
+    return (0.0, 1e-3, y0, np.array([1e-3])), (one, one, eye * 1e4, eye, mp)
+
+
 def _tiny_call() -> None:
-    """Call the kernels once with the argument types of every real call (1 node)."""
+    """Call the kernel once with the argument types of every real call (1 node, rocking)."""
     import numpy as np
 
     from . import _maths as mx
     from ._kernel import integrate_phase
 
-    one, eye = np.ones(1), np.eye(1)
-    mp = np.array([2.0, 1.0, 1.0, 1.0, 0.2, 9.81, 0.0, 0.0])
-    y0 = np.array([0.0, 0.01, 0.0, 0.0, 0.0, 0.0, 0.0])
+    start, model = _one_node()
     codes = np.array([mx.EV_ZERO, mx.EV_PEAK, mx.EV_ACTIVATE], dtype=np.int64)
     integrate_phase(
-        0.0,
-        1e-3,
-        y0,
-        np.array([1e-3]),
+        *start,
         1,
-        one,
-        one,
-        eye * 1e4,
-        eye,
-        mp,
+        *model,
         np.zeros(mx.FP_SIZE),
         codes,
         np.array([-1.0, 0.0, -1.0]),
@@ -483,34 +484,13 @@ def _tiny_contact_call() -> None:
     from . import _maths as mx
     from ._contact_kernel import contact_phase
 
-    one, eye = np.ones(1), np.eye(1)
-    mp = np.array([2.0, 1.0, 1.0, 1.0, 0.2, 9.81, 0.0, 0.0])
-    y0 = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
-    contact_phase(
-        0.0,
-        1e-3,
-        y0,
-        np.array([1e-3]),
-        one,
-        one,
-        eye * 1e4,
-        eye,
-        mp,
-        np.array([mx.EV_UPLIFT_RIGHT, mx.EV_UPLIFT_LEFT], dtype=np.int64),
-        np.ones(2),
-        -np.ones(2),
-        np.full(2, -np.inf),
-        np.zeros(mx.EP_SIZE) + 1.0,
-        mx.EXC_NONE,
-        np.zeros(mx.PAR_SIZE),
-        np.zeros(2),
-        eye.copy(),
-        one * 100.0,
-        one * 0.05,
-        one.copy(),
-        1e-4,
-        np.zeros((3, 1)),
-    )
+    start, model = _one_node()
+    one = np.ones(1)
+    codes = np.array([mx.EV_UPLIFT_RIGHT, mx.EV_UPLIFT_LEFT], dtype=np.int64)
+    uplift_events = (codes, np.ones(2), -np.ones(2), np.full(2, -np.inf))
+    ground = (mx.EXC_NONE, np.zeros(mx.PAR_SIZE), np.zeros(2))
+    modes = (np.eye(1), one * 100.0, one * 0.05, one.copy(), 1e-4, np.zeros((3, 1)))
+    contact_phase(*start, *model, *uplift_events, np.zeros(mx.EP_SIZE) + 1.0, *ground, *modes)
 
 
 def _sources(contact: bool = False) -> list[Path]:
