@@ -46,7 +46,6 @@ from .. import equations as eq
 from ._maths import (
     EP_LREF,
     EP_MREF,
-    EV_UPLIFT_LEFT,
     EV_UPLIFT_RIGHT,
     EXC_RECORD,
     MP_B,
@@ -87,25 +86,29 @@ def _modal_sums(q, v, screen, gam):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _screen(k, t, sums, ag, ev_code, ev_quiet, ev_ton, mp, ep):
-    """Event k at t from Eq 8 with the modal `sums`, or +inf when it is not clearly
-    negative there and `_uplift_value` must decide."""
-    if not (t > ev_ton[k]):
-        return ev_quiet[k]
-    code = ev_code[k]
-    if code != EV_UPLIFT_RIGHT and code != EV_UPLIFT_LEFT:
-        return np.inf
-    sgn = 1.0 if code == EV_UPLIFT_RIGHT else -1.0
+def _eq8_terms(sums, ag, sgn, mp):
+    """(M_o^fc, M_res^fc, L_p^fc) of paper 001's Eq 8 about pivot `sgn` from `_modal_sums`."""
     h_m_acc, smu, h_m_ud = sums
     M_o = eq.overturning_moment(h_m_acc, mp[MP_M0] * mp[MP_H0], ag)
     M_res = eq.restoring_moment(sgn, mp[MP_G], mp[MP_MT], mp[MP_B], smu)
     L = eq.pivot_momentum(h_m_ud, 0.0, mp[MP_JP], mp[MP_MT], mp[MP_B], 0.0)
+    return M_o, M_res, L
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _screen(k, t, sums, ag, ev_code, ev_quiet, ev_ton, mp, ep):
+    """Event k (an uplift, as every event of this phase) at t from Eq 8 with the modal
+    `sums`, or +inf when it is not clearly negative there and `_uplift_value` must decide."""
+    if not (t > ev_ton[k]):
+        return ev_quiet[k]
+    sgn = 1.0 if ev_code[k] == EV_UPLIFT_RIGHT else -1.0
+    M_o, M_res, L = _eq8_terms(sums, ag, sgn, mp)
     g = eq.uplift_margin(sgn, M_o, M_res, L, ep[EP_MREF], ep[EP_LREF])
     return g if g < -_SCREEN else np.inf
 
 
 @njit(cache=True, error_model="numpy")
-def _no_uplift_before(tau_a, tau_b, e, d, a0, s, w, gam, screen, piece, mp, ep):
+def _no_uplift_before(tau_a, tau_b, e, d, a0, s, w, gam, screen, piece, mp, ep, zero, qp, vp):
     """True if neither uplift (Eq 8) can hold anywhere in τ ∈ [τa, τb] of the current piece.
 
     Eq 8 holds about pivot ± only where both of its conditions do: f1 = (∓M_o − M_res)/M_ref
@@ -114,7 +117,7 @@ def _no_uplift_before(tau_a, tau_b, e, d, a0, s, w, gam, screen, piece, mp, ep):
     free energy ½ ė² + ½ ω² e², which never grows (|e| ≤ √(2E)/ω, |ė| ≤ √(2E)): so if, for
     both pivots, f1 or f2 stays below zero with those bounds, no check in the interval
     can find an uplift. Eq 8 itself is `equations.uplift_margin` (its other condition set
-    to +∞ to read one).
+    to +∞ to read one). `zero` holds zeros; `qp`, `vp` are scratch.
     """
     m_ref, l_ref = ep[EP_MREF], ep[EP_LREF]
     b1 = b2 = 0.0  # bounds of the free parts of f1 and f2
@@ -126,17 +129,11 @@ def _no_uplift_before(tau_a, tau_b, e, d, a0, s, w, gam, screen, piece, mp, ep):
     f1_top = np.full(2, -np.inf)  # particular parts, largest of the two ends, per pivot
     f2_top = np.full(2, -np.inf)
     for tau in (tau_a, tau_b):
-        h_m_acc, smu, h_m_ud = 0.0, 0.0, 0.0
-        for i in range(w.size):
-            qp, vp = piece[0, i] + piece[1, i] * tau, piece[1, i]
-            h_m_acc += screen[0, i] * qp + screen[1, i] * vp
-            smu += gam[i] * qp
-            h_m_ud += screen[2, i] * vp
-        M_o = eq.overturning_moment(h_m_acc, mp[MP_M0] * mp[MP_H0], a0 + s * tau)
-        L = eq.pivot_momentum(h_m_ud, 0.0, mp[MP_JP], mp[MP_MT], mp[MP_B], 0.0)
+        _modes_at(tau, zero, zero, piece, qp, vp)  # the particular part alone
+        sums = _modal_sums(qp, vp, screen, gam)
         for j in range(2):
             sgn = 1.0 - 2.0 * j
-            M_res = eq.restoring_moment(sgn, mp[MP_G], mp[MP_MT], mp[MP_B], smu)
+            M_o, M_res, L = _eq8_terms(sums, a0 + s * tau, sgn, mp)
             f1 = eq.uplift_margin(sgn, M_o, M_res, sgn * np.inf, m_ref, l_ref)
             f2 = eq.uplift_margin(sgn, -sgn * np.inf, M_res, L, m_ref, l_ref)
             f1_top[j], f2_top[j] = max(f1_top[j], f1), max(f2_top[j], f2)
@@ -298,7 +295,7 @@ def contact_phase(
             q[j] += phi[i, j] * (m[i] * y0[i])
             v[j] += phi[i, j] * (m[i] * y0[n + 1 + i])
     ledger0, ledger, w_f = np.array([y0[2 * n + 2], y0[2 * n + 3]]), np.empty(2), y0[2 * n + 4]
-    piece = np.empty((6, n))
+    piece, zero = np.empty((6, n)), np.zeros(n)
     e, d, e1, d1, er, dr = (
         np.empty(n),
         np.empty(n),
@@ -411,7 +408,7 @@ def contact_phase(
             for share in (1.0, 0.125):
                 t_try = t + share * (horizon - t)
                 if _no_uplift_before(
-                    t - t_a, t_try - t_a, e, d, a0, s, w, gam, screen, piece, mp, ep
+                    t - t_a, t_try - t_a, e, d, a0, s, w, gam, screen, piece, mp, ep, zero, er, dr
                 ):
                     t_safe = t_try
                     for k in range(ne):
