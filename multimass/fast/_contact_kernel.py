@@ -30,7 +30,8 @@ from uplift; otherwise, and for every root, with the Runge–Kutta kernel's
 compiled uplift function (`._maths._uplift`) on the state mapped back to u, u̇,
 located by zeroin (`._rk.zeroin_next`) on the exact solution. Where a bound shows
 that Eq 8 cannot hold over the rest of a piece (`_no_uplift_before`) the kernel
-steps over it without checks. The output grid is filled from the exact solution.
+steps over it without checks; where the bound keeps failing it is tried less often
+(`_BACKOFF`). The output grid is filled from the exact solution.
 """
 
 from __future__ import annotations
@@ -72,6 +73,11 @@ _ULPS = 64 * 2.220446049250313e-16
 #: µs of entering full contact (a one-node column at rest, 70 µs), which a check a
 #: quarter period later misses. The Runge–Kutta kernel's first steps are as short.
 _RAMP = 1.0 / 1024.0
+#: Near uplift the bound of `_no_uplift_before` fails check after check, and trying it
+#: costs more than a check: after a failure the next try waits twice as many checks
+#: (1, 2, 4, ... up to this many), and a success resets the wait to one. Fewer tries
+#: can only mean more checks, never fewer.
+_BACKOFF = 16
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -319,6 +325,7 @@ def contact_phase(
     anchor = (t_a, a0, s, piece, ledger0)
     ramp = h_max * _RAMP
     t_safe = t0  # checks may be skipped up to here (`_no_uplift_before`)
+    wait, backoff = 0, 1  # checks until the next bound is tried; its next value
     while True:
         if t >= end:  # a new linear piece of ü_g: anchor its particular solution at t
             if t > t0:
@@ -404,16 +411,19 @@ def contact_phase(
             g[k] = g_new[k]
         t = t_new
         horizon = min(end, t_stop)  # the bound holds within the piece (one anchor)
-        if ne and not (ramp < step):
+        wait -= 1
+        if ne and not (ramp < step) and wait <= 0:
+            backoff = min(2 * backoff, _BACKOFF)  # unless a bound below succeeds
             for share in (1.0, 0.125):
                 t_try = t + share * (horizon - t)
                 if _no_uplift_before(
                     t - t_a, t_try - t_a, e, d, a0, s, w, gam, screen, piece, mp, ep, zero, er, dr
                 ):
-                    t_safe = t_try
+                    t_safe, backoff = t_try, 1
                     for k in range(ne):
                         g[k] = min(g[k], -_SCREEN)  # negative throughout, whatever the guard
                     break
+            wait = backoff
         if t >= t_stop:
             _modes_at(t - t_a, e, d, piece, q, v)
             _ledger_at(t - t_a, e, d, q, a0, s, w, z, gam, piece, ledger0, ledger)
