@@ -20,6 +20,18 @@ few per cent (issue 15's notes), so the two spectra are compared as distribution
 scale (overturned counts, mean θ_max of the completed runs, two-sample KS p-value),
 and the deterministic DD2 spectrum (one run per scale) run for run. Prints one JSON
 dict; timings depend on the machine and its load, compare medians.
+
+The issue's own baseline ("today" when issue 15 was filed, commit d97163c) is another
+installation of the package, timed in the same run by its own interpreter:
+
+    git worktree add /tmp/base15 d97163c
+    python -m venv /tmp/basevenv && /tmp/basevenv/bin/pip install /tmp/base15
+    python -m benchmarks.column_spectrum --against /tmp/basevenv/bin/python --repeat 5
+
+Each repeat then runs the same default spectrum (``record_spectrum`` with its defaults,
+as a user calls it) once under each interpreter, in fresh processes that first warm
+up (load the compiled kernels, start the pool), alternating which goes first; the
+ratio of a repeat is the baseline's wall time over this checkout's.
 """
 
 from __future__ import annotations
@@ -34,7 +46,7 @@ from pathlib import Path
 import numpy as np
 import scipy.stats
 
-__all__ = ["main", "spectra", "compare"]
+__all__ = ["main", "spectra", "compare", "against"]
 
 RECORD = Path(__file__).resolve().parents[1] / "examples" / "data" / "elcentro_1940_NS_15s.dat"
 SCALES = np.linspace(0.4, 2.0, 17)
@@ -96,12 +108,82 @@ def compare(a, b) -> dict:
     }
 
 
+# One timed spectrum in a fresh process of either installation (its API as of d97163c):
+# argv = record, workers, repeats, table path; prints the wall time.
+_CHILD = """
+import sys, time
+import numpy as np
+import multimass
+from multimass.sweeps.spectra import record_spectrum
+rec = multimass.read_record(sys.argv[1], units="g")
+workers, repeats = int(sys.argv[2]), int(sys.argv[3])
+kw = dict(seed=0, executor="process" if workers > 1 else "serial", workers=workers, progress=False)
+record_spectrum("S1", rec, np.linspace(0.4, 2.0, 17)[:2], repeats=1, **kw)  # warm up
+t = time.perf_counter()
+sp = record_spectrum("S1", rec, np.linspace(0.4, 2.0, 17), impact="DD5", repeats=repeats, **kw)
+wall = time.perf_counter() - t
+sp.table.to_pickle(sys.argv[4])
+print(wall)
+"""
+
+
+def _child(python: str, workers: int, repeats: int, table: Path):
+    """(wall time s, table) of one default spectrum under the interpreter `python`."""
+    import subprocess
+
+    import pandas as pd
+
+    args = [python, "-c", _CHILD, str(RECORD), str(workers), str(repeats), str(table)]
+    out = subprocess.run(args, check=True, capture_output=True, text=True, cwd="/")
+    return float(out.stdout.strip().splitlines()[-1]), pd.read_pickle(table)
+
+
+def against(python: str, repeat: int, workers: int, repeats: int) -> dict:
+    """The default spectrum under the baseline interpreter `python` and under this one."""
+    import sys
+    import tempfile
+    from types import SimpleNamespace
+
+    times, ratios = {"baseline": [], "this": []}, []
+    with tempfile.TemporaryDirectory() as tmp:
+        for r in range(repeat):
+            ways = [("baseline", python), ("this", sys.executable)]
+            got = {}
+            for name, exe in ways if r % 2 == 0 else ways[::-1]:
+                got[name] = _child(exe, workers, repeats, Path(tmp) / f"{name}.pkl")
+            for name in times:
+                times[name].append(got[name][0])
+            ratios.append(got["baseline"][0] / got["this"][0])
+    stat = lambda x: {"median": statistics.median(x), "min": min(x), "max": max(x)}
+    tables = {k: SimpleNamespace(table=v[1]) for k, v in got.items()}
+    return {
+        "case": f"S1, El Centro 15 s, DD5, {len(SCALES)} scales x {repeats} repeats, defaults",
+        "baseline": python,
+        "workers": workers,
+        "cpus": os.cpu_count(),
+        "load_avg": os.getloadavg(),
+        "wall_s": {k: stat(v) for k, v in times.items()},
+        "ms_per_run": {
+            k: 1e3 * statistics.median(v) / (len(SCALES) * repeats) for k, v in times.items()
+        },
+        "ratio": stat(ratios),
+        "dd5": compare(tables["baseline"], tables["this"]),
+    }
+
+
 def main(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3, help="timed repeats of each way")
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--repeats", type=int, default=20, help="DD5 runs per scale")
+    ap.add_argument(
+        "--against", metavar="PYTHON", help="time the baseline installation of this interpreter"
+    )
     args = ap.parse_args(argv)
+    if args.against:
+        out = against(args.against, args.repeat, args.workers, args.repeats)
+        print(json.dumps(out, indent=1))
+        return out
     spectra("auto", 1, args.workers)  # warm: compile and start the pool's imports once
     times = {"integrate": [], "exact": []}
     ratios, last = [], {}
