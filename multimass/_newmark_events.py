@@ -157,12 +157,22 @@ class Run:
         self.spans.append((self.t_half, t))
 
     def energy_stop(self, t, th, thd, side) -> bool:
-        """The early stop of `newmark_block` (rest_after) in flight or at an impact."""
+        """The early stop of `newmark_block` (rest_after) in flight or at an impact.
+
+        After `rest_after`, with ``|θ|`` < α and the energy E below m g R (1 − cos α),
+        rocking away from θ = 0 or at a turning point (±θ̇ ≥ 0 on pivot ±1, θ = 0 after
+        an impact included): the swing under way peaks at `equations.free_rocking_peak`
+        of E, which closes the half-cycle (at t), and no later swing peaks higher
+        (`multimass._run.PhaseLoop.safe_peak`). Toward θ = 0 the run goes on.
+        """
         ra = self.o["rest_after"]
-        if ra is None or t < ra or not abs(th) < self.alpha:
+        if ra is None or t < ra or not abs(th) < self.alpha or side * thd < 0.0:
             return False
-        if not self.energy(th, thd) < self.barrier:  # beyond α it falls: no early stop
+        E = self.energy(th, thd)
+        if not E < self.barrier:  # beyond α it falls: no early stop
             return False
+        peak = eq.free_rocking_peak(self.alpha, E / self.barrier)  # energy of free rocking
+        self.close_half(t, max(float(self.sf[0]), abs(th), peak))
         self.stop(
             "rest",
             t,
@@ -282,7 +292,6 @@ class Run:
                 t_a, k = float(self.t[kk]), kk + 1
                 th, thd, thdd = (float(x) for x in self.out[:, kk])
                 if self.energy_stop(t_a, th, thd, side):
-                    self.close_half(t_a)
                     return None
                 continue
             nxt = self.impact(pre, kk, side)  # code == CROSS

@@ -86,6 +86,15 @@ class Recorder:
         if self.cand is None or a > self.cand[0]:
             self.cand = (float(a), float(t))
 
+    def free_peak(self, a, t):
+        """The peak ``|θ|`` = `a` of the free swing under way when a run stops early
+        (`PhaseLoop.run`, ``stop_when_safe``), a candidate of the current half-cycle.
+
+        Its time is `t`, the stop time: the closed form gives the peak, not when the
+        swing reaches it.
+        """
+        self._candidate(a, t)
+
     def start_phase(self, phase, t, y):
         self._row(t, y, phase, None)
         self.cand = None

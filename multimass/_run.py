@@ -25,6 +25,7 @@ from scipy.integrate import solve_ivp
 from multimass.impact_models import ImpactContext
 from multimass.impact_models.models import full_contact_velocities
 
+from . import equations as eq
 from . import kinematics as kin
 from ._events import handle_event, phase_events
 from ._phase import ActiveForce, Model, full_contact_rhs, rocking_rhs
@@ -174,7 +175,10 @@ class PhaseLoop:
                     break
                 continue
             s = self.integrate(s, t_stop)
-            if s.status == "completed" and self.is_safe(s):
+            peak = self.safe_peak(s) if s.status == "completed" else None
+            if peak is not None:
+                if s.phase:  # the free swing's peak, timed at the stop (Recorder.free_peak)
+                    self.recorder.free_peak(peak, s.t)
                 self.events.append(
                     Event(
                         "rest",
@@ -198,12 +202,31 @@ class PhaseLoop:
         balance = E + D + WF + self.recorder.loss - Wg - self.e0
         return abs(balance) / max(abs(self.e0), abs(Wg), abs(E), self.energy_floor, 1e-300)
 
-    def is_safe(self, s: State) -> bool:
-        """After the excitation, can this rigid body still overturn? (`stop_when_safe`)"""
+    def safe_peak(self, s: State) -> float | None:
+        """May this rigid body's run stop now? (`stop_when_safe`) None if not, else the
+        largest ``|θ|`` the rest of the run can reach.
+
+        After the excitation, with ``|θ|`` < α and the energy E below m g R (1 − cos α),
+        the block can no longer overturn. It stops when it rests in full contact (bound
+        0), or rocks free (no impact force on) moving away from θ = 0 or at a turning
+        point, ±θ̇ ≥ 0 on pivot ±1 (θ = 0 right after an impact included): the swing
+        under way then peaks at `equations.free_rocking_peak` of E and every later one
+        lower (energy is conserved in flight and lost at impacts). Moving toward θ = 0
+        it goes on to the impact. The rule of `multimass.fast._block_kernel._run` and
+        `multimass._newmark_events.Run.energy_stop`.
+        """
         if self.safe_energy is None or s.t < self.duration or s.t >= self.t_end:
-            return False
-        th = float(s.y[self.st.n])
-        return abs(th) < self.st.alpha_cg and self.energy(s.phase, s.y) < self.safe_energy
+            return None
+        n = self.st.n
+        th, thd = float(s.y[n]), float(s.y[2 * n + 1])
+        if s.phase and (s.force is not None or s.phase * thd < 0.0):
+            return None
+        if not abs(th) < self.st.alpha_cg:
+            return None
+        E = self.energy(s.phase, s.y)
+        if not E < self.safe_energy:
+            return None
+        return eq.free_rocking_peak(self.st.alpha_cg, E / self.safe_energy) if s.phase else 0.0
 
     def energy(self, phase, y) -> float:
         u, th, ud, thd = self.mdl.split(y)

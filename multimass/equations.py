@@ -4,7 +4,9 @@ Every function is one equation of paper 001, or one named term of one, as an
 expression of per-node values and of sums over the nodes that its caller has
 formed: ``cud`` and ``ku`` are the rows of C u̇ and K u, ``smu`` = 1ᵀMu,
 ``umu`` = uᵀMu, ``h_m_ud`` = HᵀMu̇, ... No function calls another or takes a
-cosine: the caller passes ``c`` = cos θ and ``sn`` = sin θ. So the same source
+cosine: the caller passes ``c`` = cos θ and ``sn`` = sin θ (one exception,
+`free_rocking_peak`, the energy balance of a rigid block's free swing, takes sines of
+α on scalars). So the same source
 
 * runs as NumPy on arrays — over the nodes of one state (the solve_ivp
   right-hand sides of `multimass._phase`, the structure-level API of
@@ -26,6 +28,8 @@ upper / lower sign; ∓ = −s), 0 in full contact.
 
 from __future__ import annotations
 
+import math
+
 __all__ = [
     "full_contact_acceleration",
     "pivot_arm",
@@ -44,6 +48,7 @@ __all__ = [
     "overturning_moment",
     "restoring_moment",
     "uplift_margin",
+    "free_rocking_peak",
 ]
 
 
@@ -169,3 +174,21 @@ def uplift_margin(side, M_o, M_res, L, m_ref, l_ref):
     (`m_ref` a moment, `l_ref` an angular momentum); the smaller decides.
     """
     return min((-side * M_o - M_res) / m_ref, side * L / l_ref)  # paper 001, Eq 8
+
+
+def free_rocking_peak(alpha, q):
+    """``|θ|`` at the end of a free swing of a rigid block that holds the fraction `q` of
+    the overturning barrier, q = E / (m g R (1 − cos α)), E its energy above rest.
+
+    With no ground motion a rigid block's energy is conserved between impacts, and
+    impacts only remove it (Housner 1963; the energy barrier of paper 004). A swing
+    moving away from θ = 0 (or at its turning point) therefore peaks where all of E
+    is potential energy, m g R [cos(α − ``|θ|``) − cos α] = E:
+    ``|θ|`` = α − arccos(cos α + E / (m g R)), written with 1 − cos x = 2 sin²(x / 2)
+    as α − 2 arcsin(sin(α / 2) √(1 − q)) (no cancellation for a slender block); every
+    later swing holds less energy and peaks lower. `q` is clipped to [0, 1]
+    (θ = 0 … α). Scalars (`multimass._run.PhaseLoop.run`, the compiled block kernel,
+    `multimass._newmark_events.Run.energy_stop`).
+    """
+    q = min(max(q, 0.0), 1.0)
+    return alpha - 2.0 * math.asin(math.sin(0.5 * alpha) * math.sqrt(1.0 - q))

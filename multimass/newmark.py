@@ -379,8 +379,13 @@ def newmark_block(
         the block is at rest in full contact, or ``|θ|`` < α and its energy
         ½J_pθ̇² + mgR[cos(α − ``|θ|``) − cos α] is below mgR(1 − cos α), the energy
         needed to reach θ = α — it then can never overturn in free rocking (energy is
-        conserved in flight and lost at impacts). Checked at `rest_after`, at every
-        impact after it and in full contact. None: run to `t_end`.
+        conserved in flight and lost at impacts) — and it rocks away from θ = 0 or is at
+        a turning point (θ = 0 right after an impact included): the swing under way then
+        peaks at `multimass.equations.free_rocking_peak` of that energy, the last
+        entry of `peaks` (its time is the stop time), and no later one is higher, so
+        θ_max is that of the run continued to `t_end` (to the integrator's accuracy).
+        Checked at `rest_after`, at every impact after it and in full contact.
+        None: run to `t_end`.
         Overturning maps rely on it; for time histories leave it None.
     thetadot_min : float
         An impact with ``|θ̇−|`` ≤ thetadot_min (rad/s) ends in full contact, as does one
@@ -437,8 +442,6 @@ def newmark_block(
         run.out[:, 0] = (th, thd, thdd)
         run.sf[0] = abs(th)
         nxt = None if run.energy_stop(0.0, th, thd, side) else (0.0, 1, th, thd, thdd, side)
-        if nxt is None:
-            run.close_half(0.0, abs(th))
     for _ in range(_MAX_PHASES):  # guard against endless chattering
         if nxt is None:
             break

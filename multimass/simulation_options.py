@@ -70,7 +70,13 @@ class SimulationOptions:
         in full contact.
     stop_when_safe : bool
         For a rigid block, also stop (event "rest") once the excitation is over and
-        the block has too little energy to overturn in free rocking.
+        the block has too little energy to overturn in free rocking, and rests in
+        full contact or rocks away from θ = 0 (θ θ̇ ≥ 0; toward it, the run goes on to
+        the impact). The swing under way then peaks at
+        `multimass.equations.free_rocking_peak` of its energy (energy is conserved in
+        free rocking and lost at impacts, so no later swing peaks higher): that peak
+        enters `Response.peaks`, timed at the stop, and θ_max is that of the run
+        continued to t_end (to the integrator's accuracy).
     integrator : str
         A key of `INTEGRATORS`: "solve_ivp" or "newmark" (`method`, `rtol`, `atol`
         and `max_step` then do not apply).

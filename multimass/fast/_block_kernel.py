@@ -18,8 +18,11 @@ without returning to Python:
   contact (Eq 10); the transition's energy loss enters the ledger;
 * the chattering guard, the stop at rest once the excitation is over, and (when
   ``CFG_STOP_WHEN_SAFE`` is set) ``stop_when_safe``: after the excitation, a block
-  with ``|θ|`` < α and less energy than m g R (1 − cos α) cannot overturn (event
-  "rest");
+  with ``|θ|`` < α and less energy E than m g R (1 − cos α) cannot overturn (event
+  "rest"); the run stops in full contact, or rocking away from θ = 0 (or at a turning
+  point, θ = 0 after an impact included), the swing's peak then following from E
+  (`multimass.equations.free_rocking_peak`, no later swing peaks higher), and goes on
+  to the impact while rocking toward θ = 0;
 * per cell: the outcome code, the overturning time, max ``|θ|`` over the half-cycle
   peaks (as `Recorder.peaks`), the impacts, the RHS evaluations and the end-of-run
   energy balance error (`PhaseLoop.end_balance_error`).
@@ -40,6 +43,7 @@ import numpy as np
 from numba import njit
 from numba.extending import register_jitable
 
+from .. import equations as eq
 from ..impact_models.models import classical_rebound, next_phase_is_rocking
 from ._block_uplift import next_uplift
 from ._kernel import integrate_phase
@@ -243,9 +247,13 @@ def _run(t_end, start, duration, ctx, ring):
             top = max(top, abs(y[0]))
             y[0] = y[1] = 0.0
             phase, hold = 0, t + cfg[CFG_WINDOW]
-        safe = cfg[CFG_STOP_WHEN_SAFE] != 0.0 and duration <= t < t_end  # PhaseLoop.is_safe
-        if integrated and status == _RUNNING and safe:
-            if abs(y[0]) < cfg[CFG_ALPHA] and _energy(phase, y, none, mp) < cfg[CFG_SAFE]:
+        safe = cfg[CFG_STOP_WHEN_SAFE] != 0.0 and duration <= t < t_end  # PhaseLoop.safe_peak
+        # in full contact, or rocking away from θ = 0 (θ θ̇ ≥ 0; toward it: on to the impact)
+        if integrated and status == _RUNNING and safe and phase * y[1] >= 0.0:
+            E = _energy(phase, y, none, mp)
+            if abs(y[0]) < cfg[CFG_ALPHA] and E < cfg[CFG_SAFE]:
+                # the swing peaks where E is all potential (energy of free rocking)
+                top = max(top, eq.free_rocking_peak(cfg[CFG_ALPHA], E / cfg[CFG_SAFE]))
                 rest = True
                 break
     if status == _FAIL:

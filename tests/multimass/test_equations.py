@@ -72,8 +72,13 @@ def _calls(paths: list[str], name: str) -> bool:
     return re.search(rf"\b{name}\(", text) is not None
 
 
-COMPILED = ["multimass/fast/_maths.py", "multimass/fast/_kernel.py"]
+COMPILED = [
+    "multimass/fast/_maths.py",
+    "multimass/fast/_kernel.py",
+    "multimass/fast/_block_kernel.py",
+]
 REFERENCE = [
+    "multimass/_run.py",
     "multimass/_phase.py",
     "multimass/_events.py",
     "multimass/kinematics.py",
@@ -108,3 +113,21 @@ def test_the_equations_run_on_arrays_as_on_scalars():
     np.testing.assert_array_equal(rows, one)
     F = gf.impact_force(th, 1.0, 2.0, 0.8, 0.01, 0.3)
     np.testing.assert_array_equal(F, [gf.impact_force(x, 1.0, 2.0, 0.8, 0.01, 0.3) for x in th])
+
+
+@pytest.mark.parametrize("alpha", [0.05, 0.25, 1.2])
+def test_free_rocking_peak_solves_the_energy_balance(alpha):
+    # m g R [cos(α − φ) − cos α] = E, with q = E / (m g R (1 − cos α)), solved by brentq
+    # (its residual carries ~1e-16 of cancellation: φ to ~1e-14 absolute)
+    from scipy.optimize import brentq
+
+    def residual(x, q):
+        return np.cos(alpha - x) - np.cos(alpha) - q * (1.0 - np.cos(alpha))
+
+    assert eq.free_rocking_peak(alpha, 0.0) == 0.0  # no energy: no swing
+    assert eq.free_rocking_peak(alpha, 1.0) == pytest.approx(alpha, rel=1e-15)  # up to α
+    assert eq.free_rocking_peak(alpha, -1e-3) == 0.0  # clipped to [0, 1]
+    assert eq.free_rocking_peak(alpha, 2.0) == pytest.approx(alpha, rel=1e-15)
+    for q in (1e-9, 1e-4, 0.3, 0.5, 0.9, 1.0 - 1e-9):
+        phi = brentq(residual, 0.0, alpha, args=(q,), xtol=1e-16, rtol=1e-15)
+        assert eq.free_rocking_peak(alpha, q) == pytest.approx(phi, rel=1e-9, abs=1e-14), q

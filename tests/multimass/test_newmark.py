@@ -555,3 +555,41 @@ def test_a_failed_run_ends_with_a_failed_event():
     res = _free("B6M", dt=1e-3, max_iter=1)
     assert res.status == res.outcome == "failed" and res.checks == {}
     assert res.events[-1].kind == "failed" and "max_iter" in res.events[-1].detail
+
+
+# B6M under one-cycle sine pulses a0 = amp α g, ω = ratio p that end safe: "rising" ends the
+# pulse while |θ| still grows, "returning" while θ heads back to 0 before a free swing higher
+# than the forced peaks; an early stop before that peak under-reported max |θ|. The stop now
+# adds the peak of the swing under way from its energy (equations.free_rocking_peak).
+@pytest.mark.parametrize("ratio, amp", [(5.214, 2.5), (6.143, 3.9)], ids=["rising", "returning"])
+def test_rest_after_finds_the_peak_after_the_pulse(ratio, amp):
+    _, _, alpha, _, p2 = _block("B6M")
+    exc = SineWave(amplitude=amp * alpha * G, omega=ratio * math.sqrt(p2))
+    kw = dict(restitution=housner_eta(alpha))
+    full = newmark_block(multimass.rigid_block("B6M"), exc, exc.duration + 5.0, **kw)
+    early = newmark_block(
+        multimass.rigid_block("B6M"), exc, exc.duration + 5.0, rest_after=exc.duration, **kw
+    )
+    assert early.outcome == "rest" and full.status == "completed" and not full.overturned
+    assert full.peak_times[np.argmax(full.peaks)] > exc.duration  # after the pulse
+    # the energy's peak against Newmark's: O(dt²), 1.3e-6 at most over the map below
+    assert early.theta_max == pytest.approx(full.theta_max, rel=1e-5, abs=0.0)
+    n = early.t.size
+    np.testing.assert_array_equal(early.theta, full.theta[:n])
+
+
+def test_rest_after_keeps_theta_max_over_a_sine_map():
+    # every cell of an 8 × 8 map: a stopped run's θ_max is the full run's, to Newmark's
+    # O(dt²) error of the peak (dt = 1e-3: 1.3e-6; dt = 5e-4: 3.3e-7)
+    _, _, alpha, _, p2 = _block("B6M")
+    st, kw, stopped = multimass.rigid_block("B6M"), dict(restitution=housner_eta(alpha)), 0
+    for ratio in np.linspace(1.5, 8.0, 8):
+        for amp in np.linspace(1.1, 6.0, 8):
+            exc = SineWave(amplitude=amp * alpha * G, omega=ratio * math.sqrt(p2))
+            t_end = exc.duration + 5.0
+            full = newmark_block(st, exc, t_end, **kw)
+            early = newmark_block(st, exc, t_end, rest_after=exc.duration, **kw)
+            assert early.status == full.status, (ratio, amp)
+            assert early.theta_max == pytest.approx(full.theta_max, rel=1e-5), (ratio, amp)
+            stopped += early.outcome == "rest"
+    assert stopped >= 20  # the rule is exercised

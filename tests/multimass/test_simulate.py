@@ -331,3 +331,52 @@ def test_error_inside_solve_ivp_is_a_failed_status():
     resp = simulate("S1", RaisingExcitation(), "CIM", 1.0, output_dt=None)
     assert resp.status == "failed"
     assert "different signs" in resp.message and resp.events[-1].kind == "failed"
+
+
+# ---------------------------------------------------------------------------- stop_when_safe
+# B6M under one-cycle sine pulses a0 = amp α g, ω = ratio p, that end safe: "rising" ends
+# the pulse while |θ| still grows, "returning" while θ heads back to 0 before a free swing
+# higher than the forced peaks. The old rule stopped both before their largest peak; the
+# stop now adds the peak of the swing under way from its energy (free_rocking_peak).
+_SAFE_CASES = {"rising": (5.214, 2.5), "returning": (6.143, 3.9)}
+
+
+def _sine_cell(st, ratio, amp):
+    return SineWave(amplitude=amp * st.alpha_cg * st.g, omega=ratio * st.p)
+
+
+@pytest.mark.parametrize("case", sorted(_SAFE_CASES))
+@pytest.mark.parametrize("backend", ["scipy", "compiled"])
+def test_stop_when_safe_keeps_the_theta_max_of_the_full_run(backend, case):
+    st = multimass.rigid_block("B6M")
+    exc = _sine_cell(st, *_SAFE_CASES[case])
+    kw = dict(impact="CIM", restitution="modified", t_end=exc.duration + 5.0, backend=backend)
+    early = multimass.simulate_outcome(st, exc, stop_when_safe=True, **kw)
+    full = multimass.simulate_outcome(st, exc, stop_when_safe=False, **kw)
+    assert early.status == full.status == "completed" and not full.overturned
+    assert early.events[-1].kind == "rest" and early.events[-1].time < full.events[-1].time
+    assert full.peak_times[np.argmax(full.peaks)] > exc.duration  # after the pulse
+    # the energy's peak against the integrator's (rtol 1e-8)
+    assert early.theta_max == pytest.approx(full.theta_max, rel=1e-7, abs=0.0)
+
+
+@pytest.mark.parametrize("backend", ["scipy", "compiled"])
+def test_stop_when_safe_keeps_theta_max_over_a_sine_map(backend):
+    # every cell of an 8 × 8 map: a stopped run's θ_max is the unstopped run's (to rtol)
+    st = multimass.rigid_block("B6M")
+    kw = dict(impact="CIM", restitution="modified", backend=backend)
+    stopped = 0
+    for ratio in np.linspace(1.5, 8.0, 8):
+        for amp in np.linspace(1.1, 6.0, 8):
+            exc = _sine_cell(st, ratio, amp)
+            t_end = exc.duration + 5.0
+            early = multimass.simulate_outcome(st, exc, t_end=t_end, stop_when_safe=True, **kw)
+            full = multimass.simulate_outcome(st, exc, t_end=t_end, stop_when_safe=False, **kw)
+            assert early.status == full.status, (ratio, amp)
+            assert early.overturned == full.overturned, (ratio, amp)
+            assert early.theta_max == pytest.approx(full.theta_max, rel=1e-7, abs=0.0), (
+                ratio,
+                amp,
+            )
+            stopped += early.events[-1].kind == "rest" and early.events[-1].time < t_end
+    assert stopped >= 20  # the rule is exercised

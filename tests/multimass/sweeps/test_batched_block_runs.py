@@ -234,3 +234,54 @@ def test_what_the_batch_refuses():
     pulse = MPPulse(amplitude=0.8, fp=1.0, t0=3.0)
     with pytest.raises(InputError, match="t_end"):
         block_runs.run_excitations(runs, [pulse], 1.0)  # it starts at 2 s
+
+
+def _sine_map(st, n=8):
+    """One-cycle sine pulses a0 = amp α g, ω = ratio p of an n × n map."""
+    return [
+        SineWave(amplitude=float(amp * st.alpha_cg * st.g), omega=float(ratio * st.p))
+        for ratio in np.linspace(1.5, 8.0, n)
+        for amp in np.linspace(1.1, 6.0, n)
+    ]
+
+
+@pytest.mark.parametrize("ratio, amp", [(5.214, 2.5), (6.143, 3.9)], ids=["rising", "returning"])
+def test_stop_when_safe_finds_the_peak_after_the_pulse(ratio, amp):
+    # "rising" ends the pulse while |θ| still grows, "returning" while θ heads back to 0
+    # before a free swing higher than the forced peaks: stopping before that peak (at the
+    # pulse's end, or at the impact after it) under-reported θ_max; the stop now adds the
+    # peak of the swing under way from its energy (equations.free_rocking_peak)
+    st = multimass.rigid_block("B6M")
+    exc = [SineWave(amplitude=amp * st.alpha_cg * st.g, omega=ratio * st.p)]
+    t_end = exc[0].duration + 5.0
+    got = {}
+    for stop in (True, False):
+        runs = block_runs.BlockRuns.of_runs(
+            st, CIM | dict(restitution="modified", stop_when_safe=stop)
+        )
+        got[stop] = block_runs.run_excitations(runs, exc, t_end)
+    early, full = got[True], got[False]
+    assert early.outcome[0] == block_runs.OUTCOMES.index("rest")
+    assert early.status[0] == full.status[0] == "completed" and not full.overturned[0]
+    assert early.n_rhs[0] < full.n_rhs[0]  # it did stop early
+    # the energy's peak against the integrator's (rtol 1e-8)
+    assert early.theta_max[0] == pytest.approx(full.theta_max[0], rel=1e-7, abs=0.0)
+
+
+def test_stop_when_safe_keeps_theta_max_over_a_sine_map():
+    # every cell of an 8 × 8 map: a stopped run's θ_max is the unstopped run's (the energy's
+    # peak against the integrator's), and the batch still equals simulate_outcome run by run
+    st = multimass.rigid_block("B6M")
+    excitations = _sine_map(st)
+    t_end = [e.duration + 5.0 for e in excitations]
+    got = {}
+    for stop in (True, False):
+        options = CIM | dict(restitution="modified", stop_when_safe=stop)
+        runs = block_runs.BlockRuns.of_runs(st, options)
+        got[stop] = block_runs.run_excitations(runs, excitations, t_end)
+        _assert_same(got[stop], _reference(st, excitations, t_end, options))
+    early, full = got[True], got[False]
+    np.testing.assert_array_equal(early.status, full.status)
+    np.testing.assert_array_equal(early.overturned, full.overturned)
+    np.testing.assert_allclose(early.theta_max, full.theta_max, rtol=1e-7, atol=0.0)
+    assert np.sum(early.n_rhs < full.n_rhs) >= 20  # the rule is exercised
