@@ -110,7 +110,7 @@ def handle_event(run, s, name: str):
 def _activate(run, s, u, th, ud, thd):
     st, model, side = run.st, run.model, s.phase
     r = s.r_pending
-    E = kin.total_energy(st, side, u, th, ud, thd)
+    E = run.energy(side, s.y)
     width = model.width(E, r, st.B, st.m_t, st.g, thd)
     theta_i = side * model.threshold(width)
     run.events.append(
@@ -148,7 +148,7 @@ def _at_zero(run, s, u, ud, thd):
     y = s.y.copy()
     y[n] = 0.0
     s = s.but(y=y, force=None)
-    L_new = kin.angular_momentum_new_pivot(st, u, ud, thd)
+    L_new = run.pivot_momentum(s.y)
     r = r_used
     if getattr(run.model, "resolves_impact", False):  # the Poisson LCP decides
         tr = run.model.impact_at_zero(st, side_old, u, ud, float(thd), run.thetadot_min)

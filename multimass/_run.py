@@ -34,9 +34,17 @@ from ._rigid import next_uplift
 from .checks import energy_floor
 from .result import Event
 
-__all__ = ["PhaseLoop", "State", "QUIET_DELAY"]
+__all__ = ["PhaseLoop", "State", "QUIET_DELAY", "segment_ends"]
 
 QUIET_DELAY = 1e-9  # s: events are held quiet this long after a restart
+
+
+def segment_ends(breakpoints, duration: float, t_end: float) -> list[float]:
+    """The ends of a run's segments: the excitation's breakpoints and its end inside
+    (0, t_end), in order, then t_end (a segment never straddles a change of ü_g's form)."""
+    ends = [b for b in breakpoints if 0.0 < b < t_end]
+    ends += [duration] if 0 < duration < t_end else []
+    return sorted(set(ends)) + [t_end]
 
 
 @dataclass(frozen=True, eq=False)
@@ -120,9 +128,7 @@ class PhaseLoop:
         self.st, self.mdl, self.model, self.fast = st, Model.of(st), model, fast
         self.ag, self.duration, bps = ground
         self.t_end = t_end
-        ends = [b for b in bps if 0.0 < b < t_end]
-        ends += [self.duration] if 0 < self.duration < t_end else []
-        self.breakpoints = sorted(set(ends)) + [t_end]
+        self.breakpoints = segment_ends(bps, self.duration, t_end)
         self.ivp, self.thetadot_min, self.overturn = o.ivp, o.thetadot_min, o.overturn_angle
         self.rng = np.random.default_rng(o.seed)
         self.n_draws = 0
@@ -229,8 +235,20 @@ class PhaseLoop:
         return eq.free_rocking_peak(self.st.alpha_cg, E / self.safe_energy) if s.phase else 0.0
 
     def energy(self, phase, y) -> float:
+        """T + V_g + U of state `y` in `phase` (`multimass.kinematics.total_energy`; on
+        the compiled path its compiled sums, `FastPath.energy`)."""
+        if self.fast is not None:
+            return self.fast.energy(phase, y)
         u, th, ud, thd = self.mdl.split(y)
         return kin.total_energy(self.st, phase, u, th, ud, thd)
+
+    def pivot_momentum(self, y) -> float:
+        """L_p of state `y` about the impending pivot (paper 001, Eq 9;
+        `multimass.kinematics.angular_momentum_new_pivot`, compiled as `energy`)."""
+        if self.fast is not None:
+            return self.fast.pivot_momentum(y)
+        u, _, ud, thd = self.mdl.split(y)
+        return kin.angular_momentum_new_pivot(self.st, u, ud, thd)
 
     def note_transition(self, t: float) -> bool:
         """Record a transition time; True if the chattering guard trips."""

@@ -35,24 +35,35 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
 from multimass.impact_models import impact_model
 
 from . import validation as v
+from ._events import overturn_message
 from ._newmark_response import check_newmark, simulate_newmark
-from ._run import QUIET_DELAY, PhaseLoop
-from .checks import energy_floor, judge
+from ._run import QUIET_DELAY, PhaseLoop, segment_ends
+from .checks import energy_check, energy_floor, judge
 from .cost import simulation_cost
 from .errors import InputError
 from .excitations import FreeRelease
 from .progress import Progress
 from .response import Outcome, Response
+from .result import status_of
 from .simulation_options import DEFAULTS, SimulationOptions
 from .structure import Structure, from_specimen
 
-__all__ = ["simulate", "simulate_outcome", "estimate", "SimulationOptions", "DEFAULTS"]
+__all__ = [
+    "simulate",
+    "simulate_outcome",
+    "outcome_summary",
+    "RunSummary",
+    "estimate",
+    "SimulationOptions",
+    "DEFAULTS",
+]
 
 
 def simulate(
@@ -115,6 +126,41 @@ def simulate_outcome(
     kw = {"progress": False} | kw | {"output_dt": None}
     plan = _prepare(structure, excitation, impact, t_end, SimulationOptions.of(options, **kw))
     return judge(plan.run(lean=True), plan.options.energy_tol)
+
+
+class RunSummary(NamedTuple):
+    """What a sweep keeps of a run (`outcome_summary`): `simulate_outcome`'s ``theta_max``
+    (rad), ``outcome``, ``status``, ``n_impacts``, the time of its "overturn" event (s,
+    NaN if none) and ``message``."""
+
+    theta_max: float
+    outcome: str
+    status: str
+    n_impacts: int
+    overturn_time: float
+    message: str
+
+
+def outcome_summary(
+    structure, excitation, impact="DD2", t_end: float = 10.0, *, options=None, **kw
+) -> RunSummary:
+    """What a sweep keeps of `simulate_outcome` with the same arguments.
+
+    A column on the compiled path (``backend="compiled"``) whose impact model and
+    restitution the whole-run kernel knows (`multimass.fast.column_runs`: CIM or the
+    Dirac-delta force; fixed, per-corner, Housner's, modified, random or
+    impact-specific restitution) runs in one compiled call — the same run as
+    `simulate_outcome`'s, bit for bit, without Python between its phases. Any other
+    run, and one whose solver fails, runs through `simulate_outcome`.
+    """
+    kw = {"progress": False} | kw | {"output_dt": None}
+    plan = _prepare(structure, excitation, impact, t_end, SimulationOptions.of(options, **kw))
+    got = plan.whole_run()
+    if got is not None:
+        return got
+    r = judge(plan.run(lean=True), plan.options.energy_tol)
+    t_over = next((e.time for e in r.events if e.kind == "overturn"), math.nan)
+    return RunSummary(r.theta_max, r.outcome, r.status, r.n_impacts, t_over, r.message)
 
 
 def estimate(structure, excitation, impact="DD2", t_end: float = 10.0, *, options=None, **kw):
@@ -253,6 +299,31 @@ class _Plan:
             self.t_end,
             loop.energy_floor,
         )
+
+    def whole_run(self) -> RunSummary | None:
+        """`outcome_summary` of this run from `multimass.fast.column_runs` (one compiled
+        call), or None where that does not apply or the kernel could not finish it."""
+        if self.fast is None or self.st.n < 1 or self.options.integrator != "solve_ivp":
+            return None
+        from .fast import warm_up, warm_up_contact  # numba loads only for "compiled"
+        from .fast.column_runs import BROKEN, ColumnRun
+        from .fast.compile import warm_up_columns
+
+        o, (_, duration, bps) = self.options, self.ground
+        ends = segment_ends(bps, duration, self.t_end)
+        run = ColumnRun.of(self.st, self.model, self.fast, self.start, ends, self.t_end, o)
+        if run is None:
+            return None
+        warm_up()
+        if self.fast.contact is not None:
+            warm_up_contact()
+        warm_up_columns()
+        outcome, t_over, top, n_impacts, _, err = run.run()
+        if outcome == BROKEN:
+            return None
+        status = status_of(outcome, energy_check(err, o.energy_tol)["passed"])  # as judge
+        message = overturn_message(o.overturn_angle) if outcome == "overturned" else ""
+        return RunSummary(float(top), outcome, status, int(n_impacts), float(t_over), message)
 
     def _phase_loop(self) -> PhaseLoop:
         if self.fast is not None:

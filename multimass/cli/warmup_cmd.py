@@ -28,6 +28,12 @@ def _contact(progress):
     return warm_up_contact(progress)
 
 
+def _columns(progress):
+    from multimass.fast import warm_up_columns
+
+    return warm_up_columns(progress)
+
+
 def _blocks(progress):
     from multimass.fast import block_runs
     from multimass.fast.compile import compile_once
@@ -72,6 +78,7 @@ def _nscd(progress):
 GROUPS = {
     "fast": ("simulate(..., backend='compiled'), spectra, sweeps", _fast),
     "contact": ("a column's full contact in closed form (records, releases)", _contact),
+    "columns": ("spectra of columns: whole runs in one call", _columns),
     "blocks": ("overturning maps of rigid blocks, batched", _blocks),
     "newmark": ("simulate(..., integrator='newmark')", _newmark),
     "nscd": ("multimass nscd (block on a beam)", _nscd),

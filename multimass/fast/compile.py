@@ -64,6 +64,7 @@ from ..progress import Progress, format_duration
 __all__ = [
     "warm_up",
     "warm_up_contact",
+    "warm_up_columns",
     "compile_once",
     "watch_compiles",
     "CompileReport",
@@ -74,6 +75,7 @@ __all__ = [
     "QUIET_ENV",
     "COLD_COMPILE_S",
     "CONTACT_COMPILE_S",
+    "COLUMNS_COMPILE_S",
     "LOAD_S",
 ]
 
@@ -90,6 +92,10 @@ _CONTACT = "_contact_kernel"  # its own group: compiled when a run first needs i
 _CONTACT_STAMP = "multimass_contact.sources"
 #: Wall time of a cold compile of the closed-form full contact (s; 2-core machine, idle).
 CONTACT_COMPILE_S = 7.0
+_COLUMNS = "_column_kernel"  # whole column runs for sweeps: a group of its own too
+_COLUMNS_STAMP = "multimass_columns.sources"
+#: Wall time of a cold compile of the whole column runs (s; 2-core machine, idle).
+COLUMNS_COMPILE_S = 7.0
 _STAMP = "multimass_fast.sources"
 
 
@@ -475,6 +481,9 @@ def _tiny_call() -> None:
         1e-10,
         5e-3,
     )
+    m, H, K, _, mp = model
+    mx._total_energy(1.0, start[2], m, H, K, mp)  # the per-run path's transitions (FastPath)
+    mx._pivot_momentum(start[2], m, H, mp)
 
 
 def _tiny_contact_call() -> None:
@@ -493,14 +502,39 @@ def _tiny_contact_call() -> None:
     contact_phase(*start, *model, *uplift_events, np.zeros(mx.EP_SIZE) + 1.0, *ground, *modes)
 
 
-def _sources(contact: bool = False) -> list[Path]:
-    """The kernel modules and the equations they compile (of the contact group's kernel)."""
+def _tiny_column_call() -> None:
+    """Run `column_run` once with the argument types of every real call (1 node, 1 ms)."""
+    import numpy as np
+
+    from . import _column_kernel as ck
+    from . import _maths as mx
+    from .column_runs import _TABLES
+
+    (_, _, y0, _), model = _one_node()
+    one = np.ones(1)
+    ground = (mx.EXC_NONE, np.zeros(mx.PAR_SIZE), np.zeros(2))
+    modes = (np.eye(1), one * 100.0, one * 0.05, one.copy(), 1e-4, np.zeros((3, 1)))
+    cfg = np.zeros(ck.CF_SIZE)
+    cfg[ck.CF_TDMIN], cfg[ck.CF_COUNT], cfg[ck.CF_RTOL], cfg[ck.CF_ATOL] = 1e-3, 2, 1e-6, 1e-8
+    cfg[ck.CF_MAX_STEP], cfg[ck.CF_R_RIGHT], cfg[ck.CF_R_LEFT] = 1e-3, 0.9, 0.9
+    ep = np.zeros(mx.EP_SIZE) + 1.0
+    t_end = np.array([1e-3])
+    ck.column_run(1e-3, 1, y0, t_end, *model, *ground, modes, _TABLES, ep, cfg, np.zeros(0))
+
+
+def _sources(contact: bool = False, columns: bool = False) -> list[Path]:
+    """The kernel modules and the equations they compile (of the contact group's kernel,
+    or of the whole column runs', which compile both groups' code)."""
     from .._nigam_jennings import __file__ as nigam_jennings
     from ..equations import __file__ as equations
     from ..impact_models.gaussian_force import __file__ as gaussian_force
+    from ..impact_models.models import __file__ as impact_models
     from ..pulse_shapes import __file__ as pulse_shapes
 
     physics = [Path(equations), Path(gaussian_force), Path(pulse_shapes)]
+    if columns:
+        own = [_HERE / f"{_COLUMNS}.py", Path(impact_models)]
+        return _sources(contact=True) + own
     if contact:  # the closed-form contact compiles the others' event code too
         return (
             [_HERE / f"{m}.py" for m in (*_KERNEL_MODULES, _CONTACT)]
@@ -541,7 +575,27 @@ def warm_up(progress: bool | None = None) -> CompileReport:
     return _REPORT
 
 
-_CONTACT_REPORT: CompileReport | None = None
+#: The reports of the groups compiled apart (`warm_up_contact`, `warm_up_columns`), by module.
+_GROUP_REPORTS: dict[str, CompileReport] = {}
+
+
+def _warm_up_group(module, what, call, sources, stamp, estimate, progress) -> CompileReport:
+    """`compile_once` of the group of kernel module `module`, once per process (then the
+    first report's cache folder, "in memory", 0 s)."""
+    r = _GROUP_REPORTS.get(module)
+    if r is not None:
+        return CompileReport(0.0, "in memory", r.cache_dir, 0, r.what)
+    _GROUP_REPORTS[module] = compile_once(
+        what,
+        call,
+        (f"{__package__}.{module}",),
+        sources=sources,
+        stamp_file=stamp,
+        progress=progress,
+        estimate=estimate,
+        load=0.1,
+    )
+    return _GROUP_REPORTS[module]
 
 
 def warm_up_contact(progress: bool | None = None) -> CompileReport:
@@ -551,18 +605,30 @@ def warm_up_contact(progress: bool | None = None) -> CompileReport:
     or released, backend "compiled"), with the notice of `warm_up`. Arguments and
     result as `warm_up`.
     """
-    global _CONTACT_REPORT
-    if _CONTACT_REPORT is not None:
-        r = _CONTACT_REPORT
-        return CompileReport(0.0, "in memory", r.cache_dir, 0, r.what)
-    _CONTACT_REPORT = compile_once(
+    return _warm_up_group(
+        _CONTACT,
         "the closed-form full contact",
         _tiny_contact_call,
-        (f"{__package__}.{_CONTACT}",),
-        sources=_sources(contact=True),
-        stamp_file=_CONTACT_STAMP,
-        progress=progress,
-        estimate=CONTACT_COMPILE_S,
-        load=0.1,
+        _sources(contact=True),
+        _CONTACT_STAMP,
+        CONTACT_COMPILE_S,
+        progress,
     )
-    return _CONTACT_REPORT
+
+
+def warm_up_columns(progress: bool | None = None) -> CompileReport:
+    """Compile (or load) the whole column runs (`._column_kernel`), once per process.
+
+    A group of its own, compiled on the first sweep of a column that uses it (a
+    spectrum or a suite on the compiled path), with the notice of `warm_up`.
+    Arguments and result as `warm_up`.
+    """
+    return _warm_up_group(
+        _COLUMNS,
+        "the whole column runs",
+        _tiny_column_call,
+        _sources(columns=True),
+        _COLUMNS_STAMP,
+        COLUMNS_COMPILE_S,
+        progress,
+    )

@@ -201,6 +201,17 @@ class FastPath:
             contact=contact,
         )
 
+    # -- the run's energies and momenta, as the compiled whole runs form them --------------------
+    def energy(self, phase: int, y: np.ndarray) -> float:
+        """T + V_g + U of state `y` in `phase` (`multimass.kinematics.total_energy`, compiled:
+        the sums of `._column_kernel`, so that a whole compiled run is this path's, bit for bit)."""
+        return mx._total_energy(float(phase), y, self.m, self.H, self.K, self.mp)
+
+    def pivot_momentum(self, y: np.ndarray) -> float:
+        """L_p about the impending pivot (`multimass.kinematics.angular_momentum_new_pivot`,
+        compiled, as `energy`)."""
+        return mx._pivot_momentum(y, self.m, self.H, self.mp)
+
     # -- the events of the current phase (multimass._events.phase_events) --------------------
     def events(self, run, s):
         """Names, codes, directions, terminal flags, quiet values, guard ends, ep, fp of the

@@ -34,7 +34,7 @@ from .. import intensity as im
 from .._rigid import uplift_threshold
 from ..errors import InputError
 from ..excitations import TWO_PI, MPShape
-from ..simulation import estimate, simulate_outcome
+from ..simulation import estimate, outcome_summary
 from ..sweeps.engine import _Bar, run_jobs
 from ..sweeps.maps import default_backend, executor_session
 from ..sweeps.seeding import job_seeds
@@ -232,17 +232,17 @@ def _result(job: _Job, theta_max, overturned, n_impacts, status, t_over, message
 def suite_run(job: _Job) -> tuple:
     """One run: (θ_max/α, overturned, impacts, status, overturn time or NaN, message, IMs
     of the excitation or None)."""
-    st = job.structure
-    resp = simulate_outcome(st, job.excitation, t_end=job.t_end, seed=job.seed, **job.options)
-    t_over = next((e.time for e in resp.events if e.kind == "overturn"), math.nan)
+    r = outcome_summary(
+        job.structure, job.excitation, t_end=job.t_end, seed=job.seed, **job.options
+    )
     return _result(
         job,
-        resp.theta_max,
-        resp.outcome == "overturned",
-        resp.n_impacts,
-        resp.status,
-        t_over,
-        resp.message,
+        r.theta_max,
+        r.outcome == "overturned",
+        r.n_impacts,
+        r.status,
+        r.overturn_time,
+        r.message,
     )
 
 
@@ -473,7 +473,8 @@ def run_suite(
     batched = BATCHED and compiled and st.n == 0
     try:
         contact = compiled and st.n > 0  # a column: records use the closed-form contact
-        with executor_session(executor, workers, compiled, batched, contact) as ex:
+        columns = contact  # and whole runs in one call (`multimass.fast.column_runs`)
+        with executor_session(executor, workers, compiled, batched, contact, columns) as ex:
             for c in todo:
                 index = np.arange(c * chunk, min((c + 1) * chunk, n))
                 jobs = [job(int(i)) for i in index]

@@ -59,14 +59,20 @@ BATCHED = True
 
 @contextmanager
 def executor_session(
-    executor, workers, compiled: bool = False, batched: bool = False, contact: bool = False
+    executor,
+    workers,
+    compiled: bool = False,
+    batched: bool = False,
+    contact: bool = False,
+    columns: bool = False,
 ):
     """One executor for several `run_jobs` calls; closed after unless the caller owns it.
 
     With `compiled`, a process pool's forkserver loads the compiled kernels once
     (`multimass.fast.preload`; with `batched` also the batch kernels of
     `multimass.fast.block_preload`, with `contact` the closed-form full contact of
-    `multimass.fast.contact_preload`), so its workers start with them in memory.
+    `multimass.fast.contact_preload`, with `columns` the whole column runs of
+    `multimass.fast.column_preload`), so its workers start with them in memory.
     """
     if isinstance(executor, Executor):
         yield executor
@@ -77,6 +83,7 @@ def executor_session(
             ("multimass.fast.preload",)
             + (("multimass.fast.block_preload",) if batched else ())
             + (("multimass.fast.contact_preload",) if contact else ())
+            + (("multimass.fast.column_preload",) if columns else ())
         )
     ex = get_executor(executor, workers, **options)
     try:

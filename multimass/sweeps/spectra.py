@@ -7,7 +7,6 @@ repeated with random restitution (DD5) to show the spread.
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass, field
 
@@ -19,7 +18,7 @@ from ..errors import InputError
 from ..excitations import MPShape
 from ..excitations import pulse as make_pulse
 from ..records import Record
-from ..simulation import estimate, simulate_outcome
+from ..simulation import estimate, outcome_summary
 from ..structure import Structure, from_specimen
 from .engine import run_jobs
 from .map_cells import pulse_label
@@ -40,12 +39,15 @@ class _Point:
 
 
 def spectrum_point(p: _Point) -> tuple:
-    """One simulation of a spectrum: (θ_max, status, impacts, overturn time or nan)."""
-    resp = simulate_outcome(p.structure, p.excitation, t_end=p.t_end, seed=p.seed, **p.options)
-    if resp.status == "failed":
-        raise RuntimeError(f"{p.excitation.describe()}: {resp.message}")
-    t_over = next((e.time for e in resp.events if e.kind == "overturn"), math.nan)
-    return resp.theta_max, resp.status, resp.n_impacts, t_over
+    """One simulation of a spectrum: (θ_max, status, impacts, overturn time or nan).
+
+    `multimass.simulation.outcome_summary`: a column on the compiled path runs whole
+    in one compiled call (`multimass.fast.column_runs`).
+    """
+    r = outcome_summary(p.structure, p.excitation, t_end=p.t_end, seed=p.seed, **p.options)
+    if r.status == "failed":
+        raise RuntimeError(f"{p.excitation.describe()}: {r.message}")
+    return r.theta_max, r.status, r.n_impacts, r.overturn_time
 
 
 @dataclass(frozen=True, eq=False)
@@ -114,7 +116,8 @@ def _run(st, points, sweep_cols, executor, workers, progress, desc, kind, option
     contact = (  # a column under a record: the closed-form full contact
         compiled and st.n > 0 and kind == "record" and options.get("full_contact") != "integrate"
     )
-    with executor_session(executor, workers, compiled, contact=contact) as ex:
+    columns = compiled and st.n > 0  # whole column runs (`multimass.fast.column_runs`)
+    with executor_session(executor, workers, compiled, contact=contact, columns=columns) as ex:
         res = run_jobs(spectrum_point, points, executor=ex, progress=progress, desc=desc)
     table = pd.DataFrame(sweep_cols)
     table["theta_max"] = [r[0] for r in res]

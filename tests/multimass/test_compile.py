@@ -268,6 +268,10 @@ def test_warm_up_keeps_the_report_and_has_one_signature_per_kernel():
     simulate("B6M", SineWave(amplitude=3.0, omega=20.0), "CIM", 0.5, backend="compiled")
     simulate("B6M", FreeRelease(0.1), "CIM", 0.3, backend="compiled", method="RK23")
     assert len(integrate_phase.signatures) == 1
+    # the per-run loop's transitions call the compiled energy and momentum (FastPath)
+    from multimass.fast import _maths as mx
+
+    assert len(mx._total_energy.signatures) == len(mx._pivot_momentum.signatures) == 1
     # and the closed-form full contact: a free release that settles, a record
     simulate("S1", FreeRelease(0.02), "DD2", 2.0, backend="compiled", output_dt=None)
     rec = Record.from_arrays([0.0, 0.02, 0.04], [0.0, 1.0, 0.0], units="m/s2")
@@ -284,3 +288,6 @@ def test_the_kernel_count_of_the_notice():
     contact = fc._kernels_of([f"multimass.fast.{fc._CONTACT}"])
     assert "contact_phase" in {k.py_func.__name__ for k in contact}
     assert "rhs" not in names and "rocking_rhs" not in names  # inlined, not compiled alone
+    assert "column_run" not in names  # the whole column runs: a group of their own too
+    columns = fc._kernels_of([f"multimass.fast.{fc._COLUMNS}"])
+    assert "column_run" in {k.py_func.__name__ for k in columns}

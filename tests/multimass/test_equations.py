@@ -76,6 +76,7 @@ COMPILED = [
     "multimass/fast/_maths.py",
     "multimass/fast/_kernel.py",
     "multimass/fast/_block_kernel.py",
+    "multimass/fast/_column_kernel.py",
 ]
 REFERENCE = [
     "multimass/_run.py",
