@@ -24,9 +24,11 @@ dict; timings depend on the machine and its load, compare medians.
 The issue's own baseline ("today" when issue 15 was filed, commit d97163c) is another
 installation of the package, timed in the same run by its own interpreter:
 
-    git worktree add /tmp/base15 d97163c
-    python -m venv /tmp/basevenv && /tmp/basevenv/bin/pip install /tmp/base15
-    python -m benchmarks.column_spectrum --against /tmp/basevenv/bin/python --repeat 5
+    python -m benchmarks.column_spectrum --against d97163c --repeat 5
+
+``--against`` takes a git revision of this repository (installed once, with pip from
+the package registries, in a virtual environment under ``~/.cache/multimass/bench``)
+or the path of a Python interpreter that has the baseline installed.
 
 Each repeat then runs the same default spectrum (``record_spectrum`` with its defaults,
 as a user calls it) once under each interpreter, in fresh processes that first warm
@@ -46,7 +48,7 @@ from pathlib import Path
 import numpy as np
 import scipy.stats
 
-__all__ = ["main", "spectra", "compare", "against"]
+__all__ = ["main", "spectra", "compare", "against", "baseline_python"]
 
 RECORD = Path(__file__).resolve().parents[1] / "examples" / "data" / "elcentro_1940_NS_15s.dat"
 SCALES = np.linspace(0.4, 2.0, 17)
@@ -138,6 +140,36 @@ def _child(python: str, workers: int, repeats: int, table: Path):
     return float(out.stdout.strip().splitlines()[-1]), pd.read_pickle(table)
 
 
+def baseline_python(spec: str) -> str:
+    """The interpreter of `spec`: a Python executable as given, or a git revision of this
+    repository installed (once) in its own virtual environment."""
+    import subprocess
+    import sys
+
+    if Path(spec).is_file():
+        return spec
+    repo = Path(__file__).resolve().parents[1]
+    rev = subprocess.run(
+        ["git", "-C", str(repo), "rev-parse", "--short=12", spec],
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout.strip()
+    home = Path(os.path.expanduser("~")) / ".cache" / "multimass" / "bench" / rev
+    python = home / "venv" / "bin" / "python"
+    if not python.is_file():
+        print(f"installing {spec} ({rev}) in {home} ...", file=sys.stderr)
+        src = home / "src"
+        src.mkdir(parents=True, exist_ok=True)
+        archive = subprocess.run(
+            ["git", "-C", str(repo), "archive", rev], check=True, capture_output=True
+        ).stdout
+        subprocess.run(["tar", "-x", "-C", str(src)], input=archive, check=True)
+        subprocess.run([sys.executable, "-m", "venv", str(home / "venv")], check=True)
+        subprocess.run([str(python), "-m", "pip", "install", "-q", str(src)], check=True)
+    return str(python)
+
+
 def against(python: str, repeat: int, workers: int, repeats: int) -> dict:
     """The default spectrum under the baseline interpreter `python` and under this one."""
     import sys
@@ -177,11 +209,14 @@ def main(argv=None) -> dict:
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--repeats", type=int, default=20, help="DD5 runs per scale")
     ap.add_argument(
-        "--against", metavar="PYTHON", help="time the baseline installation of this interpreter"
+        "--against",
+        metavar="REV_OR_PYTHON",
+        help="time a baseline: a git revision (installed once) or a Python interpreter",
     )
     args = ap.parse_args(argv)
     if args.against:
-        out = against(args.against, args.repeat, args.workers, args.repeats)
+        python = baseline_python(args.against)
+        out = against(python, args.repeat, args.workers, args.repeats)
         print(json.dumps(out, indent=1))
         return out
     spectra("auto", 1, args.workers)  # warm: compile and start the pool's imports once
