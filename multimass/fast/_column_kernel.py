@@ -44,6 +44,7 @@ from ._maths import (
     FP_N,
     FP_ON,
     FP_R,
+    FP_SIZE,
     MP_B,
     MP_G,
     MP_MT,
@@ -185,7 +186,7 @@ def column_run(
     tdmin, delay, window = cfg[CF_TDMIN], cfg[CF_DELAY], cfg[CF_WINDOW]
     ring = np.empty(int(cfg[CF_COUNT]))
     n_ring = 0
-    ep, fp, t_eval = ep0.copy(), np.zeros(4), np.empty(1)
+    ep, fp, t_eval = ep0.copy(), np.zeros(FP_SIZE), np.empty(1)
     y = y0.copy()
     t, phase, hold = 0.0, int(phase0), 0.0
     force_on, fE, fr, fn, fth = False, 0.0, 0.0, 0.0, 0.0
