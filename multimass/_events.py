@@ -87,7 +87,7 @@ def handle_event(run, s, name: str):
         run.recorder.end_phase(s.t, s.y, s.phase)
         return s.but(t=run.t_end, status="overturned", message=overturn_message(run.overturn))
     if name == "activate":
-        return _activate(run, s, u, th, ud, thd)
+        return _activate(run, s, th, thd)
     if name == "deactivate":
         run.events.append(
             Event(
@@ -107,7 +107,7 @@ def handle_event(run, s, name: str):
     raise RuntimeError(f"unhandled event {name!r}")  # pragma: no cover - every event has one
 
 
-def _activate(run, s, u, th, ud, thd):
+def _activate(run, s, th, thd):
     st, model, side = run.st, run.model, s.phase
     r = s.r_pending
     E = run.energy(side, s.y)

@@ -248,7 +248,7 @@ def _run(t_end, start, duration, ctx, ring):
             y[0] = y[1] = 0.0
             phase, hold = 0, t + cfg[CFG_WINDOW]
         safe = cfg[CFG_STOP_WHEN_SAFE] != 0.0 and duration <= t < t_end  # PhaseLoop.safe_peak
-        # in full contact, or rocking away from θ = 0 (θ θ̇ ≥ 0; toward it: on to the impact)
+        # in full contact, or rocking away from θ = 0 (±θ̇ ≥ 0 on pivot ±1; toward it: on)
         if integrated and status == _RUNNING and safe and phase * y[1] >= 0.0:
             E = _energy(phase, y, none, mp)
             if abs(y[0]) < cfg[CFG_ALPHA] and E < cfg[CFG_SAFE]:

@@ -317,8 +317,8 @@ def column_run(
             trips, n_ring = _chatters(ring, n_ring, t, window)
         if trips:  # PhaseLoop.trip_guard: full contact for one window
             before = _total_energy(float(phase), y, m, H, K, mp)
-            top = max(top, abs(y[n])) if phase != 0 else top
             if phase != 0:
+                top = max(top, abs(y[n]))  # Recorder.end_phase
                 ud = im.full_contact_velocities(H, y[n + 1 : 2 * n + 1], y[2 * n + 1])
                 for i in range(n):
                     y[n + 1 + i] = ud[i]

@@ -372,10 +372,7 @@ def contact_phase(
                 e[i], d[i] = e1[i], d1[i]
             t = t_new
             if t >= t_stop:
-                _modes_at(t - t_a, e, d, piece, q, v)
-                _ledger_at(t - t_a, e, d, q, a0, s, w, z, gam, piece, ledger0, ledger)
-                _physical(q, v, ledger, w_f, phi, y)
-                return _result(OK, t, y, -1, samples[:i_eval], ny)
+                break
             continue
         _modes_at(t_new - t_a, e1, d1, piece, q, v)
         mapped = False
@@ -425,10 +422,11 @@ def contact_phase(
                     break
             wait = backoff
         if t >= t_stop:
-            _modes_at(t - t_a, e, d, piece, q, v)
-            _ledger_at(t - t_a, e, d, q, a0, s, w, z, gam, piece, ledger0, ledger)
-            _physical(q, v, ledger, w_f, phi, y)
-            return _result(OK, t, y, -1, samples[:i_eval], ny)
+            break
+    _modes_at(t - t_a, e, d, piece, q, v)  # reached t_stop: the state there
+    _ledger_at(t - t_a, e, d, q, a0, s, w, z, gam, piece, ledger0, ledger)
+    _physical(q, v, ledger, w_f, phi, y)
+    return _result(OK, t, y, -1, samples[:i_eval], ny)
 
 
 @njit(cache=True, error_model="numpy")
