@@ -1,4 +1,4 @@
-"""Batched rigid-block runs under pulses and records against one run at a time (issue 15, item 1).
+"""Batched rigid-block runs under pulses and records against one run at a time.
 
 Run:  python -m benchmarks.batched_block_runs [--pulses 1000] [--records 200] [--repeat 5]
 
@@ -48,7 +48,7 @@ def _k(rng) -> float:
 def mp_pulse_runs(st, n: int, seed: int = 2026) -> tuple[list, list]:
     """n (M&P pulse, options) runs of the module docstring."""
     from multimass import MPShape
-    from multimass._rigid import uplift_threshold
+    from multimass.engines._rigid import uplift_threshold
 
     rng = np.random.default_rng(seed)
     a_th = uplift_threshold(st)
@@ -63,8 +63,8 @@ def mp_pulse_runs(st, n: int, seed: int = 2026) -> tuple[list, list]:
 
 def record_runs(st, n: int, seed: int = 2027) -> tuple[list, list]:
     """n (scaled record, options) runs of the module docstring."""
-    from multimass._rigid import uplift_threshold
-    from multimass.records import read_record
+    from multimass.engines._rigid import uplift_threshold
+    from multimass.inputs.records import read_record
 
     records = (
         read_record(_RECORDS / "elcentro_1940_NS.dat", units="g"),
@@ -159,8 +159,8 @@ def batched_vs_per_run(
 ) -> dict:
     """The comparison of the module docstring."""
     import multimass
-    from multimass.fast import warm_up
-    from multimass.fast.block_runs import ensure_ready
+    from multimass.engines.fast import warm_up
+    from multimass.engines.fast.block_runs import ensure_ready
 
     say = progress or (lambda msg: None)
     st = multimass.rigid_block("B6M")

@@ -1,4 +1,4 @@
-"""Batched overturning maps against the per-cell compiled map (issue 15, item 1).
+"""Batched overturning maps against the per-cell compiled map.
 
 Run:  python -m benchmarks.batched_maps [--n 100] [--repeat 3]
 
@@ -7,7 +7,7 @@ The n × n B6M sine map of `multimass.bench.targets.map_speedup` (paper 004; ω/
 overturn), on warm process pools of 1 and 2 workers, two ways:
 
 * ``per_cell``: one `map_cell` job per cell, each a `simulate_outcome` on the
-  compiled path (``maps.BATCHED = False``: the map as it ran before issue 15);
+  compiled path (``maps.BATCHED = False``: one compiled run per cell);
 * ``batched``: chunks of cells, one compiled call each (``maps.BATCHED = True``).
 
 Each repeat runs the pools in ABBA order (1, 2, 2, 1, ...) and, on each pool, the
@@ -58,9 +58,9 @@ def _equality(a, b) -> dict:
 def _kernel_cpu(n: int, repeats: int) -> dict:
     """CPU ms per cell of `run_pulses` alone on the n × n grid (this process, warm)."""
     import multimass
-    from multimass._run import QUIET_DELAY
     from multimass.bench.targets import map_axes, spread
-    from multimass.fast.block_runs import BlockRuns, run_pulses
+    from multimass.engines._run import QUIET_DELAY
+    from multimass.engines.fast.block_runs import BlockRuns, run_pulses
     from multimass.sweeps.map_cells import UNDECIDED_RETRY
     from multimass.sweeps.maps import default_backend
 

@@ -1,4 +1,4 @@
-"""Calibration of S1–S3 against synthetic free-vibration traces (issue 14, item 4).
+"""Calibration of S1–S3 against synthetic free-vibration traces.
 
 Run:  python -m benchmarks.calibration [--specimens S1,S2,S3] [--seeds 1,2,3] [--history 9]
                                         [--impact DD2] [--fit r_er,r_el,cp] [--json FILE]

@@ -1,4 +1,4 @@
-"""The column spectrum of issue 15: full contact in closed form against integrated.
+"""The column spectrum: full contact in closed form against integrated.
 
 Run:  python -m benchmarks.column_spectrum [--repeat 3] [--workers 2] [--repeats 20]
 
@@ -9,19 +9,19 @@ after the record: `multimass.sweeps.spectra.record_spectrum` on the compiled pat
 ways in this process:
 
 * ``integrate``: every phase with the compiled DOP853 pair (``full_contact="integrate"``,
-  the compiled path before issue 15's change);
+  the per-run compiled path);
 * ``exact``: full contact advanced in closed form between the record's samples
-  (``full_contact="auto"``, the default; `multimass.fast._contact_kernel`).
+  (``full_contact="auto"``, the default; `multimass.engines.fast._contact_kernel`).
 
 Each repeat runs both on the same process pool size, alternating which goes first; the
 ratio of a repeat is integrate's wall time over exact's. The outcomes cannot be equal
 run for run: with DD5 a change in the last bits of one state moves θ_max by up to a
-few per cent (issue 15's notes), so the two spectra are compared as distributions per
+few per cent, so the two spectra are compared as distributions per
 scale (overturned counts, mean θ_max of the completed runs, two-sample KS p-value),
 and the deterministic DD2 spectrum (one run per scale) run for run. Prints one JSON
 dict; timings depend on the machine and its load, compare medians.
 
-The issue's own baseline ("today" when issue 15 was filed, commit d97163c) is another
+A baseline (for instance commit d97163c, the code before whole compiled column runs) is another
 installation of the package, timed in the same run by its own interpreter:
 
     python -m benchmarks.column_spectrum --against d97163c --repeat 5

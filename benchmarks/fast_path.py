@@ -1,4 +1,4 @@
-"""Speed and accuracy of the compiled backend against the solve_ivp reference (issue 7).
+"""Speed and accuracy of the compiled backend against the solve_ivp reference.
 
 Run:  python -m benchmarks.fast_path [--repeat 3] [--map 100 [--baseline-cells 1000]] [--no-compile]
 

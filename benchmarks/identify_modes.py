@@ -1,4 +1,4 @@
-"""Operational modes on synthetic S1–S3 free-vibration traces (issue 14, item 2).
+"""Operational modes on synthetic S1–S3 free-vibration traces.
 
 0.11 rad release, DD2 and CIM, 200 Hz, noise 2 % of each channel's peak, seeds 1–3,
 10 s (and 20 s, where the rocking of S2 lasts so long that 10 s leave too little full

@@ -1,4 +1,4 @@
-"""Restitution identification on synthetic S1–S3 free-vibration traces (issue 14, item 1).
+"""Restitution identification on synthetic S1–S3 free-vibration traces.
 
 0.11 rad release, 10 s, 200 Hz, noise 2 % of each channel's peak, seeds 1–3; the
 model fitted is the trace's own family (DD for DD2, CIM for CIM). The truth of each

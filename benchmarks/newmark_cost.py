@@ -1,4 +1,4 @@
-"""Cost of paper 004's Newmark integrator (`multimass.newmark`): Python vs numba kernel.
+"""Cost of paper 004's Newmark integrator (`multimass.engines.newmark`): Python vs numba kernel.
 
 Run:  python -m benchmarks.newmark_cost [--repeat 5] [--map 20]
 
@@ -21,10 +21,10 @@ import time
 import numpy as np
 
 import multimass
-from multimass import _newmark_kernel as kern
-from multimass.excitations import SineWave
+from multimass.engines import _newmark_kernel as kern
+from multimass.engines.newmark import newmark_block
 from multimass.impact_models.restitution import housner_eta
-from multimass.newmark import newmark_block
+from multimass.inputs.excitations import SineWave
 
 __all__ = ["main"]
 

@@ -1,7 +1,7 @@
 """Cost per step of the Moreau–Jean simulation of a block on a beam (`nscd`, paper 002).
 
 Run:  python -m benchmarks.nscd_cost [--repeat 3] [--t-end 4]
-      python -m benchmarks.nscd_cost --calibrate   (the constants of multimass.nscd.cost)
+      python -m benchmarks.nscd_cost --calibrate   (the constants of multimass.engines.nscd.cost)
 
 Prints
 1. the numba compile (or cache-load) time of the kernel, paid once per process;
@@ -20,11 +20,11 @@ import time
 
 import numpy as np
 
-from multimass import nscd
-from multimass.nscd import cost
-from multimass.nscd.model import build_system
-from multimass.nscd.reference import reference_run
-from multimass.nscd.run import run_system
+from multimass.engines import nscd
+from multimass.engines.nscd import cost
+from multimass.engines.nscd.model import build_system
+from multimass.engines.nscd.reference import reference_run
+from multimass.engines.nscd.run import run_system
 
 __all__ = ["main", "calibrate"]
 
@@ -74,7 +74,7 @@ def main(argv=None) -> None:
     ap.add_argument(
         "--calibrate",
         action="store_true",
-        help="fit the constants of multimass.nscd.cost on this machine instead",
+        help="fit the constants of multimass.engines.nscd.cost on this machine instead",
     )
     ap.add_argument("--t-end", type=float, default=4.0)
     ap.add_argument("--dt", type=float, default=1e-5)

@@ -2,8 +2,8 @@
 
 Plain functions of scalars (or NumPy arrays where noted) that run as Python
 and compile unchanged with numba: `multimass.impact_models.models.DiracDelta`,
-the solve_ivp path (`multimass._phase`, `multimass._events`) and the compiled
-path (`multimass.fast._maths`, which registers every function of ``__all__``
+the solve_ivp path (`multimass.model._phase`, `multimass.engines._events`) and the compiled
+path (`multimass.engines.fast._maths`, which registers every function of ``__all__``
 with `numba.extending.register_jitable`) all call these. ``side`` is the
 current pivot (+1 right, −1 left); the force acts at the impending one, −side.
 """

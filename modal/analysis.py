@@ -19,7 +19,7 @@ import numpy as np
 import pandas as pd
 import scipy.linalg as sla
 
-from multimass.structure import Structure
+from multimass.model.structure import Structure
 
 from .assurance import mac
 from .eigen import foss, frequency_and_damping, pair_frequency_and_damping

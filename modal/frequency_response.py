@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as sla
 
-from multimass.structure import Structure
+from multimass.model.structure import Structure
 
 from .eigen import check_system, state_matrix
 from .errors import ModalError

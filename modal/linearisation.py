@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from multimass.structure import Structure
+from multimass.model.structure import Structure
 
 from .errors import ModalError
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from multimass.structure import column
+from multimass.model.structure import column
 
 from .analysis import ModalAnalysis, analyse, nodal_points
 from .errors import ModalError

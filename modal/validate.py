@@ -8,7 +8,7 @@ from collections.abc import Iterable, Mapping, Set
 
 import numpy as np
 
-from multimass.structure import Structure, from_specimen
+from multimass.model.structure import Structure, from_specimen
 
 from .errors import ModalError
 

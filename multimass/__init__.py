@@ -1,5 +1,24 @@
 """How a rocking structure moves: structures, equations of motion, simulation, sweeps.
 
+The rooms of the package, lowest layer first (each may import only from below it;
+``lint-imports`` checks the layers of pyproject.toml):
+
+* `specimens`, `impact_models` — what is simulated, and what happens at impact;
+* `model` — the structure, its matrices, kinematics and equations of motion;
+* `inputs` — excitations, pulses, records, test traces, units;
+* `engines` — the phase loop, Newmark, the contact engine, Moreau–Jean (`engines.nscd`)
+  and the compiled kernels (`engines.fast`);
+* `simulation` — `simulate`, the one entry point to every engine;
+* `analysis`, `modal` — intensity measures, fragility, trace metrics and figures; modal
+  analysis of the linearised phases;
+* `identify`, `sweeps`, `suites`, `scenes` — test traces back to the model, many runs,
+  record suites and fragility, the choice of a model;
+* `bench`, `cli` — speed and accuracy benchmarks, the ``multimass`` command.
+
+The root keeps the shared contract: `errors`, `result`, `response`, `validation`,
+`progress`, `checks`, `cost` and `simulation_options`. Module paths written before the
+rooms (``multimass.fragility``, ``multimass.fast``, …) still import (`multimass._paths`).
+
 >>> import multimass
 >>> s1 = multimass.column("S1")
 >>> round(s1.J_p)
@@ -8,12 +27,16 @@
 
 import importlib
 
+from . import _paths
+
+_paths.install()  # the old module paths (multimass.fragility, multimass.fast, ...) keep working
+
 # public name -> the module that defines it; loaded on first use (PEP 562), so that
 # `import multimass.specimens` loads no other part of the package
 _PUBLIC = {
     "errors": ("InputError", "SolverError"),
-    "structure": ("Structure", "column", "from_specimen", "rigid_block"),
-    "excitations": (
+    "model.structure": ("Structure", "column", "from_specimen", "rigid_block"),
+    "inputs.excitations": (
         "CosinePulse",
         "CosineWave",
         "Excitation",
@@ -23,14 +46,14 @@ _PUBLIC = {
         "Ricker",
         "SineWave",
     ),
-    "records": ("Record", "read_at2", "read_record", "read_two_column"),
-    "units": ("G", "parse_acceleration", "to_mps2"),
+    "inputs.records": ("Record", "read_at2", "read_record", "read_two_column"),
+    "inputs.units": ("G", "parse_acceleration", "to_mps2"),
     "result": ("Event", "Result"),
     "response": ("Outcome", "Response"),
     "simulation": ("DEFAULTS", "estimate", "simulate", "simulate_outcome"),
     "simulation_options": ("SimulationOptions",),
-    "trace_metrics": ("ChannelMetrics", "compare_trace"),
-    "traces": ("Trace", "read_trace"),
+    "analysis.trace_metrics": ("ChannelMetrics", "compare_trace"),
+    "inputs.traces": ("Trace", "read_trace"),
     "scenes": ("Scene", "choose"),
 }
 _WHERE = {name: module for module, names in _PUBLIC.items() for name in names}

@@ -42,18 +42,18 @@ import numpy as np
 from multimass.impact_models import impact_model
 
 from . import validation as v
-from ._events import overturn_message
-from ._newmark_response import check_newmark, simulate_newmark
-from ._run import QUIET_DELAY, PhaseLoop, segment_ends
 from .checks import energy_check, energy_floor, judge
 from .cost import simulation_cost
+from .engines._events import overturn_message
+from .engines._newmark_response import check_newmark, simulate_newmark
+from .engines._run import QUIET_DELAY, PhaseLoop, segment_ends
 from .errors import InputError
-from .excitations import FreeRelease
+from .inputs.excitations import FreeRelease
+from .model.structure import Structure, from_specimen
 from .progress import Progress
 from .response import Outcome, Response
 from .result import status_of
 from .simulation_options import DEFAULTS, SimulationOptions
-from .structure import Structure, from_specimen
 
 __all__ = [
     "simulate",
@@ -147,7 +147,7 @@ def outcome_summary(
     """What a sweep keeps of `simulate_outcome` with the same arguments.
 
     A column on the compiled path (``backend="compiled"``) whose impact model and
-    restitution the whole-run kernel knows (`multimass.fast.column_runs`: CIM or the
+    restitution the whole-run kernel knows (`multimass.engines.fast.column_runs`: CIM or the
     Dirac-delta force; fixed, per-corner, Housner's, modified, random or
     impact-specific restitution) runs in one compiled call — the same run as
     `simulate_outcome`'s, bit for bit, without Python between its phases. Any other
@@ -240,7 +240,7 @@ class _Plan:
     cost: object
     ground: tuple  # (ü_g, duration, breakpoints)
     start: tuple  # (phase, y0)
-    fast: object = None  # a multimass.fast.FastPath with backend="compiled"
+    fast: object = None  # a multimass.engines.fast.FastPath with backend="compiled"
 
     def describe(self) -> dict:
         o, model, exc = self.options, self.model, self.excitation
@@ -301,13 +301,13 @@ class _Plan:
         )
 
     def whole_run(self) -> RunSummary | None:
-        """`outcome_summary` of this run from `multimass.fast.column_runs` (one compiled
+        """`outcome_summary` of this run from `multimass.engines.fast.column_runs` (one compiled
         call), or None where that does not apply or the kernel could not finish it."""
         if self.fast is None or self.st.n < 1 or self.options.integrator != "solve_ivp":
             return None
-        from .fast import warm_up, warm_up_contact  # numba loads only for "compiled"
-        from .fast.column_runs import BROKEN, ColumnRun
-        from .fast.compile import warm_up_columns
+        from .engines.fast import warm_up, warm_up_contact  # numba loads only for "compiled"
+        from .engines.fast.column_runs import BROKEN, ColumnRun
+        from .engines.fast.compile import warm_up_columns
 
         o, (_, duration, bps) = self.options, self.ground
         ends = segment_ends(bps, duration, self.t_end)
@@ -327,7 +327,7 @@ class _Plan:
 
     def _phase_loop(self) -> PhaseLoop:
         if self.fast is not None:
-            from .fast import warm_up, warm_up_contact  # numba loads only for "compiled"
+            from .engines.fast import warm_up, warm_up_contact  # numba loads only for "compiled"
 
             warm_up()  # compile or load once per process, before the clock
             if self.fast.contact is not None:
@@ -381,7 +381,7 @@ def _prepare(structure, excitation, impact, t_end, o: SimulationOptions) -> _Pla
     if o.integrator == "newmark":
         check_newmark(st, model)
     elif o.backend == "compiled":
-        from .fast import FastPath  # numba loads only for backend="compiled"
+        from .engines.fast import FastPath  # numba loads only for backend="compiled"
 
         fast = FastPath.of(st, model, excitation, o.method, QUIET_DELAY, o.full_contact)
     cost = simulation_cost(

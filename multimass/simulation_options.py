@@ -29,7 +29,7 @@ INTEGRATORS = {
 #: Backends of the solve_ivp integrator: name → what it is.
 BACKENDS = {
     "scipy": "scipy.integrate.solve_ivp, one call per phase segment (the reference)",
-    "compiled": "the same Runge–Kutta steps, events and output in numba kernels (multimass.fast)",
+    "compiled": "the same Runge–Kutta steps, events and output in numba kernels (multimass.engines.fast)",
 }
 #: How the compiled path may advance full contact (`SimulationOptions.full_contact`).
 FULL_CONTACT = ("auto", "exact", "integrate")
@@ -73,7 +73,7 @@ class SimulationOptions:
         the block has too little energy to overturn in free rocking, and rests in
         full contact or rocks away from θ = 0 (θ θ̇ ≥ 0; toward it, the run goes on to
         the impact). The swing under way then peaks at
-        `multimass.equations.free_rocking_peak` of its energy (energy is conserved in
+        `multimass.model.equations.free_rocking_peak` of its energy (energy is conserved in
         free rocking and lost at impacts, so no later swing peaks higher): that peak
         enters `Response.peaks`, timed at the stop, and θ_max is that of the run
         continued to t_end (to the integrator's accuracy).
@@ -89,7 +89,7 @@ class SimulationOptions:
     full_contact : str
         How backend "compiled" advances a column's full contact (paper 001, Eq 3):
         "exact" in closed form between the samples of a record or in free vibration
-        (classical damping; `multimass.fast.contact_modes`), "integrate"
+        (classical damping; `multimass.engines.fast.contact_modes`), "integrate"
         with the Runge–Kutta pair like every other phase, or "auto" (the default:
         exact where it applies). Backend "scipy" always integrates.
     energy_tol : float

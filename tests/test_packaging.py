@@ -40,7 +40,18 @@ def test_the_wheel_has_one_top_level_import_name(wheel):
     names = zipfile.ZipFile(wheel).namelist()
     top = {n.split("/")[0] for n in names if not n.split("/")[0].endswith(".dist-info")}
     assert top == {"multimass"}
-    for sub in ("modal", "impact_models", "specimens", "nscd", "bench"):
+    for sub in (
+        "modal",
+        "impact_models",
+        "specimens",
+        "model",
+        "inputs",
+        "engines",
+        "engines/nscd",
+        "engines/fast",
+        "analysis",
+        "bench",
+    ):
         assert f"multimass/{sub}/__init__.py" in names
     assert "multimass/specimens/data/S1.toml" in names
     assert not any(n.startswith("benchmarks/") for n in names)  # developer-only scripts
@@ -127,11 +138,11 @@ def test_no_module_is_named_like_the_public_name_it_holds():
     clashes = []
     for pkg_name in (
         "multimass",
-        "multimass.nscd",
+        "multimass.engines.nscd",
         "multimass.modal",
         "multimass.sweeps",
         "multimass.scenes",
-        "multimass.fast",
+        "multimass.engines.fast",
         "multimass.specimens",
         "multimass.impact_models",
         "multimass.cli",

@@ -62,10 +62,10 @@ autosummary_generate = True
 autosummary_generate_overwrite = True
 autosummary_imported_members = False
 autosummary_ignore_module_all = False  # a module's public names are its __all__
-# autosummary imports every submodule of a package it lists; multimass.fast.preload
+# autosummary imports every submodule of a package it lists; multimass.engines.fast.preload
 # compiles the numba kernels when imported (up to a minute with a cold cache), so it gets
 # a stand-in, which autosummary skips (it is left out of the pages: _NOT_DOCUMENTED)
-autosummary_mock_imports = ["multimass.fast.preload"]
+autosummary_mock_imports = ["multimass.engines.fast.preload"]
 autodoc_default_options = {"member-order": "bysource"}
 autodoc_typehints = "none"  # numpydoc's Parameters sections give the types
 autodoc_inherit_docstrings = False  # no numpy/stdlib docstrings on overridden methods
@@ -179,9 +179,9 @@ class CommandHelp(SphinxDirective):
 # ...) lists them in a summary table that links to those definitions, so no object is
 # described twice (Sphinx would warn about duplicate descriptions of re-exported classes).
 # Public modules left out: the cli's sub-command modules (the command-line page shows the
-# commands) and multimass.fast.preload, whose import compiles the numba kernels (that is
+# commands) and multimass.engines.fast.preload, whose import compiles the numba kernels (that is
 # its purpose; up to a minute with a cold cache).
-_NOT_DOCUMENTED = ("multimass.cli.", "multimass.fast.preload")
+_NOT_DOCUMENTED = ("multimass.cli.", "multimass.engines.fast.preload")
 
 
 def _documented(module_name: str) -> bool:
@@ -305,8 +305,8 @@ def _resolve(app, env, node, contnode):
     """``missing-reference``: resolve the docstrings' `name` references as a reader would.
 
     `multimass.simulate` is `multimass.simulation.simulate` (a re-export); `simulate` in
-    a module of multimass.nscd is `multimass.nscd.simulate`, else `multimass.simulate`;
-    `nscd.cost` is `multimass.nscd.cost`; `Scene` or `Response.series` is the one
+    a module of multimass.engines.nscd is `multimass.engines.nscd.simulate`, else `multimass.simulate`;
+    `nscd.cost` is `multimass.engines.nscd.cost`; `Scene` or `Response.series` is the one
     documented object whose name ends so. Anything else stays plain code.
     """
     if node.get("refdomain") != "py":

@@ -1,4 +1,4 @@
-"""Speed × accuracy benchmarks (issue 7); run by ``multimass bench``, not by the test suite.
+"""Speed × accuracy benchmarks; run by ``multimass bench``, not by the test suite.
 
 * `multimass.bench.config` — the full, quick and smoke sizes;
 * `multimass.bench.cases` — the five models, their methods and tight references;
@@ -9,7 +9,7 @@
 * `multimass.bench.charts`, `multimass.bench.summary` — figures and the table of figures;
 * `multimass.bench.run` — the orchestration (``python -m multimass.bench.run --out DIR``);
 * `multimass.bench.scaling`, `multimass.bench.scaling_report` — how cost grows with cells,
-  workers and nodes, with fitted exponents (``multimass bench --scaling``; issue 15).
+  workers and nodes, with fitted exponents (``multimass bench --scaling``).
 
 Older single-purpose scripts: `fast_path`, `newmark_cost`, `nscd_cost`, `sweep_overhead`.
 """

@@ -1,6 +1,6 @@
 """The model cases of the work-precision charts, their methods and their tight references.
 
-Five charts (issue 7), one per model:
+Five charts, one per model:
 
 * ``rigid_block`` — B6M released at 11.268° (paper 002, Section 6.2), classical
   impacts with Housner's η: solve_ivp (RK45, DOP853, Radau, BDF, LSODA), the
@@ -26,8 +26,8 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import multimass
-import multimass.nscd as nscd
-from multimass.excitations import FreeRelease, SineWave
+import multimass.engines.nscd as nscd
+from multimass.inputs.excitations import FreeRelease, SineWave
 from multimass.simulation import simulate
 
 from .config import Config
@@ -268,8 +268,8 @@ def rigid_block_case(cfg: Config, mj: NSCDRunner) -> Case:
 
 @contextmanager
 def _count_rhs():
-    """Count the right-hand sides of `multimass.contact_dynamics` (it keeps no count)."""
-    from multimass import contact_dynamics as cd
+    """Count the right-hand sides of `multimass.engines.contact_dynamics` (it keeps no count)."""
+    from multimass.engines import contact_dynamics as cd
 
     original, box = cd._Phase.rhs, [0]
 
@@ -286,7 +286,7 @@ def _count_rhs():
 
 def lcp_block_case(cfg: Config) -> Case:
     """Paper 000's block (B6M's b, h, m) under SineWave(amplitude=0.3 g, omega=3p), ε_P = 0."""
-    from multimass.poisson_block import PoissonBlock, simulate_block
+    from multimass.engines.poisson_block import PoissonBlock, simulate_block
 
     st, t_end = multimass.rigid_block("B6M"), cfg.lcp_t_end
     block = PoissonBlock(b=st.B, h=st.h0, mass=st.m0, g=st.g)

@@ -32,7 +32,7 @@ class Config:
     ref_rtol, ref_atol : float
         Tolerances of the tight references (DOP853).
     target_t_end : float
-        Duration of the S1 DD2 release of the speed-up target (10 s in issue 7).
+        Duration of the S1 DD2 release of the speed-up target (10 s).
     column_t_end : float
         Duration of the S1 release cases of the charts (s).
     block_t_end, lcp_t_end, nscd_t_end : float
@@ -155,7 +155,7 @@ def preset(name: str) -> Config:
 
 @dataclass(frozen=True)
 class ScalingConfig:
-    """Sizes of `multimass bench --scaling` (issue 15, item 6; `multimass.bench.scaling`).
+    """Sizes of `multimass bench --scaling` (`multimass.bench.scaling`).
 
     Attributes
     ----------
@@ -175,7 +175,7 @@ class ScalingConfig:
     nodes_impact : str
         Impact model of the nodes series ("DD2" or "CIM").
     nodes_t_end : float
-        Duration of each free-rocking run (s; 10 s in issue 15).
+        Duration of each free-rocking run (s; 10 s by default).
     theta0 : float
         Release angle of the nodes series (rad; S1's 0.11).
     compiled_budget_s, scipy_budget_s : float

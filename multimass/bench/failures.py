@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 
-from multimass.excitations import FreeRelease
+from multimass.inputs.excitations import FreeRelease
 from multimass.simulation import DEFAULTS
 
 from .cases import IMPLICIT, NSCDRunner, engine_runner, scaled_column
@@ -105,7 +105,7 @@ def stiffness_sweep(cfg: Config, progress=None) -> list[dict]:
     """S1 with E_s, K_rot, K_fp × scale: each method at `stiffness_rtol` against a tight run.
 
     The reference of each scale is the compiled DOP853 path at the reference
-    tolerance (the same steps as solve_ivp's DOP853, tests/multimass/test_fast.py;
+    tolerance (the same steps as solve_ivp's DOP853, tests/multimass/engines/test_fast.py;
     solve_ivp would take minutes at the stiffest scale).
     """
     say = progress or (lambda msg: None)
@@ -202,7 +202,7 @@ def nscd_convergence(cfg: Config, mj: NSCDRunner, rows: list[dict]) -> list[dict
     refinement whose verdict is "not converged" marks the coarser level's row
     with ``not_converging``.
     """
-    from multimass.nscd.convergence import compare_runs
+    from multimass.engines.nscd.convergence import compare_runs
 
     out = []
     for n in (None,) + tuple(cfg.nscd_exponents):

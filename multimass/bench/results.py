@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from multimass.contact_dynamics import half_cycle_peaks
+from multimass.engines.contact_dynamics import half_cycle_peaks
 from multimass.errors import InputError
 from multimass.result import status_of
 
@@ -159,13 +159,13 @@ def _block_event(e) -> tuple[str, float] | None:
 
 def sampled_peaks(t: np.ndarray, theta: np.ndarray) -> tuple[list, list]:
     """Peak ``|θ|`` of each half-cycle (a run of samples of one sign), refined by a parabola
-    (`multimass.contact_dynamics.half_cycle_peaks`, which `BlockResponse.peaks` uses)."""
+    (`multimass.engines.contact_dynamics.half_cycle_peaks`, which `BlockResponse.peaks` uses)."""
     peaks, times = half_cycle_peaks(t, theta)
     return peaks.tolist(), times.tolist()
 
 
 def from_block(resp, wall: float, n_rhs: int) -> RunResult:
-    """From the paper-000 block (`multimass.poisson_block.BlockResponse`)."""
+    """From the paper-000 block (`multimass.engines.poisson_block.BlockResponse`)."""
     raw = resp.raw
     events = tuple(x for x in map(_block_event, raw.events) if x is not None)
     scale = max(abs(float(raw.energy[0])), float(np.max(np.abs(raw.ground_work))), 1e-300)

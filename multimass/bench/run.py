@@ -57,11 +57,11 @@ def json_safe(x):
 
 def _warm_kernels() -> dict:
     """Load every numba kernel once (cache loads), timed, so no run below pays it."""
-    import multimass.fast
-    import multimass.nscd as nscd
-    from multimass import _newmark_kernel
+    import multimass.engines.fast
+    import multimass.engines.nscd as nscd
+    from multimass.engines import _newmark_kernel
 
-    out = {"fast_path": multimass.fast.warm_up().to_dict()}
+    out = {"fast_path": multimass.engines.fast.warm_up().to_dict()}
     t0 = time.perf_counter()
     _newmark_kernel._warm_up()
     out["newmark_s"] = time.perf_counter() - t0
@@ -89,7 +89,7 @@ def _targets(cfg: Config, say) -> dict:
         k: (v <= TARGETS[k] if k == "peak_error_rad" else v >= TARGETS[k])
         for k, v in values.items()
     }
-    # issue 7 sets the targets on a 10 s run and a 100 x 100 map; smaller cases (quick,
+    # the targets are set on a 10 s run and a 100 x 100 map; smaller cases (quick,
     # smoke) are measured and shown but not judged (None: "not the target case")
     if cfg.target_t_end != TARGET_CASE["t_end"]:
         passed.update(speedup_single=None, peak_error_rad=None)

@@ -1,4 +1,4 @@
-"""How cost grows: ``multimass bench --scaling`` (issue 15, item 6).
+"""How cost grows: ``multimass bench --scaling``.
 
 Three series, each point repeated (median, min and max of the wall times), each
 series summarised by the least-squares slope of log cost against log size

@@ -147,7 +147,7 @@ def summary_markdown(res: dict) -> str:
         f"{res['machine']['cpus']} CPUs, load average at start "
         f"{res['machine']['load_average_start'][0]:.2f})",
         "",
-        "## Targets (issue 7)",
+        "## Targets",
         "",
         *_targets(res),
         "",

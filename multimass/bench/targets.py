@@ -1,4 +1,4 @@
-"""The three speed targets of issue 7, measured as ratios within one run, and the compile cost.
+"""The three speed targets of the compiled path, measured as ratios within one run, and the compile cost.
 
 * ``speedup_single`` — S1 released from 0.11 rad, DD2, 10 s: one
   `multimass.simulate` call with the solve_ivp path over one with the compiled
@@ -52,7 +52,7 @@ __all__ = [
     "TARGET_CASE",
 ]
 
-#: issue 7's thresholds
+#: the targets' thresholds
 TARGETS = {
     "speedup_single": 30.0,
     "peak_error_rad": 1e-6,
@@ -62,7 +62,7 @@ TARGETS = {
 #: ... set on these cases: S1 DD2 release for t_end seconds, the map_n x map_n B6M map
 TARGET_CASE = {"t_end": 10.0, "map_n": 100}
 _COMPILE_SNIPPET = (
-    "import json, multimass.fast as f; r = f.warm_up(); print(json.dumps(r.to_dict()))"
+    "import json, multimass.engines.fast as f; r = f.warm_up(); print(json.dumps(r.to_dict()))"
 )
 
 
@@ -90,9 +90,9 @@ def compile_times(cold: bool = True) -> dict:
     With `cold` False only this process's `warm_up` report (a cache load, or
     nothing if already loaded).
     """
-    import multimass.fast
+    import multimass.engines.fast
 
-    here = multimass.fast.warm_up().to_dict()
+    here = multimass.engines.fast.warm_up().to_dict()
     if not cold:
         return {"this_process": here}
     with tempfile.TemporaryDirectory() as tmp:
@@ -123,7 +123,7 @@ def single_speedup(
     repeats: int, t_end: float = 10.0, ref_rtol: float = 1e-12, ref_atol: float = 1e-14
 ) -> dict:
     """S1 DD2 release: solve_ivp path / compiled path, and the compiled peak error."""
-    from multimass.excitations import FreeRelease
+    from multimass.inputs.excitations import FreeRelease
     from multimass.simulation import simulate
 
     case = lambda **kw: simulate("S1", FreeRelease(0.11), "DD2", t_end, **kw)  # noqa: E731
@@ -166,7 +166,7 @@ def map_axes(n: int) -> tuple[np.ndarray, np.ndarray]:
 
 def _baseline(block, cells, t_free: float, restitution: str) -> tuple[float, list]:
     """One solve_ivp `simulate` call per cell; (seconds, outcomes)."""
-    from multimass.excitations import SineWave
+    from multimass.inputs.excitations import SineWave
     from multimass.simulation import simulate
 
     outcomes = []

@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 from ..errors import InputError
-from ..excitations import PULSE_NAMES, FreeRelease, MPShape, pulse
-from ..records import read_record
+from ..inputs.excitations import PULSE_NAMES, FreeRelease, MPShape, pulse
+from ..inputs.records import read_record
+from ..inputs.units import parse_acceleration
 from ..simulation import DEFAULTS
-from ..units import parse_acceleration
 from . import _types as types
 
 __all__ = [
@@ -227,7 +227,7 @@ def add_solver_args(p) -> None:
         choices=("scipy", "compiled"),
         default=None,
         help="scipy: solve_ivp (the reference); compiled: the same explicit RK steps in "
-        "numba kernels (multimass.fast). Default: the function's own (scipy for "
+        "numba kernels (multimass.engines.fast). Default: the function's own (scipy for "
         "one simulation)",
     )
     g.add_argument(

@@ -1,4 +1,4 @@
-"""``multimass bench``: speed and accuracy of every method (issue 7; the `benchmarks` package)."""
+"""``multimass bench``: speed and accuracy of every method (`multimass.bench`)."""
 
 from __future__ import annotations
 

@@ -194,8 +194,8 @@ def _specimen_and_trace(args):
     warning: comparing a trace with another model of its column (e.g. the TOML file
     that ``multimass restitution`` writes, named ``S1_r_DD``) is what the command is for.
     """
-    from multimass.structure import from_specimen
-    from multimass.traces import read_trace
+    from multimass.inputs.traces import read_trace
+    from multimass.model.structure import from_specimen
 
     given = [x for x in (args.specimen, args.specimen_option) if x is not None]
     if len(given) == 2 and given[0].lower() != given[1].lower():
@@ -242,8 +242,8 @@ def _specimen_and_trace(args):
 
 def run(args) -> int:
     import multimass
+    from multimass.analysis.trace_metrics import channel_columns, compare_trace
     from multimass.impact_models import impact_model
-    from multimass.trace_metrics import channel_columns, compare_trace
 
     st, trace = _specimen_and_trace(args)
     columns = channel_columns(trace, st)  # fail before simulating
@@ -305,7 +305,7 @@ def run(args) -> int:
 
 
 def _write(out: Path, st, trace, responses, metrics, t_offset, info) -> list[str]:
-    from multimass.plots import plot_overlay
+    from multimass.analysis.plots import plot_overlay
 
     stem = f"{st.name}_{Path(trace.source).stem}"
     files = []

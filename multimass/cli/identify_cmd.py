@@ -105,8 +105,8 @@ def _line(pm) -> list[str]:
 def run(args) -> int:
     from multimass.identify.modes import operational_modes
     from multimass.identify.modes_report import write_modes_report
-    from multimass.structure import from_specimen
-    from multimass.traces import read_trace
+    from multimass.inputs.traces import read_trace
+    from multimass.model.structure import from_specimen
 
     out = output_folder(args.out)
     modes = _items(args.modes, "--modes", r"[0-9]+", "1,2")

@@ -188,8 +188,8 @@ def _measured_frf(path: Path, structure, analysis, sensors, args):
     from multimass.modal.measured_frf import MIN_PERIODS, THETA_MAX, full_contact_h1
     from multimass.modal.validate import show
 
-    from ..trace_metrics import channel_columns
-    from ..traces import Trace, read_trace
+    from ..analysis.trace_metrics import channel_columns
+    from ..inputs.traces import Trace, read_trace
 
     trace = read_trace(path)
     ag = getattr(trace, "ag", None)

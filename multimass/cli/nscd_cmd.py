@@ -240,8 +240,8 @@ def _modulus(args, block=None):
     """E in Pa from --E or --flex; --flex is range-checked before 10**N is computed."""
     if args.flex is None:
         return args.E
-    import multimass.nscd as nscd
-    from multimass.nscd import model
+    import multimass.engines.nscd as nscd
+    from multimass.engines.nscd import model
 
     n = model.check_exponent(args.flex, block or args.block, args.beam, "--flex")
     return nscd.flexible_modulus(block or args.block, args.beam) * 10.0**n
@@ -249,7 +249,7 @@ def _modulus(args, block=None):
 
 def _theta0(args, block=None):
     """θ0 in rad from --theta0-deg (checked against the block's α, in degrees) or the block's."""
-    from multimass.nscd import model
+    from multimass.engines.nscd import model
 
     blk = model.load_block(block or args.block)
     if args.theta0_deg is None:
@@ -270,7 +270,7 @@ def _theta0(args, block=None):
 
 
 def _references(block, theta0):
-    from multimass.nscd import convergence, model
+    from multimass.engines.nscd import convergence, model
 
     blk = model.load_block(block)
     return {
@@ -298,8 +298,8 @@ def _write_series(res, path: Path) -> None:
 
 def _inputs(args):
     """Validated inputs and options of one run, and its cost checked against the budget."""
-    from multimass.nscd.model import check_inputs
-    from multimass.nscd.run import check_run, estimate_cost
+    from multimass.engines.nscd.model import check_inputs
+    from multimass.engines.nscd.run import check_run, estimate_cost
     from multimass.progress import budget_seconds
 
     theta0 = _theta0(args)
@@ -343,8 +343,8 @@ def _exit(statuses) -> int:
 
 
 def run(args) -> int:
-    import multimass.nscd as nscd
-    from multimass.nscd.plots import plot_history
+    import multimass.engines.nscd as nscd
+    from multimass.engines.nscd.plots import plot_history
 
     kw, theta0 = _inputs(args)
     out = output_folder(args.out)
@@ -509,8 +509,8 @@ def _flexibility(args, C, plots, out, common):
 
 
 def run_convergence(args) -> int:
-    import multimass.nscd.convergence as C
-    from multimass.nscd import plots
+    import multimass.engines.nscd.convergence as C
+    from multimass.engines.nscd import plots
 
     say = (lambda m: None) if args.json else (lambda m: print("  " + m, flush=True))
     common = {

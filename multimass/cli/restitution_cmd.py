@@ -58,8 +58,8 @@ def register(sub) -> None:
 def run(args) -> int:
     from multimass.identify.impacts import restitution
     from multimass.identify.impacts_plots import plot_restitution
-    from multimass.structure import from_specimen
-    from multimass.traces import read_trace
+    from multimass.inputs.traces import read_trace
+    from multimass.model.structure import from_specimen
 
     out = output_folder(args.out)
     trace = read_trace(args.trace)

@@ -103,7 +103,7 @@ def exit_code(status: str) -> int:
 
 def run(args) -> int:
     import multimass
-    from multimass.plots import plot_accelerations, plot_energy, plot_rocking
+    from multimass.analysis.plots import plot_accelerations, plot_energy, plot_rocking
 
     st = multimass.from_specimen(args.specimen)
     exc = excitation_from_args(args, st)

@@ -85,10 +85,10 @@ def register(sub) -> None:
 
 def run(args) -> int:
     import multimass
+    from multimass.inputs.units import parse_acceleration
     from multimass.sweeps.plots import plot_spectrum
     from multimass.sweeps.ranges import check_values, parse_range
     from multimass.sweeps.spectra import pulse_spectrum, record_spectrum
-    from multimass.units import parse_acceleration
 
     st = multimass.from_specimen(args.specimen)
     out = output_folder(args.out)

@@ -260,7 +260,7 @@ def _with_flags(message: str) -> str:
 
 def run(args) -> int:
     from multimass.identify.synthetic import synthetic_trace, truth_path
-    from multimass.structure import from_specimen
+    from multimass.model.structure import from_specimen
 
     st = from_specimen(args.specimen)
     exc = excitation_from_args(args, st)

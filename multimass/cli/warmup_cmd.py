@@ -1,7 +1,7 @@
 """``multimass warm-up``: compile (or load) every compiled kernel now, and say what it did.
 
 The numba kernels compile on their first use on a machine and are cached on disk
-(`multimass.fast.compile`). This command does it on purpose — when building a
+(`multimass.engines.fast.compile`). This command does it on purpose — when building a
 container image, after installing on a cluster's nodes, before timing a sweep —
 and reports, for each group of kernels, whether it was compiled or loaded, how
 long it took and where the machine code is kept.
@@ -17,31 +17,31 @@ __all__ = ["register", "run", "GROUPS", "warm"]
 
 
 def _fast(progress):
-    from multimass.fast import warm_up
+    from multimass.engines.fast import warm_up
 
     return warm_up(progress)
 
 
 def _contact(progress):
-    from multimass.fast import warm_up_contact
+    from multimass.engines.fast import warm_up_contact
 
     return warm_up_contact(progress)
 
 
 def _columns(progress):
-    from multimass.fast import warm_up_columns
+    from multimass.engines.fast import warm_up_columns
 
     return warm_up_columns(progress)
 
 
 def _blocks(progress):
-    from multimass.fast import block_runs
-    from multimass.fast.compile import compile_once
+    from multimass.engines.fast import block_runs
+    from multimass.engines.fast.compile import compile_once
 
     return compile_once(
         "the batched map kernels",
         block_runs.warm_up_blocks,
-        ("multimass.fast._block_uplift", "multimass.fast._block_kernel"),
+        ("multimass.engines.fast._block_uplift", "multimass.engines.fast._block_kernel"),
         progress=progress,
         estimate=15.0,
         load=0.1,
@@ -49,26 +49,30 @@ def _blocks(progress):
 
 
 def _newmark(progress):
-    from multimass import _newmark_kernel as kern
-    from multimass.fast.compile import compile_once
+    from multimass.engines import _newmark_kernel as kern
+    from multimass.engines.fast.compile import compile_once
 
     kern.compiled_advance()  # defines the cached function (compiles nothing yet)
     return compile_once(
-        "the Newmark kernel", kern._warm_up, ("multimass._newmark_kernel",), progress=progress,
+        "the Newmark kernel", kern._warm_up, ("multimass.engines._newmark_kernel",), progress=progress,
         estimate=1.0, load=0.01,
     )  # fmt: skip
 
 
 def _nscd_run():
-    from multimass import nscd
+    from multimass.engines import nscd
 
     nscd.simulate("B6M", theta0=math.radians(11.268), dt=1e-3, t_end=3e-3, progress=False)
 
 
 def _nscd(progress):
-    from multimass.fast.compile import compile_once
+    from multimass.engines.fast.compile import compile_once
 
-    modules = ("multimass.nscd.geometry", "multimass.nscd.contact", "multimass.nscd.kernel")
+    modules = (
+        "multimass.engines.nscd.geometry",
+        "multimass.engines.nscd.contact",
+        "multimass.engines.nscd.kernel",
+    )
     return compile_once(
         "the Moreau-Jean kernels", _nscd_run, modules, progress=progress, estimate=12.0, load=0.1
     )
@@ -122,10 +126,10 @@ def warm(names=None, progress: bool | None = None) -> dict:
     -------
     dict
         ``cache`` (the folder numba writes to and why), ``groups`` (one
-        `multimass.fast.CompileReport` as a dict per group, with its ``group``
+        `multimass.engines.fast.CompileReport` as a dict per group, with its ``group``
         name) and ``seconds`` (the total).
     """
-    from multimass.fast.compile import CACHE
+    from multimass.engines.fast.compile import CACHE
 
     start = time.perf_counter()
     rows = []

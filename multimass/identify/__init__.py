@@ -1,4 +1,4 @@
-"""From test traces back to the model (issue 14): synthetic traces with a known truth.
+"""From test traces back to the model: synthetic traces with a known truth.
 
 * `synthetic_trace` — a realistic trace simulated by the toolkit: per-impact
   restitution drawn and stored, an anti-alias filter and 200 Hz sampling, sensor

@@ -27,9 +27,9 @@ from multimass.impact_models import CornerRestitution, Restitution
 from multimass.impact_models.table2 import impact_model
 
 from ..errors import InputError, SolverError
+from ..model.structure import Structure, column
 from ..simulation import simulate
 from ..specimens import SpecimenError
-from ..structure import Structure, column
 from .sampling import anti_alias_fir
 
 __all__ = ["PerImpact", "Simulator", "Recorded", "TrialRejected"]

@@ -17,12 +17,12 @@ from pathlib import Path
 
 import numpy as np
 
+from ..analysis.trace_metrics import channel_columns
 from ..errors import InputError
+from ..inputs.records import Record
+from ..inputs.traces import Trace, read_trace
 from ..modal import analyse
-from ..records import Record
-from ..structure import Structure, from_specimen
-from ..trace_metrics import channel_columns
-from ..traces import Trace, read_trace
+from ..model.structure import Structure, from_specimen
 from ._trace_checks import above_passband, check_ag, no_rocking, require_sensors
 from .segments import segment_trace
 
@@ -106,7 +106,7 @@ class Case:
         return replace(self, window=(self.window[0], float(t1)), idx=idx)
 
     def excitation(self, theta0: float):
-        from ..excitations import FreeRelease
+        from ..inputs.excitations import FreeRelease
 
         return FreeRelease(theta0=theta0) if self.free else self.excitation_record
 

@@ -2,8 +2,8 @@
 
 A *view* is a `Response` whose series is the run recorded at the trace's own times
 (anti-alias filtered, on the trace's clock, with the fitted biases added), so that
-`multimass.trace_metrics.compare_trace` (with ``t_offset = 0``) and
-`multimass.plots.plot_overlay` use it as they would any simulation.
+`multimass.analysis.trace_metrics.compare_trace` (with ``t_offset = 0``) and
+`multimass.analysis.plots.plot_overlay` use it as they would any simulation.
 """
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ import dataclasses
 import numpy as np
 import pandas as pd
 
-from ..trace_metrics import compare_trace
-from ..traces import Trace
+from ..analysis.trace_metrics import compare_trace
+from ..inputs.traces import Trace
 from ._calibration_peaks import crossings, measured_peaks, model_peaks
 
 __all__ = ["view", "window_trace", "channel_metrics", "feature_errors"]

@@ -28,10 +28,10 @@ import math
 
 import numpy as np
 
+from ..analysis.trace_metrics import channel_columns
 from ..errors import InputError
-from ..structure import Structure
-from ..trace_metrics import channel_columns
-from ..traces import Trace
+from ..inputs.traces import Trace
+from ..model.structure import Structure
 from . import _modes_fit as fitting
 from ._trace_checks import PASSBAND, above_passband, no_rocking, require_sensors
 

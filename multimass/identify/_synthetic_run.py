@@ -113,7 +113,7 @@ def _backend(model, excitation, kw: dict) -> str:
     method = kw.get("method", "DOP853")
     if kw.get("integrator", "solve_ivp") != "solve_ivp" or method not in _COMPILED_METHODS:
         return "scipy"
-    from ..fast import check_model, encode
+    from ..engines.fast import check_model, encode
 
     try:
         check_model(model)

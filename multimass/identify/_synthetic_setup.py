@@ -10,7 +10,7 @@ import numpy as np
 
 from .. import validation as v
 from ..errors import InputError
-from ..excitations import FreeRelease
+from ..inputs.excitations import FreeRelease
 
 __all__ = ["Settings", "Grids", "settings", "grids", "restitution_law", "draw_table"]
 

@@ -1,9 +1,9 @@
-"""What the trace tools check in a trace before computing, one wording per check (issue 14).
+"""What the trace tools check in a trace before computing, one wording per check.
 
 `restitution`, `operational_modes` and `calibrate` refuse bad input with a named error
 that says the field, the value found and the fix. Each check lives in one place:
 
-* `multimass.traces` (every use of a trace): units in the header, finite samples (NaN
+* `multimass.inputs.traces` (every use of a trace): units in the header, finite samples (NaN
   names the column and its first row), strictly increasing time;
 * `multimass.identify.segments.segment_trace` (every tool cuts its trace there): a θ
   column, uniform sampling, a rate fast enough for θ's low-pass;
@@ -24,10 +24,10 @@ import math
 
 import numpy as np
 
+from ..analysis.trace_metrics import channel_columns
 from ..errors import InputError
-from ..structure import Structure
-from ..trace_metrics import channel_columns
-from ..traces import Trace
+from ..inputs.traces import Trace
+from ..model.structure import Structure
 from .segments import Segments
 
 __all__ = [

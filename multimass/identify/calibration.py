@@ -1,4 +1,4 @@
-"""Calibration of a rocking-column model against shake-table traces (issue 14, item 4).
+"""Calibration of a rocking-column model against shake-table traces.
 
 `calibrate` fits some of a column's model parameters — the corner means of the
 coefficient of restitution r̄_er, r̄_el (``r_er``, ``r_el``; paper 001 Table 1), the
@@ -103,9 +103,9 @@ import pandas as pd
 
 from .. import validation as v
 from ..errors import InputError, SolverError
+from ..model.structure import Structure
 from ..progress import Progress
 from ..result import json_ready
-from ..structure import Structure
 from . import _calibration_result as result
 from ._calibration_fit import Problem
 from ._calibration_model import Simulator, TrialRejected
@@ -155,7 +155,7 @@ class Calibration:
         no deviations), over the trace's large half-cycles ("window") and the whole
         trace ("trace"); ``fit`` (with the fitted deviations) over the window fitted
         ("window"): per trace label, per span, per channel a
-        `multimass.trace_metrics.ChannelMetrics`.
+        `multimass.analysis.trace_metrics.ChannelMetrics`.
     features : dict
         ``before`` / ``after`` / ``fit``: per trace label the peak and impact-time
         errors over the large half-cycles (the window's for ``fit``).

@@ -2,7 +2,7 @@
 
 `write_report` writes into a folder, per trace and channel, the measured channel with
 the simulation before (start values) and after (the calibrated model) calibration and
-their residuals (`multimass.plots.plot_overlay`); per trace, the residuals of the fit
+their residuals (`multimass.analysis.plots.plot_overlay`); per trace, the residuals of the fit
 over its window in units of each channel's residual RMS (`plot_residuals`); a
 Markdown summary (`markdown`), the result as JSON and the fitted specimen file
 (``<specimen>_calibrated.toml``, which `multimass.specimens.load` reads back).
@@ -16,9 +16,9 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from ..plots import plot_overlay
+from ..analysis.plots import plot_overlay
+from ..analysis.trace_metrics import align
 from ..specimens import SpecimenError
-from ..trace_metrics import align
 
 __all__ = ["write_report", "plot_residuals", "markdown"]
 
@@ -124,7 +124,7 @@ def markdown(cal) -> str:
     if cal.warnings:
         lines += ["## Warnings", ""] + [f"- {w}" for w in cal.warnings] + [""]
     lines += [
-        "NRMSE = RMS(simulated − measured) / RMS(measured) (`multimass.trace_metrics`); "
+        "NRMSE = RMS(simulated − measured) / RMS(measured) (`multimass.analysis.trace_metrics`); "
         "*before*: start values; *after*: the calibrated model (corner means); *fit*: "
         "with each impact's fitted deviation, over the window fitted.",
         "",

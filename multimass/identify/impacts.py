@@ -1,4 +1,4 @@
-"""Empirical coefficients of restitution from a recorded trace (issue 14, item 1).
+"""Empirical coefficients of restitution from a recorded trace.
 
 Paper 001 (Section 4.3) defines its CIM, DD1, DD3 and DD4 models (Table 2) with
 impact-specific coefficients r_e estimated from the tests, and the per-corner means
@@ -9,7 +9,7 @@ gives both estimates of every impact of a trace:
 dominated by the gravitational potential (paper 001, Section 4.3). With
 V(θ) = g (h (cos θ − 1) + ℓ sin θ) the potential of the undeformed column rocking by
 θ about a pivot (paper 001, Eq 5's gravity term: h = Σ m_i H_i, ℓ = B m_t, for the
-side of θ; `multimass.kinematics.gravitational_energy`), energy is conserved over a
+side of θ; `multimass.model.kinematics.gravitational_energy`), energy is conserved over a
 half-cycle, so ½ J θ̇₋² = V(θ_k) before impact k and ½ J θ̇₊² = V(θ_{k+1}) after it;
 with θ̇₊ = r θ̇₋,
 
@@ -104,13 +104,13 @@ import pandas as pd
 
 from multimass.impact_models import CornerRestitution
 
-from .. import kinematics
+from ..analysis.trace_metrics import channel_columns
 from ..errors import InputError
+from ..inputs.traces import Trace
+from ..model import kinematics
+from ..model.structure import Structure, from_specimen
 from ..progress import Progress
 from ..result import json_ready
-from ..structure import Structure, from_specimen
-from ..trace_metrics import channel_columns
-from ..traces import Trace
 from . import _restitution_fit as fitting
 from ._calibration_stats import LIMITS
 from ._trace_checks import check_ag, no_rocking

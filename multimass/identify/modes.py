@@ -1,4 +1,4 @@
-"""Operational modes from a shake-table trace, against the model (issue 14, item 2).
+"""Operational modes from a shake-table trace, against the model.
 
 Paper 001 (Section 4.2, Fig 5) identified the frequencies and "operational acceleration
 profiles" of each specimen from the accelerations of free-vibration tests, half-cycle
@@ -73,10 +73,10 @@ import pandas as pd
 
 from .. import validation as v
 from ..errors import InputError
+from ..inputs.traces import Trace
 from ..modal import ModalAnalysis, analyse
+from ..model.structure import Structure, from_specimen
 from ..result import json_ready
-from ..structure import Structure, from_specimen
-from ..traces import Trace
 from . import _modes_combine as combining
 from . import _modes_fit as fitting
 from . import _modes_select as select

@@ -52,9 +52,9 @@ from scipy import signal
 
 from .. import validation as v
 from ..errors import InputError
+from ..inputs.traces import Trace
 from ..modal.errors import ModalError
 from ..modal.measured_frf import sampling_rate
-from ..traces import Trace
 
 __all__ = ["HalfCycle", "ImpactMark", "Segments", "segment_trace", "require_trace", "THETA_MIN"]
 
@@ -181,7 +181,7 @@ def require_trace(trace) -> Trace:
     """`trace` if it is a `Trace`, else the InputError every trace tool gives."""
     if not isinstance(trace, Trace):
         raise InputError(
-            f"`trace` = {type(trace).__name__}: give a multimass.traces.Trace "
+            f"`trace` = {type(trace).__name__}: give a multimass.inputs.traces.Trace "
             "(read one with multimass.read_trace)"
         )
     return trace

@@ -1,4 +1,4 @@
-"""Synthetic test traces with a known truth (issue 14, item 5).
+"""Synthetic test traces with a known truth.
 
 `synthetic_trace` simulates a test with `multimass.simulate` and records it as a
 data-acquisition system would, so that every identification step can be tested by
@@ -46,11 +46,11 @@ import numpy as np
 from multimass.impact_models import CornerRestitution, DrawnRestitution
 
 from ..errors import InputError
+from ..inputs.textfile import as_path, read_text
+from ..inputs.traces import Trace, format_trace, parse_trace
+from ..model.structure import Structure, from_specimen
 from ..response import Response
 from ..result import json_ready
-from ..structure import Structure, from_specimen
-from ..textfile import as_path, read_text
-from ..traces import Trace, format_trace, parse_trace
 from . import _synthetic_run as simulation
 from . import _synthetic_setup as setup
 from ._synthetic_truth import truth as make_truth
@@ -71,7 +71,7 @@ class SyntheticTrace:
 
     Attributes
     ----------
-    trace : multimass.traces.Trace
+    trace : multimass.inputs.traces.Trace
         What a test would record: filtered, sampled, biased and noisy, rounded to
         the digits written; ``trace.specimen`` names the specimen.
     truth : dict
@@ -82,7 +82,7 @@ class SyntheticTrace:
         ``r_mean_left``, ``sigma_r``, ``transitions``, ``peaks``, ``noise``, ``bias``,
         ``restitution``, ``sampling`` (the anti-alias filter's measured figures),
         ``simulation``.
-    clean : multimass.traces.Trace
+    clean : multimass.inputs.traces.Trace
         The same samples before bias and noise (not rounded).
     response : multimass.Response
         The simulation, sampled at the high rate.

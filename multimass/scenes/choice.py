@@ -27,7 +27,7 @@ import math
 from dataclasses import dataclass
 
 from ..errors import InputError
-from ..structure import column
+from ..model.structure import column
 from .criteria import assess
 from .rungs import BACKENDS, Rung, RungAnswer, ladder
 from .scene import Scene, Tolerance

@@ -80,7 +80,7 @@ from scipy import signal
 
 import multimass.modal as modal
 
-from ..structure import column
+from ..model.structure import column
 from .reduce import modes
 
 __all__ = [

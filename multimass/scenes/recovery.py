@@ -3,10 +3,10 @@
 A reduced model (`multimass.scenes.reduce`) has other nodes than the column it
 stands for, so its recorded accelerations ``a1..an`` are not the column's.
 `node_accelerations` re-evaluates the equations of motion on every recorded
-row (`multimass.eom.state_accelerations`) to get θ̈ and the reduced ü', maps
+row (`multimass.model.eom.state_accelerations`) to get θ̈ and the reduced ü', maps
 the elastic part back to the column's nodes with the recovery matrix R
 (u ≈ R u', ü ≈ R ü') and applies paper 001's Eq 7 at the column's heights
-(`multimass.eom.total_accelerations`). For the full column (R = I) this
+(`multimass.model.eom.total_accelerations`). For the full column (R = I) this
 reproduces the simulation's own ``a1..aN``; for the rigid equivalent (R
 empty) it gives the rigid-body acceleration of a point at each node's height.
 """
@@ -15,8 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..eom import state_accelerations, total_accelerations
 from ..errors import InputError
+from ..model.eom import state_accelerations, total_accelerations
 from .reduce import Reduced
 
 __all__ = ["node_accelerations"]

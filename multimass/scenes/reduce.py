@@ -52,7 +52,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from ..errors import InputError
-from ..structure import Structure
+from ..model.structure import Structure
 
 __all__ = ["Reduced", "rigid_equivalent", "sdof", "modal_reduction", "modes"]
 

@@ -10,7 +10,7 @@ Columns (paper 001)::
 Blocks (papers 004, 002)::
 
     rigid-block   rigid block on rigid ground, 1 DOF (Housner; `multimass.rigid_block`)
-    nscd          the block on an FE beam (Moreau–Jean, `multimass.nscd.run`): 3 + 3(n_el+1) − 3 DOF;
+    nscd          the block on an FE beam (Moreau–Jean, `multimass.engines.nscd.run`): 3 + 3(n_el+1) − 3 DOF;
                   on rigid ground the beam's rigid-base modulus (E = 1e24 Pa, paper 002 §6.1).
                   Free rocking only: under ground motion the ladder of a block has one rung.
 
@@ -20,7 +20,7 @@ question it can: the rigid rung has no vibration modes (no uplifted_frequencies)
 rung with n modes answers uplifted_frequencies only for n_modes ≤ n.
 
 Columns run on the compiled backend of `multimass.simulate` when it is available
-(`multimass.fast`, compiled once per process before any clock starts) and fall back to
+(`multimass.engines.fast`, compiled once per process before any clock starts) and fall back to
 SciPy otherwise; NSCD runs its compiled kernel.
 """
 
@@ -36,8 +36,8 @@ import multimass.modal as modal
 import multimass.specimens as specimens
 
 from ..errors import InputError, SolverError
+from ..model.structure import column, rigid_block
 from ..simulation import simulate
-from ..structure import column, rigid_block
 from .recovery import node_accelerations
 from .reduce import Reduced, modal_reduction, rigid_equivalent
 
@@ -151,7 +151,7 @@ def reduced_model(rung: Rung, scene) -> Reduced:
 def _fast_ready() -> bool:
     if _WARM["fast"] is None:
         try:
-            from ..fast import warm_up
+            from ..engines.fast import warm_up
 
             warm_up()
             _WARM["fast"] = True
@@ -238,7 +238,7 @@ def _column_answer(rung: Rung, scene, backend: str) -> RungAnswer:
 # ---------------------------------------------------------------------------- blocks
 def _nscd_warm():
     if not _WARM["nscd"]:
-        import multimass.nscd as nscd
+        import multimass.engines.nscd as nscd
 
         nscd.simulate("B6M", theta0=0.1, dt=1e-3, t_end=0.01)  # compile or load the kernel
         _WARM["nscd"] = True
@@ -261,7 +261,7 @@ def _block_answer(rung: Rung, scene, backend: str) -> RungAnswer:
             resp.status,
             {"n_impacts": resp.n_impacts, "backend": resp.options.get("backend", "scipy")},
         )
-    import multimass.nscd as nscd
+    import multimass.engines.nscd as nscd
 
     _nscd_warm()
     start = time.perf_counter()

@@ -51,7 +51,7 @@ from functools import cached_property
 
 import multimass.specimens as specimens
 
-from ..excitations import Excitation, FreeRelease
+from ..inputs.excitations import Excitation, FreeRelease
 from ..simulation import DEFAULTS
 from .question import IMPACTS, QUESTIONS, Question, Tolerance
 from .toml_scene import scene_arguments

@@ -9,10 +9,10 @@ from pathlib import Path
 import multimass.specimens as specimens
 
 from ..errors import InputError
-from ..excitations import CosinePulse, CosineWave, FreeRelease, MPPulse, Ricker, SineWave
-from ..records import read_record
-from ..textfile import as_path, read_text
-from ..units import G, parse_acceleration
+from ..inputs.excitations import CosinePulse, CosineWave, FreeRelease, MPPulse, Ricker, SineWave
+from ..inputs.records import read_record
+from ..inputs.textfile import as_path, read_text
+from ..inputs.units import G, parse_acceleration
 from .question import _ABS_KEYS, Question, Tolerance, _fail, _keys, _number
 
 __all__ = ["scene_arguments", "arguments_from_mapping", "resolve_path"]
@@ -265,7 +265,7 @@ def arguments_from_mapping(data, source: str, folder: Path) -> dict:
     tol = _tolerance(data.get("tolerance"), w, question)
     ratio = st.pop("E_over_Ebar", None)
     if ratio is not None:
-        import multimass.nscd as nscd
+        import multimass.engines.nscd as nscd
 
         try:
             st["E"] = nscd.flexible_modulus(st["specimen"], st["beam"]) * ratio

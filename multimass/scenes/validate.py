@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 from ..errors import InputError
-from ..excitations import (
+from ..inputs.excitations import (
     CosinePulse,
     CosineWave,
     Excitation,
@@ -14,8 +14,8 @@ from ..excitations import (
     Ricker,
     SineWave,
 )
-from ..records import Record
-from ..structure import column
+from ..inputs.records import Record
+from ..model.structure import column
 from .question import IMPACTS, Tolerance
 
 __all__ = ["validate_scene"]

@@ -1,4 +1,4 @@
-"""Record suites and fragility: many motions, intensities and restitution draws (issue 16).
+"""Record suites and fragility: many motions, intensities and restitution draws.
 
 * `spec` — `Suite`: one structure, records and/or M&P pulses, intensity levels in a
   chosen IM, Monte-Carlo restitution draws, seeds; read from TOML and checked;

@@ -19,7 +19,7 @@ threshold. Runs whose status is ``"inaccurate"`` or ``"failed"`` are left out of
 count and fit, and are counted (``n_excluded``) wherever they are left out.
 
 Fragility curves are the lognormal model ``P(exceed | IM = x) = Φ(ln(x/θ)/β)`` fitted by
-maximum likelihood to binomial counts (Baker 2015), by `multimass.fragility.fit_lognormal`;
+maximum likelihood to binomial counts (Baker 2015), by `multimass.analysis.fragility.fit_lognormal`;
 nothing of that fit is re-implemented here. The counts are taken per intensity level when
 every run at a level has the same IM value (e.g. records scaled to a common PGA and
 fitted in PGA), and per run otherwise (e.g. records scaled by a common factor but fitted
@@ -51,8 +51,8 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from ..analysis.fragility import FragilityFit, fit_lognormal
 from ..errors import InputError
-from ..fragility import FragilityFit, fit_lognormal
 
 __all__ = [
     "DAMAGE_STATES",
@@ -399,7 +399,7 @@ def exceedance_counts(runs, im: str = "im", measures=DAMAGE_STATES, structure=No
 class _FitResult:
     measure: _Measure
     fit: FragilityFit
-    band: object  # multimass.fragility.Band or None
+    band: object  # multimass.analysis.fragility.Band or None
     n_degenerate: int = 0
 
 
@@ -543,7 +543,7 @@ def fragility_curves(
     bootstrap : int
         0 for the asymptotic (Fisher) band, else a number (≥ 10) of seeded bootstrap
         resamples for percentile bands: within each level for per-level counts
-        (`multimass.fragility.FragilityFit.bootstrap`), of the runs themselves for
+        (`multimass.analysis.fragility.FragilityFit.bootstrap`), of the runs themselves for
         per-run data.
     seed : int
         Seed of the bootstrap.
@@ -564,7 +564,7 @@ def fragility_curves(
         degenerate fits), ``loglik``, ``n_runs``, ``n_exceed``, ``n_excluded``,
         ``n_levels`` (levels or runs fitted) and ``grouping`` (``"level"`` or ``"run"``).
         A damage state without a maximum-likelihood estimate keeps the fit's ``status``
-        and ``message`` (`multimass.fragility.STATUS`) and NaN numbers.
+        and ``message`` (`multimass.analysis.fragility.STATUS`) and NaN numbers.
 
     Raises
     ------
@@ -796,7 +796,7 @@ def pulse_fragility(runs, measure="overturned", level: float = 0.95, structure=N
 
     For each distinct ω_p/p the runs are counted per distinct amplitude a_p/(g tan α)
     and ``P(exceed) = Φ(ln(A/θ)/β)``, A = a_p/(g tan α), is fitted by
-    `multimass.fragility.fit_lognormal` (Baker 2015): θ is the median normalised pulse
+    `multimass.analysis.fragility.fit_lognormal` (Baker 2015): θ is the median normalised pulse
     amplitude that makes the structure exceed the damage state, the dimensionless
     fragility of Dimitrakopoulos & Paraskeva (2015).
 

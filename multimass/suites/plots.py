@@ -20,7 +20,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.ticker import FormatStrFormatter, LogLocator
 
-from ..fragility import fit_lognormal
+from ..analysis.fragility import fit_lognormal
 from . import analysis as _a
 
 __all__ = ["plot_fragility", "plot_ida", "plot_pulse_fragility", "plot_im_efficiency"]

@@ -11,7 +11,7 @@ that differs is refused. A run's randomness depends only on (suite seed, run ind
 results do not depend on the executor, the worker count, the chunking or a resume.
 
 The IM columns of every run (``pga``, ``pgv``, ``pgd``, ``arias``, ``sa_<T>s``) are
-computed on the scaled motion by `multimass.intensity` (records exactly, as piecewise
+computed on the scaled motion by `multimass.analysis.intensity` (records exactly, as piecewise
 linear; pulses sampled at 1000 points per pulse period), so any of them can be the
 fragility's IM afterwards (`multimass.suites.analysis.im_efficiency`).
 """
@@ -30,10 +30,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .. import intensity as im
-from .._rigid import uplift_threshold
+from ..analysis import intensity as im
+from ..engines._rigid import uplift_threshold
 from ..errors import InputError
-from ..excitations import TWO_PI, MPShape
+from ..inputs.excitations import TWO_PI, MPShape
 from ..simulation import estimate, outcome_summary
 from ..sweeps.engine import _Bar, run_jobs
 from ..sweeps.maps import default_backend, executor_session
@@ -473,7 +473,7 @@ def run_suite(
     batched = BATCHED and compiled and st.n == 0
     try:
         contact = compiled and st.n > 0  # a column: records use the closed-form contact
-        columns = contact  # and whole runs in one call (`multimass.fast.column_runs`)
+        columns = contact  # and whole runs in one call (`multimass.engines.fast.column_runs`)
         with executor_session(executor, workers, compiled, batched, contact, columns) as ex:
             for c in todo:
                 index = np.arange(c * chunk, min((c + 1) * chunk, n))

@@ -28,7 +28,7 @@ A `Suite` is built in Python or read from TOML (`Suite.from_toml`)::
 Every key names its unit; unknown keys are errors that list the allowed ones. Checks
 made here, before any run: each record readable and plausible in its stated units (a PGA
 between 0.005 g and 3 g; records whose PGAs differ by more than 100× are refused as a
-unit mix), Sa only at periods the records resolve (T ≥ 2·dt, `multimass.intensity`),
+unit mix), Sa only at periods the records resolve (T ≥ 2·dt, `multimass.analysis.intensity`),
 no level that needs a record scaled by more than `max_scale` (default 10), at least one
 motion, at least one level.
 
@@ -47,10 +47,10 @@ import numpy as np
 
 from .. import validation as v
 from ..errors import InputError
-from ..excitations import MPShape
-from ..records import Record, read_record
-from ..structure import Structure, from_specimen
-from ..units import G
+from ..inputs.excitations import MPShape
+from ..inputs.records import Record, read_record
+from ..inputs.units import G
+from ..model.structure import Structure, from_specimen
 
 __all__ = [
     "Suite",
@@ -372,7 +372,7 @@ class Suite:
     @classmethod
     def from_toml(cls, path) -> Suite:
         """Read and check a suite file (relative paths are taken from its folder)."""
-        from ..textfile import read_text
+        from ..inputs.textfile import read_text
 
         p = Path(path)
         text = read_text(p, what="a suite TOML file", argument="SUITE", suffixes=(".toml",))

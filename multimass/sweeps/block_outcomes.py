@@ -2,7 +2,7 @@
 
 `simulate_outcomes` gives, run for run, what ``simulate_outcome(st, excitation,
 t_end=..., **options)`` gives: the runs the compiled block batch reproduces exactly
-(`multimass.fast.block_runs`: classical impacts, a restitution fixed per corner — η_M
+(`multimass.engines.fast.block_runs`: classical impacts, a restitution fixed per corner — η_M
 of each run's own k, or its own value — an explicit method on the compiled backend)
 go in one compiled call; the others, and any run the batch cannot finish, run one at a
 time. The suites of `multimass.suites` call it per chunk of runs.
@@ -14,10 +14,10 @@ import math
 
 import numpy as np
 
+from ..engines.fast import block_runs as br
+from ..engines.fast._block_kernel import FAILED
+from ..engines.fast.block_runs import EXCITATIONS, BlockRuns, ExcitationRuns, restitution_pairs
 from ..errors import InputError
-from ..fast import block_runs as br
-from ..fast._block_kernel import FAILED
-from ..fast.block_runs import EXCITATIONS, BlockRuns, ExcitationRuns, restitution_pairs
 from ..simulation import simulate_outcome
 from .map_cells import OUTCOMES, _classify
 

@@ -173,7 +173,7 @@ class ProcessExecutor(Executor):
         How workers start. Default 'forkserver' (POSIX) or 'spawn' (Windows).
     preload : sequence of str, optional
         Modules the forkserver imports before forking workers (e.g.
-        ``"multimass.fast.preload"``, which loads the compiled kernels once so
+        ``"multimass.engines.fast.preload"``, which loads the compiled kernels once so
         workers do not each load them).
         'fork' starts in ~10 ms and shares already-compiled numba functions,
         but is unsafe once the calling process runs other threads (measured:

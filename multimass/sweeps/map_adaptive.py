@@ -1,4 +1,4 @@
-"""Adaptive overturning maps: simulate only the cells near outcome boundaries (issue 15, item 3).
+"""Adaptive overturning maps: simulate only the cells near outcome boundaries.
 
 The rule (`adaptive_codes`), on a grid of n_a × n_w cells and a coarse spacing s = 2^K:
 

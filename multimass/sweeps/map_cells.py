@@ -2,7 +2,7 @@
 
 `map_cell` runs one cell — one `simulate_outcome`, rerun once with more free rocking
 while undecided — and classifies its outcome. `simulate_cells` runs a list of cells
-on an executor: in compiled chunks (`multimass.fast.block_runs`, one call per chunk
+on an executor: in compiled chunks (`multimass.engines.fast.block_runs`, one call per chunk
 of cells, no Python per cell) when `batch_runs` says the batch reproduces these cells
 exactly, else as one `map_cell` job per cell.
 """
@@ -14,11 +14,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._run import QUIET_DELAY
+from ..engines._run import QUIET_DELAY
 from ..errors import InputError
-from ..excitations import CosineWave, MPShape, Ricker, SineWave
+from ..inputs.excitations import CosineWave, MPShape, Ricker, SineWave
+from ..model.structure import Structure
 from ..simulation import simulate_outcome
-from ..structure import Structure
 from .engine import run_jobs
 
 __all__ = [
@@ -102,7 +102,7 @@ class _Chunk(NamedTuple):
     a0: np.ndarray
     t_free: float
     options: dict
-    runs: object  # multimass.fast.block_runs.BlockRuns
+    runs: object  # multimass.engines.fast.block_runs.BlockRuns
 
 
 def _classify(resp) -> str:
@@ -152,13 +152,13 @@ def map_cell(cell: _Cell) -> tuple:
 
 
 def _map_chunk(chunk: _Chunk) -> list[tuple]:
-    """`map_cell` of every cell of a chunk, in one compiled call (`multimass.fast.block_runs`).
+    """`map_cell` of every cell of a chunk, in one compiled call (`multimass.engines.fast.block_runs`).
 
     A cell the batch cannot finish as `map_cell` would (its run fails) is run by
     `map_cell`, which reports the failure.
     """
-    from multimass.fast.block_runs import OUTCOMES as CODES
-    from multimass.fast.block_runs import run_pulses
+    from multimass.engines.fast.block_runs import OUTCOMES as CODES
+    from multimass.engines.fast.block_runs import run_pulses
 
     st = chunk.structure
     b = run_pulses(chunk.runs, chunk.pulse, chunk.a0, chunk.omega, chunk.t_free)
@@ -188,7 +188,7 @@ def batch_runs(st, options):
     """The compiled batch for this map's cells (`BlockRuns`), or None to run them per cell."""
     if options.get("backend") != "compiled":
         return None
-    from multimass.fast.block_runs import BlockRuns
+    from multimass.engines.fast.block_runs import BlockRuns
 
     return BlockRuns.of(st, options, QUIET_DELAY, UNDECIDED_RETRY)
 

@@ -1,4 +1,4 @@
-"""Large overturning maps streamed to disk in Parquet chunks, resumable (issue 15, item 2).
+"""Large overturning maps streamed to disk in Parquet chunks, resumable.
 
 A map of a million cells does not fit in memory as Python objects (one row dict per
 cell is ~1 kB). `run_stored` cuts the grid (row-major: amplitude rows, ω/p within a

@@ -8,7 +8,7 @@ above the first overturning amplitude (the boundary is not monotone).
 
 On the compiled path, with classical impacts and a restitution fixed per corner
 (η_M, η_H, a value), the cells run in batches: each worker task runs a chunk of
-cells in one compiled call (`multimass.fast.block_runs`), with the same results
+cells in one compiled call (`multimass.engines.fast.block_runs`), with the same results
 as one `map_cell` per cell, bit for bit. Other cases run one `map_cell` per cell.
 """
 
@@ -23,8 +23,8 @@ import pandas as pd
 
 from .. import validation as v
 from ..errors import InputError
+from ..model.structure import Structure, from_specimen
 from ..simulation import estimate
-from ..structure import Structure, from_specimen
 from .base import Executor
 from .executors import get_executor
 from .map_adaptive import ADAPTIVE_COARSE, adaptive_cells, check_coarse
@@ -69,10 +69,10 @@ def executor_session(
     """One executor for several `run_jobs` calls; closed after unless the caller owns it.
 
     With `compiled`, a process pool's forkserver loads the compiled kernels once
-    (`multimass.fast.preload`; with `batched` also the batch kernels of
-    `multimass.fast.block_preload`, with `contact` the closed-form full contact of
-    `multimass.fast.contact_preload`, with `columns` the whole column runs of
-    `multimass.fast.column_preload`), so its workers start with them in memory.
+    (`multimass.engines.fast.preload`; with `batched` also the batch kernels of
+    `multimass.engines.fast.block_preload`, with `contact` the closed-form full contact of
+    `multimass.engines.fast.contact_preload`, with `columns` the whole column runs of
+    `multimass.engines.fast.column_preload`), so its workers start with them in memory.
     """
     if isinstance(executor, Executor):
         yield executor
@@ -80,10 +80,10 @@ def executor_session(
     options = {}
     if compiled and isinstance(executor, str) and executor.lower() == "process":
         options["preload"] = (
-            ("multimass.fast.preload",)
-            + (("multimass.fast.block_preload",) if batched else ())
-            + (("multimass.fast.contact_preload",) if contact else ())
-            + (("multimass.fast.column_preload",) if columns else ())
+            ("multimass.engines.fast.preload",)
+            + (("multimass.engines.fast.block_preload",) if batched else ())
+            + (("multimass.engines.fast.contact_preload",) if contact else ())
+            + (("multimass.engines.fast.column_preload",) if columns else ())
         )
     ex = get_executor(executor, workers, **options)
     try:
@@ -197,7 +197,7 @@ class OverturningMap:
 
 
 def default_backend(sim_options: dict) -> dict:
-    """Sweeps run the compiled fast path unless told otherwise (issue 7)."""
+    """Sweeps run the compiled fast path unless told otherwise."""
     if sim_options.get("integrator", "solve_ivp") == "solve_ivp":
         return {"backend": "compiled"} | sim_options
     return dict(sim_options)
@@ -273,7 +273,7 @@ def overturning_map(
         Passed to `simulate` (e.g. ``integrator="newmark"``, ``dt``, ``rtol``);
         ``backend="compiled"`` (the fast path) unless given. On the compiled path,
         with classical impacts and a restitution fixed per corner, the cells run in
-        compiled chunks (`multimass.fast.block_runs`) with the same results as one
+        compiled chunks (`multimass.engines.fast.block_runs`) with the same results as one
         `map_cell` each.
 
     Returns

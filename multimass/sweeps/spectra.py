@@ -15,11 +15,11 @@ import pandas as pd
 
 from .. import validation as v
 from ..errors import InputError
-from ..excitations import MPShape
-from ..excitations import pulse as make_pulse
-from ..records import Record
+from ..inputs.excitations import MPShape
+from ..inputs.excitations import pulse as make_pulse
+from ..inputs.records import Record
+from ..model.structure import Structure, from_specimen
 from ..simulation import estimate, outcome_summary
-from ..structure import Structure, from_specimen
 from .engine import run_jobs
 from .map_cells import pulse_label
 from .maps import default_backend, executor_session
@@ -42,7 +42,7 @@ def spectrum_point(p: _Point) -> tuple:
     """One simulation of a spectrum: (θ_max, status, impacts, overturn time or nan).
 
     `multimass.simulation.outcome_summary`: a column on the compiled path runs whole
-    in one compiled call (`multimass.fast.column_runs`).
+    in one compiled call (`multimass.engines.fast.column_runs`).
     """
     r = outcome_summary(p.structure, p.excitation, t_end=p.t_end, seed=p.seed, **p.options)
     if r.status == "failed":
@@ -116,7 +116,7 @@ def _run(st, points, sweep_cols, executor, workers, progress, desc, kind, option
     contact = (  # a column under a record: the closed-form full contact
         compiled and st.n > 0 and kind == "record" and options.get("full_contact") != "integrate"
     )
-    columns = compiled and st.n > 0  # whole column runs (`multimass.fast.column_runs`)
+    columns = compiled and st.n > 0  # whole column runs (`multimass.engines.fast.column_runs`)
     with executor_session(executor, workers, compiled, contact=contact, columns=columns) as ex:
         res = run_jobs(spectrum_point, points, executor=ex, progress=progress, desc=desc)
     table = pd.DataFrame(sweep_cols)

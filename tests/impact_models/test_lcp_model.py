@@ -28,7 +28,7 @@ def test_rigid_block_run_equals_classical_housner():
 
 def test_mass_matrix_gives_the_kinetic_energy_of_rocking():
     # ½ vᵀ M v with v = [u̇, sBθ̇, θ̇] equals the engine's rocking kinetic energy about pivot s
-    from multimass.kinematics import kinetic_energy
+    from multimass.model.kinematics import kinetic_energy
 
     s1 = multimass.column("S1")
     rng = np.random.default_rng(4)
@@ -40,7 +40,7 @@ def test_mass_matrix_gives_the_kinetic_energy_of_rocking():
 
 
 def test_impacts_never_create_energy_on_s1():
-    from multimass.kinematics import kinetic_energy
+    from multimass.model.kinematics import kinetic_energy
 
     s1 = multimass.column("S1")
     rng = np.random.default_rng(9)

@@ -54,7 +54,7 @@ def test_r_h_is_angular_momentum_conservation_about_the_new_corner():
     # paper 001, Eq 13: L about the impacting corner before = after, u̇ unchanged
     s1 = multimass.column("S1")
     u = np.random.default_rng(3).normal(size=5) * 1e-3
-    from multimass.kinematics import angular_momentum_new_pivot
+    from multimass.model.kinematics import angular_momentum_new_pivot
 
     thd = -0.4
     r = r_h(s1.J_p, s1.m_t, s1.B, s1.m, u, -1)

@@ -20,10 +20,11 @@ import pandas as pd
 import pytest
 
 import multimass
-from multimass import FreeRelease, nscd, simulate, simulate_outcome
-from multimass.flexible_oscillator import FlexibleOscillator, simulate_oscillator
-from multimass.newmark import newmark_block
-from multimass.poisson_block import PoissonBlock, simulate_block
+from multimass import FreeRelease, simulate, simulate_outcome
+from multimass.engines import nscd
+from multimass.engines.flexible_oscillator import FlexibleOscillator, simulate_oscillator
+from multimass.engines.newmark import newmark_block
+from multimass.engines.poisson_block import PoissonBlock, simulate_block
 from multimass.result import EVENT_KINDS, LEDGER_NAMES, OUTCOMES, STATUSES, Event, Result
 
 TH0 = 0.1  # rad, the release angle of the blocks

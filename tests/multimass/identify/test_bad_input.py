@@ -23,15 +23,15 @@ import pytest
 from multimass import FreeRelease
 from multimass.cli import main
 from multimass.errors import InputError
-from multimass.excitations import CosinePulse
 from multimass.identify import _calibration_setup as setup
 from multimass.identify import _modes_select as select
 from multimass.identify import calibrate, operational_modes, restitution, synthetic_trace
 from multimass.identify._trace_checks import check_ag, require_sensors
 from multimass.identify.segments import segment_trace
+from multimass.inputs.excitations import CosinePulse
+from multimass.inputs.traces import Trace, format_trace, read_trace, write_trace
 from multimass.modal import analyse
-from multimass.structure import from_specimen
-from multimass.traces import Trace, format_trace, read_trace, write_trace
+from multimass.model.structure import from_specimen
 
 G = 9.81
 TOOLS = ("restitution", "identify", "calibrate")

@@ -18,7 +18,7 @@ from multimass.errors import InputError
 from multimass.identify import synthetic_trace
 from multimass.identify.calibration import FITTABLE, STATUSES, Calibration, calibrate
 from multimass.identify.calibration_report import markdown, write_report
-from multimass.traces import Trace, parse_trace
+from multimass.inputs.traces import Trace, parse_trace
 
 THETA0 = 0.11  # rad: paper 001 Section 4.3's large free-vibration test of S1
 T_END = 2.6  # s: five impacts of S1 released from 0.11 rad
@@ -240,7 +240,7 @@ def test_options_the_calibration_sets(syn):
 
 def test_a_trace_with_table_motion():
     # paper 001 Section 4.4: the cosine pulse of Fig 9 (ω = 15 rad/s, A = 0.4 g) on S1
-    from multimass.excitations import CosinePulse
+    from multimass.inputs.excitations import CosinePulse
 
     syn = synthetic_trace("S1", CosinePulse(amplitude=0.4 * 9.81, omega=15.0), "DD2", 2.0, seed=5)
     cal = calibrate(syn.trace, fit=("r_er", "r_el"), progress=False)

@@ -15,8 +15,8 @@ from multimass.identify import synthetic_trace
 from multimass.identify.impacts import energy_restitution, restitution
 from multimass.identify.segments import segment_trace
 from multimass.impact_models import EmpiricalRestitution
+from multimass.inputs.traces import Trace
 from multimass.specimens import load
-from multimass.traces import Trace
 
 
 @pytest.fixture(scope="module")

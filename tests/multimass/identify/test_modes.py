@@ -22,10 +22,10 @@ from multimass.identify._modes_fit import _width, _zeta_from_width, fft_segment,
 from multimass.identify.modes import operational_modes
 from multimass.identify.modes_report import write_modes_report
 from multimass.identify.segments import segment_trace
+from multimass.inputs.traces import Trace, parse_trace
 from multimass.modal.measured import read_measured_shapes
+from multimass.model.structure import from_specimen
 from multimass.specimens import loader
-from multimass.structure import from_specimen
-from multimass.traces import Trace, parse_trace
 
 THETA0 = 0.11  # rad: paper 001 Section 4.3's large free-vibration test of S1
 NODES = (2, 3, 4, 5)  # S1's sensors A1–A4 (multimass/specimens/data/S1.toml [sensors])

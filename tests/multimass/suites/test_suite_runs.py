@@ -1,6 +1,6 @@
 """Suites (issue 16, item 3): the TOML, the runs, determinism, resume, bad input.
 
-References: IMs of the scaled records are recomputed here with `multimass.intensity` on
+References: IMs of the scaled records are recomputed here with `multimass.analysis.intensity` on
 `Record.scaled` (the suite scales IMs from unit-scale values: PGA, PGV, PGD and Sa
 linearly, Arias with the square); the M&P pulse's peak is MPShape's exact peak.
 """
@@ -14,7 +14,7 @@ import pandas as pd
 import pytest
 
 from multimass import G, InputError
-from multimass import intensity as im
+from multimass.analysis import intensity as im
 from multimass.suites.runs import RUN_COLUMNS, SuiteMismatch, _draw_options, run_suite
 from multimass.suites.spec import PulseSet, Suite
 

@@ -1,6 +1,6 @@
 """Batched rigid-block runs under pulses and records, each with its own restitution (issue 15).
 
-`multimass.fast.block_runs.run_excitations` (and
+`multimass.engines.fast.block_runs.run_excitations` (and
 `multimass.sweeps.block_outcomes.simulate_outcomes`, which falls back to one
 `simulate_outcome` per run) must give, run by run, what
 ``simulate_outcome(st, excitation, t_end=..., impact="CIM", restitution=..., k=...,
@@ -19,10 +19,10 @@ import pytest
 
 import multimass
 from multimass import CosinePulse, CosineWave, FreeRelease, MPPulse, MPShape, Ricker, SineWave
-from multimass._rigid import uplift_threshold
+from multimass.engines._rigid import uplift_threshold
+from multimass.engines.fast import block_runs
 from multimass.errors import InputError
-from multimass.fast import block_runs
-from multimass.records import Record, read_record
+from multimass.inputs.records import Record, read_record
 from multimass.simulation import simulate_outcome
 from multimass.sweeps import block_outcomes
 

@@ -1,6 +1,6 @@
 """Batched overturning maps (issue 15, item 1): whole chunks of cells in one compiled call.
 
-The batch (`multimass.fast.block_runs`) must give what one `map_cell` per cell gives
+The batch (`multimass.engines.fast.block_runs`) must give what one `map_cell` per cell gives
 on the compiled path — the reference, selected with ``maps.BATCHED = False`` — in
 every cell: the same outcome, impacts and accuracy flag, and the same overturning
 time and peak angle. It runs the same compiled integrator and event code and a port
@@ -17,9 +17,9 @@ import pytest
 
 import multimass
 from multimass import CosineWave, Ricker, SineWave
-from multimass._rigid import next_uplift, uplift_threshold
-from multimass.fast import block_runs, encode
-from multimass.fast._block_uplift import next_uplift as compiled_next_uplift
+from multimass.engines._rigid import next_uplift, uplift_threshold
+from multimass.engines.fast import block_runs, encode
+from multimass.engines.fast._block_uplift import next_uplift as compiled_next_uplift
 from multimass.sweeps import map_cells, maps
 from multimass.sweeps.maps import overturning_map
 

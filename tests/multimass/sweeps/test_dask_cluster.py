@@ -27,8 +27,8 @@ import pytest
 
 import multimass
 from multimass.cli import main
+from multimass.engines.fast import warm_up
 from multimass.errors import InputError
-from multimass.fast import warm_up
 from multimass.sweeps import DaskExecutor, batch_plan, run_jobs
 from tests.conftest import REPO, unavailable
 
@@ -179,7 +179,7 @@ def dask_cluster(tmp_path_factory):
             *("--nworkers", "1", "--nthreads", "1", "--nanny"),
             *("--host", "127.0.0.1", "--dashboard-address", "127.0.0.1:0"),
             *("--local-directory", str(folder / f"w{k}"), "--death-timeout", "60"),
-            *("--preload", "multimass.fast.preload"),  # kernels in memory before joining
+            *("--preload", "multimass.engines.fast.preload"),  # kernels in memory before joining
         )
     procs, logs, client = [], [], None
     try:

@@ -1,0 +1,337 @@
+"""`column_run`: a whole run of a flexible column in machine code, for sweeps.
+
+`multimass.simulate` runs its phase loop in Python (`multimass.engines._run.PhaseLoop`)
+and, with ``backend="compiled"``, hands each phase segment to the compiled kernels
+(`multimass.engines.fast.path.FastPath.integrate`). A spectrum only wants a run's outcome
+— θ_max, status, impacts, the overturning time and the energy check — so this
+kernel runs the same loop without leaving machine code: the same segments (the
+closed-form full contact of `._contact_kernel` or the Runge–Kutta kernel of
+`._kernel`), the same event tables (`multimass.engines.fast.path`), and the transitions of
+`multimass.engines._events.handle_event` and `PhaseLoop` (uplift, overturning, the
+Dirac-delta force's activation and release, the end of a half-cycle at θ = 0, the
+chattering guard) with the same functions of `multimass.model.equations`,
+`multimass.impact_models` and `._maths`, in the same order. A run is therefore the
+per-run compiled path's, bit for bit (tests/multimass/engines/test_fast_column_runs.py).
+
+Restitution comes in as data (`multimass.engines.fast.column_runs` lays it out): a value
+per corner, a table by impact (empirical) or, for a random source, the run's
+standard normal draws, taken in order; a run that needs more draws than it was
+given returns `MORE_DRAWS` and is run again with more.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+from numba.extending import register_jitable
+
+from ...impact_models import gaussian_force as gf
+from ...impact_models import models as im
+from ._contact_kernel import contact_phase
+from ._kernel import integrate_phase
+from ._maths import (
+    EP_LIMIT,
+    EP_R_PENDING,
+    EV_ACTIVATE,
+    EV_DEACTIVATE,
+    EV_OVERTURN,
+    EV_UPLIFT_LEFT,
+    EV_UPLIFT_RIGHT,
+    EV_ZERO,
+    FP_E,
+    FP_N,
+    FP_ON,
+    FP_R,
+    FP_SIZE,
+    MP_B,
+    MP_G,
+    MP_MT,
+    _pivot_momentum,
+    _total_energy,
+)
+from ._rk import EVENT, FAILED
+
+__all__ = [
+    "column_run",
+    "COMPLETED",
+    "OVERTURNED",
+    "BROKEN",
+    "MORE_DRAWS",
+    "R_CORNERS",
+    "R_RANDOM",
+    "R_TABLE",
+]
+
+for _f in (im.next_phase_is_rocking, im.classical_rebound, im.full_contact_velocities):
+    register_jitable(inline="always")(_f)
+
+# outcome codes
+COMPLETED, OVERTURNED, BROKEN, MORE_DRAWS = 0, 1, 2, 3
+# restitution kinds (`multimass.impact_models.sources`): a value per corner (fixed,
+# per-corner means, Housner, modified); N(mean of the corner, σ) clipped to
+# [floor, 1] from the given standard normals; a table by impact, then the corners
+R_CORNERS, R_RANDOM, R_TABLE = 0, 1, 2
+
+# cfg layout (`multimass.engines.fast.column_runs.lay_out`)
+(
+    CF_TDMIN,
+    CF_DELAY,
+    CF_WINDOW,
+    CF_COUNT,
+    CF_METHOD,
+    CF_RTOL,
+    CF_ATOL,
+    CF_MAX_STEP,
+    CF_FORCE,
+    CF_CP,
+    CF_NMIN,
+    CF_Z,
+    CF_RELEASE,
+    CF_R_KIND,
+    CF_R_RIGHT,
+    CF_R_LEFT,
+    CF_SIGMA,
+    CF_FLOOR,
+    CF_EXACT,
+    CF_FLOOR_E,
+) = range(20)
+CF_SIZE = 20
+
+# event tables (`multimass.engines.fast.path._EVENTS`): contact, rocking, activate, deactivate
+T_CONTACT, T_ROCKING, T_ACTIVATE, T_DEACTIVATE = range(4)
+
+
+@njit(cache=True, error_model="numpy")
+def _draw(side_new, k, n_impacts, cfg, draws):
+    """The k-th restitution of the run, for an impact onto `side_new` (`PhaseLoop.draw`);
+    NaN when the random draws have run out."""
+    kind = cfg[CF_R_KIND]
+    corner = cfg[CF_R_RIGHT] if side_new > 0 else cfg[CF_R_LEFT]
+    if kind == R_RANDOM:  # RandomRestitution.value: rng.normal(mean, σ) = mean + σ z
+        if k >= draws.size:
+            return math.nan
+        return min(max(corner + cfg[CF_SIGMA] * draws[k], cfg[CF_FLOOR]), 1.0)
+    if kind == R_TABLE and n_impacts < draws.size:  # EmpiricalRestitution.value
+        return draws[n_impacts]
+    return corner
+
+
+@njit(cache=True, error_model="numpy")
+def _chatters(ring, count, t, window):
+    """`PhaseLoop.note_transition`: append t to the window of the last transitions
+    (`ring`, `count` of them held); True if the guard trips. Returns (trips, count)."""
+    size = ring.size
+    if count == size:
+        for i in range(size - 1):
+            ring[i] = ring[i + 1]
+        ring[size - 1] = t
+    else:
+        ring[count] = t
+        count += 1
+    return count == size and t - ring[0] < window, count
+
+
+@njit(cache=True, error_model="numpy")
+def column_run(
+    t_end,
+    phase0,
+    y0,
+    breakpoints,
+    m,
+    H,
+    K,
+    C_,
+    mp,
+    kind,
+    par,
+    smp,
+    modes,
+    tables,
+    ep0,
+    cfg,
+    draws,
+):
+    """One run of a column from (0, phase0, y0) to t_end, overturning or a failure.
+
+    Parameters
+    ----------
+    t_end : float
+    phase0 : int
+        0 full contact, ±1 rocking.
+    y0 : ndarray
+        [u, θ, u̇, θ̇, D, W_g, W_F] at t = 0.
+    breakpoints : ndarray
+        `PhaseLoop.breakpoints`: the ends of the segments, increasing, the last t_end.
+    m, H, K, C_, mp, kind, par, smp :
+        As `FastPath` (model arrays, scalars, encoded excitation).
+    modes : tuple
+        (phi, w, z, gam, h_max, screen) of `ContactModes` (used if cfg[CF_EXACT]).
+    tables : tuple
+        Per key (T_CONTACT, ...), the tuple (codes, directions, terminal, quiet,
+        guarded) of `multimass.engines.fast.path`'s event tables.
+    ep0, cfg, draws : ndarray
+        Event parameters (`event_params`), options (``CF_*``) and restitution data.
+
+    Returns
+    -------
+    code, t_over, theta_max, n_impacts, n_rhs, energy_balance_error
+        `code` COMPLETED, OVERTURNED, BROKEN (the solver failed or a state was not
+        finite: the Python loop gives the message) or MORE_DRAWS.
+    """
+    n = m.size
+    phi, w, z, gam, h_max, screen = modes
+    has_force = cfg[CF_FORCE] != 0.0
+    tdmin, delay, window = cfg[CF_TDMIN], cfg[CF_DELAY], cfg[CF_WINDOW]
+    ring = np.empty(int(cfg[CF_COUNT]))
+    n_ring = 0
+    ep, fp, t_eval = ep0.copy(), np.zeros(FP_SIZE), np.empty(1)
+    y = y0.copy()
+    t, phase, hold = 0.0, int(phase0), 0.0
+    force_on, fE, fr, fn, fth = False, 0.0, 0.0, 0.0, 0.0
+    k_draw, n_impacts, n_rhs = 0, 0, 0
+    loss, top, t_over = 0.0, 0.0, math.nan
+    code = -1  # running
+    e0 = _total_energy(float(phase), y, m, H, K, mp)  # PhaseLoop: the ledger starts here
+    r_pending = math.nan
+    if phase != 0:
+        top = abs(y[n])  # Recorder.start_phase
+        if has_force:
+            r_pending = _draw(-phase, k_draw, n_impacts, cfg, draws)
+            k_draw += 1
+    while t < t_end and code < 0:
+        if r_pending != r_pending and has_force and phase != 0:  # NaN: out of draws
+            code = MORE_DRAWS
+            break
+        j = 0
+        while breakpoints[j] <= t:  # the first breakpoint after t
+            j += 1
+        t_stop = breakpoints[j]
+        t_eval[0] = t_stop
+        # the phase's events (FastPath.events)
+        ep[EP_R_PENDING], ep[EP_LIMIT] = 0.0, 0.0
+        fp[FP_ON] = fp[FP_E] = fp[FP_R] = fp[FP_N] = 0.0
+        if phase == 0:
+            key, t_start = T_CONTACT, t + max(delay, hold - t)
+        else:
+            key, t_start = T_ROCKING, t + delay
+            if has_force and not force_on:
+                key = T_ACTIVATE
+                ep[EP_R_PENDING] = r_pending
+            elif force_on:
+                key = T_DEACTIVATE
+                ep[EP_LIMIT] = gf.deactivation_angle(cfg[CF_RELEASE], fth)
+                fp[FP_ON], fp[FP_E], fp[FP_R], fp[FP_N] = 1.0, fE, fr, fn
+        codes, dirs, term, quiet, guarded = tables[key]
+        ton = np.empty(codes.size)  # the quiet guard's ends
+        for i in range(codes.size):
+            ton[i] = t_start if guarded[i] else -np.inf
+        if phase == 0 and cfg[CF_EXACT] != 0.0:
+            status, t_new, y_new, ev, nfev, samples, _, _, nt_y = contact_phase(
+                t, t_stop, y, t_eval, m, H, K, C_, mp, codes, dirs, quiet, ton, ep, kind, par,
+                smp, phi, w, z, gam, h_max, screen,
+            )  # fmt: skip
+        else:
+            status, t_new, y_new, ev, nfev, samples, _, _, nt_y = integrate_phase(
+                t, t_stop, y, t_eval, phase, m, H, K, C_, mp, fp, codes, dirs, term, quiet,
+                ton, ep, kind, par, smp, int(cfg[CF_METHOD]), cfg[CF_RTOL], cfg[CF_ATOL],
+                cfg[CF_MAX_STEP],
+            )  # fmt: skip
+        n_rhs += nfev
+        finite = True
+        for i in range(y_new.size):
+            finite = finite and math.isfinite(y_new[i])
+        for r in range(samples.shape[0]):
+            for i in range(samples.shape[1]):
+                finite = finite and math.isfinite(samples[r, i])
+        if status == FAILED or not finite:
+            code = BROKEN
+            break
+        if phase != 0:  # Recorder.segment: the θ̇ = 0 peaks
+            for r in range(nt_y.shape[0]):
+                top = max(top, abs(nt_y[r, n]))
+        if status != EVENT:
+            t = t_stop
+            for i in range(y.size):
+                y[i] = samples[samples.shape[0] - 1, i]
+            continue
+        t = t_new
+        for i in range(y.size):
+            y[i] = y_new[i]
+        ev_code = codes[ev]
+        trips = False
+        if ev_code == EV_UPLIFT_RIGHT or ev_code == EV_UPLIFT_LEFT:  # handle_event: uplift
+            y[n], y[2 * n + 1] = 0.0, 0.0  # θ̇⁺ = 0, u̇⁺ = u̇⁻ (paper 001, Sec 2.3)
+            phase = 1 if ev_code == EV_UPLIFT_RIGHT else -1  # PhaseLoop.start_rocking
+            if has_force:
+                r_pending = _draw(-phase, k_draw, n_impacts, cfg, draws)
+                k_draw += 1
+            trips, n_ring = _chatters(ring, n_ring, t, window)
+        elif ev_code == EV_OVERTURN:
+            top = max(top, abs(y[n]))
+            t_over, code = t, OVERTURNED
+        elif ev_code == EV_ACTIVATE:  # _events._activate
+            E = _total_energy(float(phase), y, m, H, K, mp)
+            thd = y[2 * n + 1]
+            fn = gf.impact_width(
+                E, r_pending, mp[MP_B], mp[MP_MT], mp[MP_G], cfg[CF_CP], thd, cfg[CF_NMIN]
+            )
+            fth = phase * gf.activation_angle(cfg[CF_Z], fn)
+            force_on, fE, fr = True, E, r_pending
+        elif ev_code == EV_DEACTIVATE:
+            force_on = False
+        elif ev_code == EV_ZERO:  # _events._at_zero: next_phase_is_rocking, then at_zero
+            side_old, side_new, thd = phase, -phase, y[2 * n + 1]
+            r = fr if force_on else math.nan
+            y[n] = 0.0
+            force_on = False
+            L_new = _pivot_momentum(y, m, H, mp)
+            rocks = im.next_phase_is_rocking(side_new, L_new, thd, tdmin)
+            if not has_force:
+                r = 1.0
+                if rocks:
+                    r = _draw(side_new, k_draw, n_impacts, cfg, draws)
+                    k_draw += 1
+                    if r != r:
+                        code = MORE_DRAWS
+                        break
+            elif r != r:
+                r = 1.0
+            before = _total_energy(float(side_old), y, m, H, K, mp)
+            if rocks:  # ImpactModel.at_zero: a new half-cycle (CIM: classical_rebound)
+                phase = side_new
+                if not has_force:
+                    y[2 * n + 1] = im.classical_rebound(thd, r)
+                n_impacts += 1
+            else:  # to full contact (full_contact_velocities)
+                ud = im.full_contact_velocities(H, y[n + 1 : 2 * n + 1], thd)
+                for i in range(n):
+                    y[n + 1 + i] = ud[i]
+                y[2 * n + 1] = 0.0
+                phase = 0
+            loss += before - _total_energy(float(phase), y, m, H, K, mp)
+            if phase != 0 and has_force:
+                r_pending = _draw(-phase, k_draw, n_impacts, cfg, draws)
+                k_draw += 1
+            trips, n_ring = _chatters(ring, n_ring, t, window)
+        if trips:  # PhaseLoop.trip_guard: full contact for one window
+            before = _total_energy(float(phase), y, m, H, K, mp)
+            if phase != 0:
+                top = max(top, abs(y[n]))  # Recorder.end_phase
+                ud = im.full_contact_velocities(H, y[n + 1 : 2 * n + 1], y[2 * n + 1])
+                for i in range(n):
+                    y[n + 1 + i] = ud[i]
+            y[n], y[2 * n + 1] = 0.0, 0.0
+            loss += before - _total_energy(0.0, y, m, H, K, mp)
+            n_ring = 0
+            phase, force_on, hold = 0, False, t + window
+    if code == BROKEN or code == MORE_DRAWS:
+        return code, math.nan, 0.0, 0, n_rhs, 0.0
+    if phase != 0:  # Recorder.finish closes the last half-cycle
+        top = max(top, abs(y[n]))
+    E = _total_energy(float(phase), y, m, H, K, mp)
+    D, Wg, WF = y[2 * n + 2], y[2 * n + 3], y[2 * n + 4]
+    balance = E + D + WF + loss - Wg - e0  # PhaseLoop.end_balance_error
+    err = abs(balance) / max(abs(e0), abs(Wg), abs(E), cfg[CF_FLOOR_E], 1e-300)
+    return (OVERTURNED if code == OVERTURNED else COMPLETED), t_over, top, n_impacts, n_rhs, err

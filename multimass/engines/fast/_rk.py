@@ -1,0 +1,358 @@
+"""Compiled explicit Runge–Kutta steps, dense output, event roots and first step.
+
+These are the pieces of `._kernel.integrate_phase`, the compiled counterpart of
+one ``solve_ivp`` call of `multimass.engines._run._Run.integrate`. They follow the
+algorithm of SciPy's explicit Runge–Kutta solvers so that, at the same `rtol`,
+`atol` and `max_step`, the kernel takes essentially the same steps and finds
+the same events:
+
+* the Butcher tableaus are SciPy's own arrays (RK23, RK45 = Dormand–Prince
+  5(4), DOP853 with its 7th-order dense output), read at import;
+* the first step is chosen as in Hairer, Nørsett & Wanner, *Solving ODEs I*,
+  Sec. II.4 (also SciPy's choice), and the step size is controlled with the
+  RMS error norm, safety factor 0.9 and growth bounded to [0.2, 10] (10 is
+  not allowed straight after a rejection); DOP853 uses its combined 5th/3rd
+  order error estimate (Hairer's DOP853);
+* after each accepted step every event function is evaluated; an event is
+  active when its sign changes in its `direction` (0: either way); its root
+  is found on the dense output by Brent's method to 4 ε in t; the earliest
+  terminal root ends the phase, and non-terminal roots before it (θ̇ = 0
+  peaks) are returned;
+* the output grid `t_eval` is filled from the dense output of the step
+  that covers each time.
+
+Differences from the reference start at round-off (sums are accumulated in
+loops, not by BLAS). A rigid block then takes the very same steps (states agree
+to ~1e-15). The bundled columns are integrated near the stability limit of the
+explicit pair, where a round-off difference can flip one accept/reject
+decision; from there the two step sequences differ and so do the results, by
+the integrator's own error: for S1, DD2, 10 s, event times within 1e-9 s and
+peaks within 1e-11 rad of each other and of a tight reference
+(benchmarks/fast_path.py; the tests allow 1e-7 s and 1e-6 rad).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+from scipy.integrate._ivp import dop853_coefficients as _dop
+from scipy.integrate._ivp.rk import RK23, RK45
+
+from ._maths import event_value, rhs, rhs_call
+
+__all__ = ["METHOD_CODES", "OK", "EVENT", "FAILED", "zeroin_next"]
+
+#: Methods the compiled path supports, by solve_ivp name.
+METHOD_CODES = {"RK23": 0, "RK45": 1, "DOP853": 2}
+_DOP = 2
+
+# return status of integrate_phase
+OK = 0  # reached t_stop
+EVENT = 1  # a terminal event ended the phase
+FAILED = -1  # the step size fell below the spacing of floats near t
+
+_SAFETY, _MIN_FACTOR, _MAX_FACTOR = 0.9, 0.2, 10.0
+_EPS = float(np.finfo(float).eps)
+_MAX_BRENT = 100
+
+# tableaus (SciPy's arrays; numba freezes module-level arrays as constants)
+_A3, _B3, _C3, _E3, _P3 = (
+    np.ascontiguousarray(RK23.A, dtype=np.float64),
+    RK23.B.astype(float),
+    RK23.C.astype(float),
+    RK23.E.astype(float),
+    np.ascontiguousarray(RK23.P, dtype=np.float64),
+)
+_A5, _B5, _C5, _E5, _P5 = (
+    np.ascontiguousarray(RK45.A, dtype=np.float64),
+    RK45.B.astype(float),
+    RK45.C.astype(float),
+    RK45.E.astype(float),
+    np.ascontiguousarray(RK45.P, dtype=np.float64),
+)
+_NS8 = _dop.N_STAGES
+_A8 = np.ascontiguousarray(_dop.A, dtype=np.float64)  # 16 × 16, extra stages below
+_B8 = np.ascontiguousarray(_dop.B, dtype=np.float64)
+_C8 = np.ascontiguousarray(_dop.C, dtype=np.float64)
+_E8_3 = np.ascontiguousarray(_dop.E3, dtype=np.float64)
+_E8_5 = np.ascontiguousarray(_dop.E5, dtype=np.float64)
+_D8 = np.ascontiguousarray(_dop.D, dtype=np.float64)  # 4 × 16
+_NEXT8 = _dop.N_STAGES_EXTENDED
+
+
+@njit(cache=True, error_model="numpy")
+def _rms(v, scale):
+    acc = 0.0
+    for j in range(v.size):
+        x = v[j] / scale[j]
+        acc += x * x
+    return math.sqrt(acc) / math.sqrt(v.size)
+
+
+@njit(cache=True, error_model="numpy")
+def _rk_step(t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, m, H, K, C_, mp, fp, kind, par, smp):
+    """One explicit RK step of size h: stages in Kst[0..ns], solution in ynew."""
+    ny = y.size
+    for j in range(ny):
+        Kst[0, j] = f[j]
+    # stages 1 … ns-1, then (s = ns) the solution and its slope: one call site of the
+    # inlined rhs (each inlined copy costs seconds of compile time)
+    # Each sum runs over k in order, as scipy's dot products; the loop over the components
+    # j is the inner one, so the components' sums advance together (vectorised).
+    for s in range(1, ns + 1):
+        if s < ns:
+            for j in range(ny):
+                ytmp[j] = 0.0
+            for k in range(s):
+                a = A[s, k]
+                for j in range(ny):
+                    ytmp[j] += Kst[k, j] * a
+            for j in range(ny):
+                ytmp[j] = y[j] + ytmp[j] * h
+            ts, ys = t + C[s] * h, ytmp
+        else:
+            for j in range(ny):
+                ynew[j] = 0.0
+            for k in range(ns):
+                b = Bw[k]
+                for j in range(ny):
+                    ynew[j] += Kst[k, j] * b
+            for j in range(ny):
+                ynew[j] = y[j] + h * ynew[j]
+            ts, ys = t + h, ynew
+        rhs(ts, ys, Kst[s], side, m, H, K, C_, mp, fp, kind, par, smp)
+
+
+@njit(cache=True, error_model="numpy")
+def _error_norm(method, Kst, h, scale, ns, ytmp):
+    ny = scale.size
+    if method == _DOP:
+        e5 = 0.0
+        e3 = 0.0
+        for j in range(ny):
+            a5 = 0.0
+            a3 = 0.0
+            for k in range(ns + 1):
+                a5 += Kst[k, j] * _E8_5[k]
+                a3 += Kst[k, j] * _E8_3[k]
+            a5 /= scale[j]
+            a3 /= scale[j]
+            e5 += a5 * a5
+            e3 += a3 * a3
+        if e5 == 0.0 and e3 == 0.0:
+            return 0.0
+        return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * ny)
+    E = _E3 if method == 0 else _E5
+    for j in range(ny):
+        acc = 0.0
+        for k in range(ns + 1):
+            acc += Kst[k, j] * E[k]
+        ytmp[j] = acc * h
+    return _rms(ytmp, scale)
+
+
+@njit(cache=True, error_model="numpy")
+def _dense_prepare(
+    method, t_old, h, y_old, ynew, Kst, ns, Q, ytmp, side, m, H, K, C_, mp, fp, kind, par, smp
+):
+    """Coefficients Q of the interpolant over the last step; returns RHS calls made."""
+    ny = y_old.size
+    if method != _DOP:
+        P = _P3 if method == 0 else _P5
+        for j in range(ny):
+            for p in range(P.shape[1]):
+                acc = 0.0
+                for k in range(ns + 1):
+                    acc += Kst[k, j] * P[k, p]
+                Q[p, j] = acc
+        return 0
+    for s in range(ns + 1, _NEXT8):  # DOP853's extra stages
+        for j in range(ny):
+            acc = 0.0
+            for k in range(s):
+                acc += Kst[k, j] * _A8[s, k]
+            ytmp[j] = y_old[j] + acc * h
+        rhs_call(t_old + _C8[s] * h, ytmp, Kst[s], side, m, H, K, C_, mp, fp, kind, par, smp)
+    for j in range(ny):
+        dy = ynew[j] - y_old[j]
+        Q[0, j] = dy
+        Q[1, j] = h * Kst[0, j] - dy
+        Q[2, j] = 2.0 * dy - h * (Kst[ns, j] + Kst[0, j])
+        for i in range(4):
+            acc = 0.0
+            for k in range(_NEXT8):
+                acc += _D8[i, k] * Kst[k, j]
+            Q[3 + i, j] = h * acc
+    return _NEXT8 - ns - 1
+
+
+@njit(cache=True, error_model="numpy")
+def _dense_eval(method, t, t_old, h, y_old, Q, out):
+    """The interpolant at t (SciPy's RkDenseOutput / Dop853DenseOutput)."""
+    x = (t - t_old) / h
+    ny = y_old.size
+    if method != _DOP:
+        q = 3 if method == 0 else 4
+        for j in range(ny):
+            acc = 0.0
+            p = 1.0
+            for i in range(q):
+                p *= x
+                acc += Q[i, j] * p
+            out[j] = y_old[j] + h * acc
+        return
+    for j in range(ny):
+        v = 0.0
+        for i in range(7):
+            v += Q[6 - i, j]
+            v *= x if i % 2 == 0 else 1.0 - x
+        out[j] = v + y_old[j]
+
+
+@njit(cache=True, error_model="numpy")
+def zeroin_next(a, fa, b, fb, c, fc, d, e):
+    """One iteration of Brent's zeroin (tolerance 4 ε in t), without the evaluation.
+
+    The caller holds the state (a, fa, b, fb, c, fc, d, e), starting from
+    ``c, fc, d, e = b, fb, b - a, b - a`` with f(a), f(b) of opposite signs, and
+    evaluates f at the point proposed. Returns (done, a, fa, b, c, fc, d, e): when
+    `done`, `b` is the root; otherwise f is wanted at the new `b` (and `a`, `fa`
+    are the previous `b`, `fb`). Brent's method, as SciPy's brentq.
+    """
+    if (fb > 0.0) == (fc > 0.0):  # keep the root between b and c
+        c, fc = a, fa
+        d = b - a
+        e = d
+    if abs(fc) < abs(fb):  # b is the best estimate
+        a, fa = b, fb
+        b, fb = c, fc
+        c, fc = a, fa
+    tol1 = 0.5 * (4.0 * _EPS + 4.0 * _EPS * abs(b))
+    xm = 0.5 * (c - b)
+    if abs(xm) < tol1 or fb == 0.0:
+        return True, a, fa, b, c, fc, d, e
+    if abs(e) >= tol1 and abs(fa) > abs(fb):
+        s = fb / fa
+        if a == c:  # secant
+            p = 2.0 * xm * s
+            q = 1.0 - s
+        else:  # inverse quadratic interpolation
+            q = fa / fc
+            r = fb / fc
+            p = s * (2.0 * xm * q * (q - r) - (b - a) * (r - 1.0))
+            q = (q - 1.0) * (r - 1.0) * (s - 1.0)
+        if p > 0.0:
+            q = -q
+        p = abs(p)
+        if 2.0 * p < min(3.0 * xm * q - abs(tol1 * q), abs(e * q)):
+            e = d
+            d = p / q
+        else:  # bisection
+            d = xm
+            e = d
+    else:
+        d = xm
+        e = d
+    a, fa = b, fb
+    b += d if abs(d) > tol1 else math.copysign(tol1, xm)
+    return False, a, fa, b, c, fc, d, e
+
+
+@njit(cache=True, error_model="numpy")
+def _brent(
+    code,
+    a,
+    b,
+    t_on,
+    quiet,
+    method,
+    t_old,
+    h,
+    y_old,
+    Q,
+    ytmp,
+    side,
+    m,
+    H,
+    K,
+    C_,
+    mp,
+    ep,
+    kind,
+    par,
+    smp,
+):
+    """Root of event `code` on the dense output in [a, b] (`zeroin_next`).
+
+    The end values bracket a root by construction (signs at the step ends);
+    if round-off in the interpolant at `b` spoils the bracket, `b` is the root.
+    """
+    _dense_eval(method, a, t_old, h, y_old, Q, ytmp)
+    fa = event_value(code, a, ytmp, t_on, quiet, side, m, H, K, C_, mp, ep, kind, par, smp)
+    _dense_eval(method, b, t_old, h, y_old, Q, ytmp)
+    fb = event_value(code, b, ytmp, t_on, quiet, side, m, H, K, C_, mp, ep, kind, par, smp)
+    if fa == 0.0:
+        return a
+    if fb == 0.0 or (fa > 0.0) == (fb > 0.0):
+        return b
+    c, fc, d, e = b, fb, b - a, b - a
+    for _ in range(_MAX_BRENT):
+        done, a, fa, b, c, fc, d, e = zeroin_next(a, fa, b, fb, c, fc, d, e)
+        if done:
+            return b
+        _dense_eval(method, b, t_old, h, y_old, Q, ytmp)
+        fb = event_value(code, b, ytmp, t_on, quiet, side, m, H, K, C_, mp, ep, kind, par, smp)
+    return b
+
+
+@njit(cache=True, error_model="numpy")
+def _first_step(
+    t0,
+    y0,
+    f0,
+    t_bound,
+    max_step,
+    order,
+    rtol,
+    atol,
+    ytmp,
+    f1,
+    side,
+    m,
+    H,
+    K,
+    C_,
+    mp,
+    fp,
+    kind,
+    par,
+    smp,
+):
+    """Initial step (Hairer, Nørsett & Wanner I, Sec. II.4)."""
+    ny = y0.size
+    span = abs(t_bound - t0)
+    d0 = 0.0
+    d1 = 0.0
+    for j in range(ny):
+        sc = atol + abs(y0[j]) * rtol
+        d0 += (y0[j] / sc) ** 2
+        d1 += (f0[j] / sc) ** 2
+    d0 = math.sqrt(d0) / math.sqrt(ny)
+    d1 = math.sqrt(d1) / math.sqrt(ny)
+    h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
+    h0 = min(h0, span)
+    for j in range(ny):
+        ytmp[j] = y0[j] + h0 * f0[j]
+    rhs_call(t0 + h0, ytmp, f1, side, m, H, K, C_, mp, fp, kind, par, smp)
+    d2 = 0.0
+    for j in range(ny):
+        sc = atol + abs(y0[j]) * rtol
+        d2 += ((f1[j] - f0[j]) / sc) ** 2
+    d2 = math.sqrt(d2) / math.sqrt(ny) / h0
+    if d1 <= 1e-15 and d2 <= 1e-15:
+        h1 = max(1e-6, h0 * 1e-3)
+    else:
+        h1 = (0.01 / max(d1, d2)) ** (1.0 / (order + 1))
+    return min(100.0 * h0, h1, span, max_step)
