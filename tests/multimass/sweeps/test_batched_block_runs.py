@@ -313,6 +313,16 @@ def test_unequal_corners_restitute_the_impacting_corner_as_simulate_outcome():
     hit = got.n_impacts > 0
     changed = (swapped.outcome != got.outcome) | (np.abs(swapped.theta_max - got.theta_max) > 1e-6)
     assert hit.sum() >= 20 and changed[hit].mean() > 0.5
+    # the solve_ivp per-run path (Python transitions, SciPy's integrator) on every 4th
+    # run: the same outcomes and impacts, θ_max within the solvers' rtol (1e-8)
+    some = range(0, len(t_end), 4)
+    scipy = _reference(st, [excitations[i] for i in some], [t_end[i] for i in some],
+                       options | dict(backend="scipy"))  # fmt: skip
+    assert [r.outcome for r in scipy] == [
+        "overturned" if got.overturned[i] else "completed" for i in some
+    ]
+    assert [r.n_impacts for r in scipy] == got.n_impacts[list(some)].tolist()
+    np.testing.assert_allclose([r.theta_max for r in scipy], got.theta_max[list(some)], atol=1e-8)
     # the reference's impacts, one by one: r of the corner struck (the new pivot)
     i = int(np.argmax(got.n_impacts * (got.outcome != block_runs.OUTCOMES.index("overturned"))))
     full = multimass.simulate(st, excitations[i], "CIM", t_end[i], **_simulate_options(options))
