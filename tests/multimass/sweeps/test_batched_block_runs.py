@@ -316,8 +316,8 @@ def test_unequal_corners_restitute_the_impacting_corner_as_simulate_outcome():
     # the solve_ivp per-run path (Python transitions, SciPy's integrator) on every 4th
     # run: the same outcomes and impacts, θ_max within the solvers' rtol (1e-8)
     some = range(0, len(t_end), 4)
-    scipy = _reference(st, [excitations[i] for i in some], [t_end[i] for i in some],
-                       options | dict(backend="scipy"))  # fmt: skip
+    scipy_options = options | dict(backend="scipy")
+    scipy = _reference(st, [excitations[i] for i in some], [t_end[i] for i in some], scipy_options)
     assert [r.outcome for r in scipy] == [
         "overturned" if got.overturned[i] else "completed" for i in some
     ]
