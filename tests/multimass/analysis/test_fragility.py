@@ -134,3 +134,72 @@ def test_single_level_is_not_identifiable():
 def test_bad_input_is_a_named_error(levels, n, k, match):
     with pytest.raises(InputError, match=match):
         fit_lognormal(levels, n, k)
+
+
+# Counts with levels mostly above the median, so that the estimates of ln θ and ln β are
+# strongly correlated (ρ ≈ −0.56): the band's width then depends on the covariance term.
+# 400 runs a level keep the asymptotic (linearised) band close to the Monte Carlo below.
+X_CORR = np.geomspace(0.5, 2.0, 6)
+N_CORR = 400
+K_CORR = np.round(N_CORR * norm.cdf(np.log(X_CORR / 0.6) / 0.5)).astype(int)
+X_BAND = np.array([0.2, 0.4, 0.8, 1.6, 3.2])
+
+
+def _correlated_fit():
+    fit = fit_lognormal(X_CORR, N_CORR, K_CORR)
+    assert fit.converged
+    c = fit.cov
+    assert c[0, 1] / math.sqrt(c[0, 0] * c[1, 1]) < -0.5  # the term under test is large
+    return fit
+
+
+def test_fisher_band_is_the_delta_method_of_the_probit_argument():
+    """The asymptotic band of P(exceed | x) = Φ(z), z = (ln x − ln θ)/β, is
+    Φ(ẑ ± q σ_z) with σ_z² from the delta method (Baker 2015's lognormal model, delta
+    method written here by hand): J = ∂z/∂(ln θ, ln β) = (−1/β, −z), and
+
+        σ_z² = J Σ Jᵀ = Σ₁₁/β² + 2 (−1/β)(−z) Σ₁₂ + z² Σ₂₂
+
+    with Σ the fit's covariance of (ln θ, ln β) and the off-diagonal term counted twice.
+    Reference: this formula, evaluated here, not the band's own (a, b) parametrisation."""
+    fit = _correlated_fit()
+    level = 0.9
+    q = norm.ppf(0.5 + level / 2)  # 1.6449, the two-sided 90 % normal quantile
+    band = fit.confidence(level, X_BAND)
+    S = fit.cov
+    z = (np.log(X_BAND) - math.log(fit.theta)) / fit.beta
+    j_t, j_b = -1.0 / fit.beta, -z
+    var = j_t**2 * S[0, 0] + 2.0 * j_t * j_b * S[0, 1] + j_b**2 * S[1, 1]
+    s = np.sqrt(var)
+    np.testing.assert_allclose(band.lower, norm.cdf(z - q * s), rtol=1e-10)
+    np.testing.assert_allclose(band.upper, norm.cdf(z + q * s), rtol=1e-10)
+    # the covariance term matters here: with it counted once the width differs by > 5 %
+    once = np.sqrt(j_t**2 * S[0, 0] + j_t * j_b * S[0, 1] + j_b**2 * S[1, 1])
+    assert np.max(np.abs(once / s - 1.0)) > 0.05
+
+
+def test_fisher_band_width_matches_a_monte_carlo_from_the_covariance():
+    """Draw (ln θ, ln β) from the normal of the fit's mean and covariance (seeded,
+    4e5 draws) and take the 5 % and 95 % quantiles of z = (ln x − ln θ)/β at each x: the
+    width of the asymptotic 90 % band on the probit scale, Φ⁻¹(upper) − Φ⁻¹(lower), is
+    that interquantile range within Monte Carlo error (reference: this Monte Carlo).
+
+    The width is compared, not each edge: z is nonlinear in ln β, which shifts the Monte
+    Carlo quantiles together by up to 7 % of σ_z at the outer levels (the delta method
+    linearises it) but changes their distance by < 0.3 %. The quantiles' own standard
+    error is ≈ 0.4 % of the width here, so 1.5 % is ~4 standard errors."""
+    fit = _correlated_fit()
+    level = 0.9
+    band = fit.confidence(level, X_BAND)
+    rng = np.random.default_rng(20)
+    mean = [math.log(fit.theta), math.log(fit.beta)]
+    draws = rng.multivariate_normal(mean, fit.cov, size=400_000)
+    z = (np.log(X_BAND)[None, :] - draws[:, :1]) / np.exp(draws[:, 1:])
+    lo, hi = np.quantile(z, [(1 - level) / 2, (1 + level) / 2], axis=0)
+    width = norm.ppf(band.upper) - norm.ppf(band.lower)
+    np.testing.assert_allclose(width, hi - lo, rtol=0.015)
+    # the band's centre is the fitted curve's probit argument, near the Monte Carlo median
+    centre = 0.5 * (norm.ppf(band.upper) + norm.ppf(band.lower))
+    zhat = (np.log(X_BAND) - mean[0]) / fit.beta
+    np.testing.assert_allclose(centre, zhat, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(np.median(z, axis=0), zhat, atol=0.1 * width.max())

@@ -1,8 +1,9 @@
-"""Paper 001's uplift condition (Eq 8) and the Dirac-delta width (Eq 15), pinned by
-hand-computed states (issue 12: both were held only by a broad chatter count).
+"""Paper 001's transition rules pinned by hand-computed states: the uplift condition
+(Eq 8), the next phase at θ = 0 (Eq 9), the drop to full contact (Eq 10) and the
+Dirac-delta width (Eq 15); and Eq 10's conserved horizontal velocities in a run.
 
 The reference numbers are worked out by hand in the comments, from the paper's formulas,
-for a one-node structure whose matrices are written here, not built by the code.
+for one- and two-node structures whose matrices are written here, not built by the code.
 """
 
 import math
@@ -16,6 +17,7 @@ from multimass.engines._run import State
 from multimass.engines.fast import _maths as mx
 from multimass.engines.fast.path import FastPath
 from multimass.impact_models import impact_model
+from multimass.impact_models.models import full_contact_velocities, next_phase_is_rocking
 from multimass.model import kinematics as kin
 from multimass.model._phase import Model
 from multimass.model.structure import Structure
@@ -213,3 +215,148 @@ def test_a_dirac_delta_impact_at_zero_changes_the_energy_only_by_the_pivot_switc
         expected = 2.0 * e.phase_before * st.B * smu * e.thetadot_minus**2
         assert e.energy_change == pytest.approx(expected, rel=5e-3, abs=1e-5)
     assert {np.sign(e.energy_change) for e in impacts} == {-1.0, 1.0}
+
+
+# ---- Eqs 9 and 10: the transition at θ = 0, by hand on a two-node column -------------------
+
+
+def two_node() -> Structure:
+    """m = (40, 60) kg at H = (0.5, 1.2) m; base m0 = 20 kg at h0 = 0, J0 = 3 kg m²,
+    B = 0.25 m. J_p = Σ m (B² + H²) + m0 B² + J0 = 12.5 + 90.15 + 1.25 + 3 = 106.9 kg m²."""
+    return Structure(
+        name="two",
+        H=np.array([0.5, 1.2]),
+        m=np.array([40.0, 60.0]),
+        m0=20.0,
+        J0=3.0,
+        B=0.25,
+        g=G,
+        K=np.array([[2.0e4, -1.0e4], [-1.0e4, 1.0e4]]),
+        C=np.zeros((2, 2)),
+    )
+
+
+def _momentum_about_new_pivot_by_hand(u, ud, thd):
+    """Angular momentum about the impending pivot P' at θ = 0, in the sense of θ, of
+    `two_node` (paper 001, Eq 9's L_p^r), from first principles.
+
+    Rocking about P (the right pivot, x = +B), node i sits at (u_i − B, H_i) from P and moves
+    with (u̇_i + H_i θ̇, (B − u_i) θ̇) at θ = 0 (θ clockwise); P' is 2B to the left of P, so
+    the node is at (u_i + B, H_i) from P' and its moment of momentum in the sense of θ is
+    m_i [H_i (u̇_i + H_i θ̇) − (u_i + B)(B − u_i) θ̇] = m_i [H_i u̇_i + θ̇ (H_i² + u_i² − B²)].
+    The base (m0 at P's level, midway, J0) adds θ̇ (J0 − m0 B²). About the left pivot
+    the same sum follows with the signs of B swapped, so L is the same for either side.
+    """
+    m, H, B, m0, J0 = np.array([40.0, 60.0]), np.array([0.5, 1.2]), 0.25, 20.0, 3.0
+    nodes = np.sum(m * (H * ud + thd * (H**2 + u**2 - B**2)))
+    return float(nodes + thd * (J0 - m0 * B**2))
+
+
+U_RIGHT = np.array([0.002, 0.005])  # m, the elastic displacements at θ = 0
+
+
+@pytest.mark.parametrize(
+    "side_old, u, ud, thd, L, rocks",
+    [
+        # θ̇⁻ = −0.5 after a half-cycle on the right pivot (new pivot: left, −1). Hand sums:
+        # Σ m H u̇ = 40·0.5·0.3 + 60·1.2·0.8 = 63.6; the θ̇ coefficient Σ m (H² + u² − B²)
+        # + J0 − m0 B² = 96.4 + 0.00166 − 7.5 + 3 = 91.90166, so L = 63.6 − 45.95083.
+        # −L < 0: the momentum about P' turns against the new half-cycle → full contact,
+        # although −θ̇⁻ = 0.5 > θ̇_min (only Eq 9's momentum condition decides).
+        (1, U_RIGHT, [0.3, 0.8], -0.5, 17.64917, False),
+        # u̇ = (0.1, 0.2): Σ m H u̇ = 2 + 14.4 = 16.4, L = 16.4 − 45.95083 = −29.55083 → rocks
+        (1, U_RIGHT, [0.1, 0.2], -0.5, -29.55083, True),
+        # θ̇⁻ = −0.005: L = −16.4 − 0.4595083 has the right sign but −θ̇⁻ < θ̇_min = 0.01
+        (1, U_RIGHT, [-0.1, -0.2], -0.005, -16.8595083, False),
+        # the mirror images on the left pivot (new pivot: right, +1): the same verdicts
+        (-1, -U_RIGHT, [-0.3, -0.8], 0.5, -17.64917, False),
+        (-1, -U_RIGHT, [-0.1, -0.2], 0.5, 29.55083, True),
+    ],
+)
+def test_eq9_next_phase_by_hand(side_old, u, ud, thd, L, rocks):
+    """Paper 001, Eq 9: a new half-cycle about the impending pivot ± needs ±L_p^r ≥ 0 and
+    ±θ̇⁻ > θ̇_min; otherwise full contact. L_p^r worked by hand (see the cases' comments and
+    `_momentum_about_new_pivot_by_hand`); the code's L and its verdict must agree."""
+    st, ud = two_node(), np.asarray(ud, dtype=float)
+    assert st.J_p == pytest.approx(106.9, rel=1e-14)
+    assert _momentum_about_new_pivot_by_hand(u, ud, thd) == pytest.approx(L, rel=1e-12)
+    assert kin.angular_momentum_new_pivot(st, u, ud, thd) == pytest.approx(L, rel=1e-12)
+    side_new = -side_old
+    assert next_phase_is_rocking(side_new, L, thd, 0.01) is rocks
+    for model in (
+        impact_model("CIM", None, restitution=0.8),
+        impact_model("DD2", None, restitution=0.8),
+    ):
+        tr = model.at_zero(st.H, side_old, L, ud, thd, 0.8, 0.01)
+        assert tr.phase == (side_new if rocks else 0)
+        assert tr.kind == ("impact" if rocks else "full_contact")
+
+
+def test_eq9_momentum_exactly_zero_still_rocks():
+    # paper 001, Eq 9 writes ±L_p^r ≥ 0: the boundary belongs to the new half-cycle
+    assert next_phase_is_rocking(-1, 0.0, -0.5, 0.01)
+    assert next_phase_is_rocking(1, 0.0, 0.5, 0.01)
+    assert not next_phase_is_rocking(-1, 1e-12, -0.5, 0.01)
+
+
+def test_eq10_full_contact_keeps_each_node_horizontal_velocity_by_hand():
+    """Paper 001, Eq 10: a drop to full contact keeps each node's horizontal momentum and
+    loses the vertical: θ̇⁺ = 0 and u̇⁺ = u̇⁻ + H θ̇⁻. At θ = 0 node i moves horizontally
+    with u̇_i + H_i θ̇ while rocking (`_momentum_about_new_pivot_by_hand`) and with u̇_i in
+    full contact. First case of `test_eq9_next_phase_by_hand`: u̇⁻ = (0.3, 0.8) m/s,
+    θ̇⁻ = −0.5 rad/s, H = (0.5, 1.2) m → u̇⁺ = (0.3 − 0.25, 0.8 − 0.6) = (0.05, 0.2) m/s."""
+    st, ud, thd = two_node(), np.array([0.3, 0.8]), -0.5
+    np.testing.assert_allclose(full_contact_velocities(st.H, ud, thd), [0.05, 0.2], rtol=1e-14)
+    for model in (
+        impact_model("CIM", None, restitution=0.8),
+        impact_model("DD2", None, restitution=0.8),
+    ):
+        tr = model.at_zero(st.H, 1, 17.64917, ud, thd, 0.8, 0.01)
+        assert tr.phase == 0 and tr.thetadot == 0.0
+        np.testing.assert_allclose(tr.udot, [0.05, 0.2], rtol=1e-14)
+    # a new half-cycle instead (Eq 11 classical, Eq 12 Dirac-delta): u̇ kept, θ̇⁺ = r θ̇⁻ or θ̇⁻
+    cim = impact_model("CIM", None, restitution=0.8).at_zero(st.H, 1, -1.0, ud, thd, 0.8, 0.01)
+    assert cim.thetadot == pytest.approx(-0.4, rel=1e-15)
+    np.testing.assert_array_equal(cim.udot, ud)
+    dd = impact_model("DD2", None, restitution=0.8).at_zero(st.H, 1, -1.0, ud, thd, 0.8, 0.01)
+    assert dd.thetadot == thd
+    np.testing.assert_array_equal(dd.udot, ud)
+
+
+@pytest.mark.parametrize("backend", ["compiled", "scipy"])
+def test_eq10_horizontal_node_velocities_are_continuous_across_full_contact(backend):
+    """In a run, u̇ + H θ̇ (each node's horizontal velocity relative to the ground, paper
+    001 Eq 10's conserved quantity) does not jump at a drop to full contact: the series
+    holds the state just before (rocking) and just after (full contact) at the event's
+    time, and u̇⁺ = u̇⁻ + H θ̇⁻ there to round-off; the samples on either side (1e-4 s
+    apart) differ by far less than the H θ̇⁻ that a lost term would make jump.
+    S1 (paper 001, Table 1) released from 0.05 rad, CIM: first drops at 1.12 s."""
+    import multimass
+
+    st = multimass.column("S1")
+    r = multimass.simulate(
+        st, multimass.FreeRelease(0.05), "CIM", 1.6, backend=backend, output_dt=1e-4,
+        progress=False,
+    )  # fmt: skip
+    drops = [e for e in r.events if e.kind == "full_contact"]
+    assert len(drops) >= 2
+    df = r.series
+    t = df.t.to_numpy()
+    ud = df[[f"udot{i + 1}" for i in range(st.n)]].to_numpy()
+    v = ud + np.outer(df.thetadot.to_numpy(), st.H)  # u̇ + H θ̇, per node
+    for e in drops:
+        at = np.flatnonzero(np.abs(t - e.time) <= 1e-12)
+        assert len(at) == 2, at
+        pre, post = at
+        assert df.phase.iloc[pre] == e.phase_before != 0 and df.phase.iloc[post] == 0
+        assert df.thetadot.iloc[pre] == pytest.approx(e.thetadot_minus, rel=1e-12)
+        assert df.thetadot.iloc[post] == 0.0
+        np.testing.assert_allclose(ud[post], ud[pre] + st.H * e.thetadot_minus, atol=1e-12)
+        np.testing.assert_allclose(v[post], v[pre], atol=1e-12)
+    # the first drop is a large one: H θ̇⁻ at the top node 1.93 m × 0.196 rad/s = 0.38 m/s
+    # (what a lost H θ̇ term would make jump); over the neighbouring samples u̇ + H θ̇
+    # changes by < 5 % of it (it moves smoothly, as on either side of the event)
+    pre, post = np.flatnonzero(np.abs(t - drops[0].time) <= 1e-12)
+    jump = np.abs(st.H * drops[0].thetadot_minus)
+    assert jump.max() > 0.3
+    assert np.max(np.abs(v[post + 1] - v[pre - 1])) < 0.05 * jump.max()

@@ -22,6 +22,7 @@ from multimass import CosinePulse, CosineWave, FreeRelease, MPPulse, MPShape, Ri
 from multimass.engines._rigid import uplift_threshold
 from multimass.engines.fast import block_runs
 from multimass.errors import InputError
+from multimass.impact_models import CornerRestitution
 from multimass.inputs.records import Record, read_record
 from multimass.simulation import simulate_outcome
 from multimass.sweeps import block_outcomes
@@ -285,3 +286,54 @@ def test_stop_when_safe_keeps_theta_max_over_a_sine_map():
     np.testing.assert_array_equal(early.overturned, full.overturned)
     np.testing.assert_allclose(early.theta_max, full.theta_max, rtol=1e-7, atol=0.0)
     assert np.sum(early.n_rhs < full.n_rhs) >= 20  # the rule is exercised
+
+
+def test_unequal_corners_restitute_the_impacting_corner_as_simulate_outcome():
+    """Restitution fixed per corner (paper 001, Table 1's r̄_er right, r̄_el left), here
+    0.95 and 0.7: an impact that starts rocking about the right pivot (the right corner
+    strikes) takes 0.95, one onto the left corner 0.7. The batch must take the impacting
+    corner's value, as the per-run path does; reference: one `simulate_outcome` per run
+    (the same compiled solver: equal to 1e-12, see the module docstring). The per-run
+    path's own choice is checked against the definition on a full run's impact log."""
+    st = multimass.rigid_block("B6M")
+    excitations, _ = _mp_runs(st, 40, seed=4)
+    excitations += _sine_map(st, 5)
+    options = CIM | dict(restitution=CornerRestitution(0.95, 0.7))
+    t_end = [e.duration + 5.0 for e in excitations]
+    runs = block_runs.BlockRuns.of_runs(st, options)
+    assert runs is not None and runs.r_pair == (0.95, 0.7)
+    got = block_runs.run_excitations(runs, excitations, t_end)
+    want = _reference(st, excitations, t_end, options)
+    _assert_same(got, want)
+    outcomes = set(got.outcome.tolist())
+    assert {block_runs.OUTCOMES.index(o) for o in ("rest", "overturned")} <= outcomes
+    # the corners matter in these runs: with them swapped (the restitution of the pivot
+    # before the impact) θ_max or the outcome changes in most runs with an impact
+    swapped = block_runs.run_excitations(runs, excitations, t_end, [(0.7, 0.95)] * len(t_end))
+    hit = got.n_impacts > 0
+    changed = (swapped.outcome != got.outcome) | (np.abs(swapped.theta_max - got.theta_max) > 1e-6)
+    assert hit.sum() >= 20 and changed[hit].mean() > 0.5
+    # the solve_ivp per-run path (Python transitions, SciPy's integrator) on every 4th
+    # run: the same outcomes and impacts, θ_max within the solvers' rtol (1e-8)
+    some = range(0, len(t_end), 4)
+    scipy_options = options | dict(backend="scipy")
+    scipy = _reference(st, [excitations[i] for i in some], [t_end[i] for i in some], scipy_options)
+    assert [r.outcome for r in scipy] == [
+        "overturned" if got.overturned[i] else "completed" for i in some
+    ]
+    assert [r.n_impacts for r in scipy] == got.n_impacts[list(some)].tolist()
+    np.testing.assert_allclose([r.theta_max for r in scipy], got.theta_max[list(some)], atol=1e-8)
+    # the reference's impacts, one by one: r of the corner struck (the new pivot)
+    i = int(np.argmax(got.n_impacts * (got.outcome != block_runs.OUTCOMES.index("overturned"))))
+    full = multimass.simulate(st, excitations[i], "CIM", t_end[i], **_simulate_options(options))
+    impacts = [e for e in full.events if e.kind == "impact"]
+    assert len(impacts) == got.n_impacts[i] >= 3
+    assert {e.phase_after for e in impacts} == {1, -1}
+    for e in impacts:
+        assert e.restitution == (0.95 if e.phase_after == 1 else 0.7)
+        assert e.thetadot_plus == pytest.approx(e.restitution * e.thetadot_minus, rel=1e-14)
+
+
+def _simulate_options(options):
+    """`simulate_outcome`'s options as `simulate` takes them (impact given apart)."""
+    return {k: v for k, v in options.items() if k != "impact"} | dict(progress=False)

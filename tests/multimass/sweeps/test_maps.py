@@ -221,6 +221,50 @@ def test_undecided_cells_are_neither_overturned_nor_safe():
     assert short.min_overturn_amp()[0] == pytest.approx(5.0)  # from decided cells only
 
 
+def _can_still_overturn(theta, thetadot):
+    """B6M rocking at (θ, θ̇) may still overturn: not (|θ| < α and E < m g R (1 − cos α)),
+    E = ½ J_p θ̇² + m g R [cos(α − |θ|) − cos α] (paper 004, Eqs 1–2: a rigid block on its
+    pivot, J_p = 4/3 m R²). Numbers of paper 004, Table 1 (B6M: b = 0.045 m, h = 0.2025 m,
+    m = 1.0896 kg), written here, not read from the code."""
+    m, g = 1.0896, 9.81
+    R, alpha = math.hypot(0.0225, 0.10125), math.atan(0.0225 / 0.10125)
+    energy = 0.5 * (4.0 / 3.0) * m * R**2 * thetadot**2
+    energy += m * g * R * (math.cos(alpha - abs(theta)) - math.cos(alpha))
+    return not (abs(theta) < alpha and energy < m * g * R * (1.0 - math.cos(alpha)))
+
+
+def test_per_cell_solve_ivp_map_reports_undecided_cells_as_undecided():
+    """On the per-cell path (backend "scipy": one solve_ivp `simulate_outcome` per cell,
+    no compiled batch) a cell still rocking with the energy to overturn at the end of its
+    rerun (0.02 s of free rocking, rerun with 4 × 0.02 s) is "undecided", never "rest";
+    a "rest" cell has stopped with too little energy to overturn. Reference: a full
+    `simulate` of each cell's rerun and the block's energy at its last state, by hand
+    (`_can_still_overturn`)."""
+    kw = dict(omega_p=[2.0, 4.0, 6.0], amp=[1.5, 3.0, 5.0], executor="serial")
+    t_free = 0.02
+    short = overturning_map("B6M", "sine", t_free=t_free, backend="scipy", **kw)
+    st = multimass.rigid_block("B6M")
+    n_undecided = 0
+    for cell in short.cells.itertuples():
+        exc = SineWave(amplitude=cell.amp * st.alpha_cg * st.g, omega=cell.omega_p * st.p)
+        ref = simulate(
+            st, exc, "CIM", exc.duration + 4.0 * t_free, restitution="modified",
+            backend="scipy", stop_when_safe=True, progress=False,
+        )  # fmt: skip
+        kinds = {e.kind for e in ref.events}
+        last = ref.series.iloc[-1]
+        if "uplift" not in kinds or "overturn" in kinds:
+            continue
+        if _can_still_overturn(last.theta, last.thetadot):
+            assert cell.outcome == "undecided", (cell.omega_p, cell.amp)
+            n_undecided += 1
+        if cell.outcome == "rest":
+            assert "rest" in kinds and not _can_still_overturn(last.theta, last.thetadot)
+    assert n_undecided >= 3
+    und = short.undecided()
+    assert und.sum() == n_undecided and not short.overturned()[und].any()
+
+
 def test_inaccurate_cells_keep_their_outcome_and_are_counted():
     # Newmark at a coarse step: the ledger of small-amplitude rocking is off by > 1e-3
     kw = dict(omega_p=[3.0], amp=[1.066, 3.0], executor="serial", integrator="newmark")
