@@ -29,7 +29,7 @@ from multimass.engines.fast._kernel import integrate_phase
 from multimass.engines.fast.contact_modes import ContactModes
 from multimass.engines.fast.path import FastPath, event_params
 from multimass.impact_models import impact_model
-from tests.multimass.test_fast import _arrays  # (m, H, K, C, mp) of a structure
+from tests.multimass.engines.test_fast import _arrays  # (m, H, K, C, mp) of a structure
 
 PEAK_TOL = 1e-6  # rad
 
