@@ -23,6 +23,7 @@ from .errors import InputError
 from .excitations import Excitation
 from .samples import (
     DT_RTOL,
+    check_peak,
     check_samples,
     check_scale,
     float_array,
@@ -30,7 +31,7 @@ from .samples import (
     units_of,
 )
 from .textfile import as_path, read_text
-from .units import canonical_units
+from .units import canonical_units, to_mps2
 
 __all__ = ["Record", "read_two_column", "read_at2", "read_record"]
 
@@ -88,6 +89,8 @@ class Record(Excitation):
                 f"`time` ({dt!r} s); omit `dt` or correct it"
             )
         check_scale(self.source, self.scale)
+        # the values as the source wrote them (before `scale`) in a plausible unit
+        check_peak(self.source, time, accel / (self.scale * to_mps2(1.0, self.units)), self.units)
         time.flags.writeable = False
         accel.flags.writeable = False
         object.__setattr__(self, "time", time)
