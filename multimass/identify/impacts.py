@@ -115,8 +115,9 @@ from ..structure import Structure, from_specimen
 from ..trace_metrics import channel_columns
 from ..traces import Trace
 from . import _restitution_fit as fitting
+from ._calibration_model import TrialRejected
 from ._calibration_stats import LIMITS
-from ._trace_checks import check_ag, no_rocking
+from ._trace_checks import check_ag, check_frozen, check_theta, no_rocking
 from .segments import THETA_MIN, Segments, require_trace, segment_trace
 
 __all__ = [
@@ -384,6 +385,8 @@ def restitution(
         columns are not needed: the fit uses those the trace has (θ alone is looser).
     """
     st = _structure(require_trace(trace), structure)
+    check_theta(trace, st)
+    check_frozen(trace)
     seg = segment_trace(trace, theta_min=theta_min)
     if trace.ag is not None:  # the table motion drives the model: its unit must be plausible
         check_ag(trace, st, seg)
@@ -432,11 +435,18 @@ def restitution(
     cols = channel_columns(trace, st)  # checks the trace's sensors against the specimen
     accel = tuple(c for c in trace.names if cols[c].startswith("a") and cols[c] != "ag")
     track = fitting.track_of(trace, st, impact, accel, theta_min, options)
-    fitting.align(track, seg.impacts[0].t)
     shown = progress if progress is not None else n_fit > 3
-    with Progress(n_fit + 1, f"restitution {st.name}", show=shown, unit="impacts") as bar:
-        fitted = fitting.fit_impacts(track, n_fit, bar, warnings)
-        bar.update(n_fit + 1)
+    try:  # a fit's first point is the trace's own reading: a model that cannot run it is
+        # the trace's mistake (the checks above name the known ones)
+        fitting.align(track, seg.impacts[0].t)
+        with Progress(n_fit + 1, f"restitution {st.name}", show=shown, unit="impacts") as bar:
+            fitted = fitting.fit_impacts(track, n_fit, bar, warnings)
+            bar.update(n_fit + 1)
+    except TrialRejected as err:
+        raise InputError(
+            f"{trace.source}: the model of {st.name!r} cannot run from what the trace "
+            f"shows ({err}); check the trace's units and that it is a test of {st.name!r}"
+        ) from None
     loose = [i for i, f in fitted.items() if estimated[i] and not f.r_std <= LIMITS["r_std"]]
     if loose:
         warnings.append(
