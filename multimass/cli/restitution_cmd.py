@@ -109,8 +109,8 @@ def run(args) -> int:
     used = est.values_used()
     for key, why in est.not_estimated.items():
         print(
-            f"not estimated: {_LABELS[key]} ({why}); the fragment keeps the specimen's "
-            f"{used[key]:g} and says so"
+            f"not estimated: {_LABELS[key]} ({why}); the simulations use the specimen's "
+            f"{used[key]:g}, marked as not estimated in the files written"
         )
     for w in est.warnings:
         print(f"warning: {w}")
