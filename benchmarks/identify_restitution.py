@@ -68,9 +68,9 @@ def case(spec: str, model: str, seed: int, noise: float) -> dict:
         tr = min(truth, key=lambda e: abs(e["t"] - row["t"]))
         by_corner[row["corner"]].append(tr["r"])
         covered.append(abs(row["r"] - tr["r"]) <= 2.5 * row["r_std"])
-    dm = (
-        est.r_mean_right - np.mean(by_corner["right"] or [np.nan]),
-        est.r_mean_left - np.mean(by_corner["left"] or [np.nan]),
+    dm = tuple(  # nan: a corner the trace did not estimate (or whose truth is empty)
+        np.nan if mean is None else mean - np.mean(by_corner[corner] or [np.nan])
+        for corner, mean in (("right", est.r_mean_right), ("left", est.r_mean_left))
     )
     return {
         "n": len(err[0.01]),

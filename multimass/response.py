@@ -45,7 +45,9 @@ class Response(Result):
         ``u1..uN``, ``udot1..udotN``, ``a1..aN`` (total accelerations, paper
         001 Eq 7, m/s²), ``F_i`` (N), ``ag`` (m/s²) and the ledger columns
         ``kinetic``, ``gravitational``, ``elastic``, ``damping``, ``impact``,
-        ``ground_work`` and ``balance_error`` (J). Empty if not recorded.
+        ``ground_work`` and ``balance_error`` (J). Empty if not recorded. It ends
+        where the run ended: at `t_end`, or at the overturning instant (its last row,
+        ``|θ|`` = the overturning angle) — nothing after an overturn is computed.
     events : list of Event
     peaks : ndarray
         Absolute peak ``|θ|`` of each half-cycle (rad), in order; for a free
@@ -63,6 +65,7 @@ class Response(Result):
     n_rhs : int
         Right-hand-side evaluations.
     t_end : float
+        The end of the run asked for (s); an overturn ends `series` before it.
     outcome : {"completed", "overturned", "failed"}
         How the run ended physically, whatever its checks say.
     warnings : tuple of str

@@ -19,6 +19,10 @@ __all__ = ["fit_many", "loglik", "saturated_loglik", "information"]
 
 _MAX_ITER = 100
 _TOL = 1e-10
+# A slope whose change of η across the levels, b (max z − min z), is below this is zero
+# within the iteration's tolerance (it stops when b moves by less than _TOL (1 + |b|)):
+# flat counts converge to b ≈ 1e-17, i.e. β ≈ 1e17, which is no fragility curve.
+_FLAT = 100 * _TOL
 
 
 def fit_many(z, n, k, details=False):
@@ -58,8 +62,9 @@ def fit_many(z, n, k, details=False):
         aa, bb, ok, it = _newton(z, n, k[rows])
         a[rows], b[rows] = aa, bb
         status[rows[~ok]] = 6
-        status[rows[ok & (bb <= 0)]] = 5
-        good = rows[ok & (bb > 0)]
+        rising = bb * (z.max() - z.min()) > _FLAT  # b ≤ 0, or zero within round-off: 5
+        status[rows[ok & ~rising]] = 5
+        good = rows[ok & rising]
         theta[good] = np.exp(-a[good] / b[good])
         beta[good] = 1.0 / b[good]
     out = (theta, beta, status, bounds)

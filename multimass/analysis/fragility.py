@@ -23,7 +23,8 @@ The maximum does not exist, and no number is returned for it, when
 * the data are separated: every level with a non-exceedance lies at or below every level
   with an exceedance (β → 0; θ is only bounded, status 3),
 * all runs are at one level (θ and β cannot both be identified; status 4),
-* exceedance does not increase with the IM (the slope 1/β would be ≤ 0; status 5).
+* exceedance does not increase with the IM (the slope 1/β would be ≤ 0, or is zero
+  within the iteration's tolerance — flat counts — ; status 5).
 
 `FragilityFit.status` and `.message` say which, and `.theta_bounds` gives what the data
 do say about θ. Invalid input (levels ≤ 0 or non-finite, counts that are negative,
@@ -178,11 +179,24 @@ class FragilityFit:
 
         Intervals are symmetric on the log scale, ``exp(ln θ ± z σ)``; the curve band is
         ``Φ(η(x) ± z σ_η(x))`` with ``η = a + b ln x``.
+
+        Raises
+        ------
+        multimass.errors.InputError
+            A fit without a maximum (`status` ≠ 0), or counts so weak that an interval
+            of θ or β has no finite end.
         """
         self._require("confidence band")
         q = _quantile(level)
         sd = np.sqrt(np.diag(self.cov))
         lt, lb = math.log(self.theta), math.log(self.beta)
+        ends = np.array([lt, lt, lb, lb]) + q * np.repeat(sd, 2) * np.array([-1, 1, -1, 1])
+        if not np.all(np.isfinite(ends) & (np.abs(ends) < 700.0)):  # exp(±700) ~ 1e±304
+            raise InputError(
+                f"no {level:g} confidence band: the counts leave ln θ ± {sd[0]:.3g} and "
+                f"ln β ± {sd[1]:.3g} (one σ), an interval without a finite end; add levels "
+                "or runs where the curve rises, or use bootstrap()"
+            )
         x = self._grid(x)
         a, b = -lt / self.beta, 1.0 / self.beta
         cov_ab = _cov_ab(a, b, self.cov)

@@ -89,6 +89,9 @@ def plot_rocking(resp: Response, path, title: str = "", g: float = 9.81) -> Path
         a.grid(alpha=0.3)
     axes[panels[-1]].set_xlabel("t (s)")
     status = resp.status + (f" — {resp.warnings[0]}" if resp.warnings else "")
+    over = next((e.time for e in resp.events if e.kind == "overturn"), None)
+    if over is not None:  # the series, ground motion included, ends at the overturn
+        status += f" at t = {over:.4g} s (nothing computed after it; t_end = {resp.t_end:g} s)"
     fig.suptitle(
         title
         or f"{resp.structure_name}: {resp.options.get('impact', '')}, "

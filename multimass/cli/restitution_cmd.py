@@ -55,6 +55,13 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
+_LABELS = {"r_mean_right": "r̄_er", "r_mean_left": "r̄_el", "sigma_r": "σ_r"}
+
+
+def _value(x) -> str:
+    return "not estimated" if x is None else f"{x:.4f}"
+
+
 def run(args) -> int:
     from multimass.identify.impacts import restitution
     from multimass.identify.impacts_plots import plot_restitution
@@ -95,9 +102,16 @@ def run(args) -> int:
     )  # r_std "—": an impact not fitted (its r is the energy estimate)
     e = est.energy_means
     print(
-        f"r̄_er = {est.r_mean_right:.4f}, r̄_el = {est.r_mean_left:.4f}, σ_r = {est.sigma_r:.4f} "
-        f"(energy estimate: {e['r_mean_right']:.4f}, {e['r_mean_left']:.4f}, {e['sigma_r']:.4f})"
+        f"r̄_er = {_value(est.r_mean_right)}, r̄_el = {_value(est.r_mean_left)}, "
+        f"σ_r = {_value(est.sigma_r)} (energy estimate: {_value(e['r_mean_right'])}, "
+        f"{_value(e['r_mean_left'])}, {_value(e['sigma_r'])})"
     )
+    used = est.values_used()
+    for key, why in est.not_estimated.items():
+        print(
+            f"not estimated: {_LABELS[key]} ({why}); the simulations use the specimen's "
+            f"{used[key]:g}, marked as not estimated in the files written"
+        )
     for w in est.warnings:
         print(f"warning: {w}")
     if out is not None:

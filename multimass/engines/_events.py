@@ -85,7 +85,8 @@ def handle_event(run, s, name: str):
             Event("overturn", s.t, s.phase, s.phase, theta=float(th), thetadot_minus=float(thd))
         )
         run.recorder.end_phase(s.t, s.y, s.phase)
-        return s.but(t=run.t_end, status="overturned", message=overturn_message(run.overturn))
+        # the run ends at the overturn: no row, no ground motion, is recorded past it
+        return s.but(status="overturned", message=overturn_message(run.overturn))
     if name == "activate":
         return _activate(run, s, th, thd)
     if name == "deactivate":

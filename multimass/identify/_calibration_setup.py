@@ -23,7 +23,14 @@ from ..inputs.records import Record
 from ..inputs.traces import Trace, read_trace
 from ..modal import analyse
 from ..model.structure import Structure, from_specimen
-from ._trace_checks import above_passband, check_ag, no_rocking, require_sensors
+from ._trace_checks import (
+    above_passband,
+    check_ag,
+    check_frozen,
+    check_theta,
+    no_rocking,
+    require_sensors,
+)
 from .segments import segment_trace
 
 __all__ = ["Case", "cases", "structure_of"]
@@ -227,6 +234,8 @@ def cases(loaded: list, st: Structure, fit: tuple, channels, theta_min: float) -
     out = []
     for trace in loaded:
         chosen, columns = _channels(trace, st, channels)
+        check_theta(trace, st)
+        check_frozen(trace)
         seg = segment_trace(trace, theta_min=theta_min)
         check_ag(trace, st, seg)
         free = trace.ag is None

@@ -15,7 +15,10 @@ that says the field, the value found and the fix. Each check lives in one place:
     `restitution` words its own alike);
   - `above_passband` — a mode the sampling rate cannot show (`operational_modes`'
     modes, `calibrate`'s damping ratios);
-  - `check_ag` — the table acceleration in a plausible unit (all three).
+  - `check_ag` — the table acceleration in a plausible unit (all three);
+  - `check_frozen` — no tail where the logger held its last value (all three);
+  - `check_theta` — θ within the specimen's overturning angle α_cg: degrees under a
+    ``[rad]`` header are named (all three).
 """
 
 from __future__ import annotations
@@ -39,6 +42,9 @@ __all__ = [
     "require_sensors",
     "no_rocking",
     "check_ag",
+    "check_frozen",
+    "check_theta",
+    "FROZEN_MIN_S",
 ]
 
 #: Modes above this fraction of the sampling rate are not identifiable: a recorder's
@@ -58,6 +64,12 @@ AG_MIN_SHARE = 0.25
 #: divides it by 9.81.
 AG_MIN_GAIN = 1.0 / 3.0
 _UNIT_RATIO = 9.81  # m/s² per g, near enough to name the likely unit
+#: A tail this long (s, and at least `_FROZEN_MIN_SAMPLES` samples) in which every channel
+#: repeats its value to the bit is a logger that held its last value: a sensor's noise
+#: (and a column's motion, even at rest: the accelerometers ring down) changes some
+#: channel at every sample of a real recording.
+FROZEN_MIN_S = 1.0
+_FROZEN_MIN_SAMPLES = 20
 
 
 def above_passband(freq_hz: float, fs: float) -> str | None:
@@ -177,4 +189,53 @@ def check_ag(trace: Trace, st: Structure, seg: Segments) -> None:
         f"{gain:.3g} × the table acceleration (least squares over the trace; 0.5–1.1 when "
         "both units are right: the base moves with the table), which peaks at "
         f"{peak / g:.3g} g: {as_mps2} (or fix the sensors' unit)"
+    )
+
+
+def check_frozen(trace: Trace) -> None:
+    """InputError if every channel of the trace stays constant to the bit from some time
+    to its end for at least `FROZEN_MIN_S` (the logger held its last value): the model
+    would be fitted to a column frozen in mid-air. A trace constant from its first
+    sample is no hold (the tools say it does not rock)."""
+    Y = np.column_stack([np.asarray(trace.channels[k], dtype=float) for k in trace.names])
+    moved = np.flatnonzero(np.any(Y[1:] != Y[:-1], axis=1))
+    if moved.size == 0:
+        return
+    k = int(moved[-1]) + 1  # the first sample of the frozen tail
+    t = np.asarray(trace.time, dtype=float)
+    n, span = t.size - 1 - k, float(t[-1] - t[k])
+    if n < _FROZEN_MIN_SAMPLES or span < FROZEN_MIN_S:
+        return
+    raise InputError(
+        f"{trace.source}: every channel ({', '.join(trace.names)}) is frozen from t = "
+        f"{t[k]:.6g} s to the end ({span:.4g} s, {n} samples, each constant to the bit): "
+        f"the logger held its last value; crop the trace at t = {t[k]:.6g} s"
+    )
+
+
+def check_theta(trace: Trace, st: Structure) -> None:
+    """InputError if ``|θ|`` reaches the specimen's overturning angle α_cg while the trace
+    goes on: the θ column is in another unit (degrees under a ``[rad]`` header are named)
+    or belongs to another structure."""
+    th = trace.channels.get("theta")
+    if th is None:
+        return  # segment_trace names a missing θ
+    th = np.asarray(th, dtype=float)
+    k = int(np.argmax(np.abs(th)))
+    peak, alpha = abs(float(th[k])), float(st.alpha_cg)
+    if peak < alpha:
+        return
+    name = next(c for c in trace.names if c.lower() == "theta")
+    unit = trace.units.get(name, "?")
+    if math.radians(peak) < alpha and unit == "rad":
+        fix = (
+            f"the values look like degrees under a `[rad]` header ({math.radians(peak):.3g} "
+            f"rad if so): write the column as `{name} [deg]`"
+        )
+    else:
+        fix = f"check the column's unit and that the trace is of {st.name!r}"
+    raise InputError(
+        f"{trace.source}, column `{name}` [{unit}]: |θ| reaches {peak:.4g} rad at t = "
+        f"{float(trace.time[k]):.6g} s, beyond the overturning angle of {st.name!r} "
+        f"(α_cg = {alpha:.4g} rad), yet the trace goes on: {fix}"
     )

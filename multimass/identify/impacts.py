@@ -84,7 +84,10 @@ Impacts between half-cycles whose peaks are both ≥ `theta_min` (0.01 rad, the
 paper's rule) and whose r the trace fixes (r_std ≤ 0.02) are *estimated*; the
 per-corner means r̄_er, r̄_el and σ_r are taken over them. Smaller ones are fitted
 while the simulation must stay on the trace, and reported, but the specimen fragment
-gives them the corner means, as the paper did.
+gives them the corner means, as the paper did. A corner without an estimated impact has
+no mean, and fewer than three estimated impacts no σ_r: the result says *not estimated*
+(None, and why, in `RestitutionEstimate.not_estimated`), and the fragment says so
+instead of passing the specimen's value off as measured.
 
 >>> from multimass import FreeRelease
 >>> from multimass.identify import synthetic_trace
@@ -112,14 +115,23 @@ from ..model.structure import Structure, from_specimen
 from ..progress import Progress
 from ..result import json_ready
 from . import _restitution_fit as fitting
+from ._calibration_model import TrialRejected
 from ._calibration_stats import LIMITS
-from ._trace_checks import check_ag, no_rocking
+from ._trace_checks import check_ag, check_frozen, check_theta, no_rocking
 from .segments import THETA_MIN, Segments, require_trace, segment_trace
 
-__all__ = ["RestitutionEstimate", "restitution", "energy_restitution", "IMPACT_DEFAULT"]
+__all__ = [
+    "RestitutionEstimate", "restitution", "energy_restitution", "IMPACT_DEFAULT",
+    "MIN_SIGMA_IMPACTS",
+]  # fmt: skip
 
 #: The impact model fitted unless another is named (paper 001, Table 2: DD1's family).
 IMPACT_DEFAULT = "DD"
+#: The fewest estimated impacts a spread σ_r is estimated from (two corner means take two
+#: degrees of freedom: fewer leaves σ_r without one, or with one from two impacts).
+MIN_SIGMA_IMPACTS = 3
+# the [restitution] keys of a specimen file → the estimate's attribute they hold
+_TABLE_KEYS = {"mean_right": "r_mean_right", "mean_left": "r_mean_left", "sigma": "sigma_r"}
 
 
 @dataclass(frozen=True, eq=False)
@@ -137,14 +149,16 @@ class RestitutionEstimate:
         error ≤ 0.02), ``model_impact`` (the index of the simulated impact it matched,
         −1 if none), ``rms`` (the θ misfit over the half-cycle after it, rad),
         ``r_std`` (the standard error of ``r``: see the module docstring).
-    r_mean_right, r_mean_left : float
+    r_mean_right, r_mean_left : float or None
         Means of `r` over the estimated impacts on each corner (paper 001's r̄_er,
-        r̄_el), each impact weighted by 1 / (σ_r² + r_std²); the specimen's value where
-        a corner has none.
-    sigma_r : float
-        Pooled standard deviation of the estimated `r` about their corner means.
+        r̄_el), each impact weighted by 1 / (σ_r² + r_std²); None where a corner has no
+        estimated impact (`not_estimated` says why; `values_used` gives the specimen's).
+    sigma_r : float or None
+        Pooled standard deviation of the estimated `r` about their corner means; None
+        from fewer than `MIN_SIGMA_IMPACTS` estimated impacts.
     energy_means : dict
-        ``r_mean_right``, ``r_mean_left``, ``sigma_r`` of `r_energy`.
+        ``r_mean_right``, ``r_mean_left``, ``sigma_r`` of `r_energy`, over the same
+        impacts (None where those are).
     alignment : dict
         ``t_offset`` (s: trace time of the release), ``theta_bias`` (rad), ``theta0``
         (rad, the fitted release angle; 0 for table motion).
@@ -157,6 +171,9 @@ class RestitutionEstimate:
         The simulation with the estimated impacts' r and the corner means for the
         others, as the specimen fragment has them (on the model's clock).
     warnings : tuple of str
+    not_estimated : dict
+        ``r_mean_right``, ``r_mean_left``, ``sigma_r`` → why the trace did not estimate
+        it (absent when it did).
     """
 
     impacts: pd.DataFrame
@@ -171,6 +188,17 @@ class RestitutionEstimate:
     segments: Segments
     response: object
     warnings: tuple = field(default=())
+    not_estimated: dict = field(default_factory=dict)
+
+    def values_used(self) -> dict:
+        """``r_mean_right``, ``r_mean_left``, ``sigma_r`` as the fragment, `per_impact`
+        and `response` use them: the estimates, the specimen's values where not
+        estimated (`not_estimated`)."""
+        spec = self.structure.specimen
+        own = {"r_mean_right": spec.r_right, "r_mean_left": spec.r_left, "sigma_r": spec.sigma_r}
+        got = {"r_mean_right": self.r_mean_right, "r_mean_left": self.r_mean_left,
+               "sigma_r": self.sigma_r}  # fmt: skip
+        return {k: float(own[k] if got[k] is None else got[k]) for k in own}
 
     def per_impact(self) -> list[float]:
         """The coefficients in the simulation's impact order, for `EmpiricalRestitution`:
@@ -179,7 +207,8 @@ class RestitutionEstimate:
         if est.empty:
             return []
         k_max = int(est["model_impact"].max())
-        means = {"right": self.r_mean_right, "left": self.r_mean_left}
+        used = self.values_used()
+        means = {"right": used["r_mean_right"], "left": used["r_mean_left"]}
         corner_of = dict(zip(self.impacts["model_impact"], self.impacts["corner"]))
         fitted = dict(zip(est["model_impact"], est["r"]))
         out = []
@@ -189,16 +218,27 @@ class RestitutionEstimate:
         return out
 
     def table(self) -> dict:
-        """The specimen's ``[restitution]`` table with the identified values."""
+        """The specimen's ``[restitution]`` table with the identified values (the
+        specimen's where not estimated: `comments` says which)."""
+        used = self.values_used()
         return {
-            "mean_right": round(self.r_mean_right, 4),
-            "mean_left": round(self.r_mean_left, 4),
-            "sigma": round(self.sigma_r, 4),
+            "mean_right": round(used["r_mean_right"], 4),
+            "mean_left": round(used["r_mean_left"], 4),
+            "sigma": round(used["sigma_r"], 4),
             "empirical": [round(r, 4) for r in self.per_impact()],
         }
 
+    def comments(self) -> dict:
+        """Key of `table` → a comment: where its value came from."""
+        out = {"empirical": "estimated impacts' r, the corner means between them"}
+        for key, name in _TABLE_KEYS.items():
+            why = self.not_estimated.get(name)
+            out[key] = f"NOT ESTIMATED ({why}): the specimen's value" if why else "estimated"
+        return out
+
     def fragment(self) -> str:
-        """A specimen fragment: the ``[restitution]`` TOML table, with a comment."""
+        """A specimen fragment: the ``[restitution]`` TOML table, with a comment; a value
+        the trace did not estimate is a comment line that says why."""
         from multimass.specimens.toml_text import format_table
 
         head = (
@@ -206,25 +246,36 @@ class RestitutionEstimate:
             f"{self.impact}\n# (multimass.identify.restitution; `empirical` in impact order, "
             "then the corner means)\n"
         )
-        return head + format_table("restitution", self.table())
+        skip = {k for k, name in _TABLE_KEYS.items() if name in self.not_estimated}
+        table = {k: v for k, v in self.table().items() if k not in skip}
+        text = format_table("restitution", table, self.comments())
+        for key in sorted(skip):
+            text += (
+                f"# {key}: not estimated ({self.not_estimated[_TABLE_KEYS[key]]}); "
+                "keep the specimen's value or give a test that estimates it\n"
+            )
+        return head + text
 
     def specimen_text(self, name: str | None = None, path=None) -> str:
         """The specimen's TOML file (`path`, default the bundled one of its name) with
-        this ``[restitution]`` table and a new `name`; it loads back."""
+        this ``[restitution]`` table and a new `name`; it loads back. A value the trace
+        did not estimate keeps the specimen's, with a comment that says so."""
         from multimass.specimens.toml_text import specimen_text
 
         note = f"identified from {self.segments.trace.source} for {self.impact}"
         return specimen_text(
             self.structure.specimen, {"restitution": self.table()}, note=note, name=name,
-            path=path,
+            path=path, comments={"restitution": self.comments()},
         )  # fmt: skip
 
     def restitution_source(self):
         """`EmpiricalRestitution` of `per_impact`, then these corner means."""
         from multimass.impact_models import EmpiricalRestitution
 
+        used = self.values_used()
         return EmpiricalRestitution(
-            tuple(self.per_impact()), CornerRestitution(self.r_mean_right, self.r_mean_left)
+            tuple(self.per_impact()),
+            CornerRestitution(used["r_mean_right"], used["r_mean_left"]),
         )
 
     def summary(self) -> dict:
@@ -245,6 +296,7 @@ class RestitutionEstimate:
                 "sigma_r": self.sigma_r,
                 "energy": self.energy_means,
                 "n_estimated": int(self.impacts["estimated"].sum()),
+                "not_estimated": dict(self.not_estimated),
                 "alignment": self.alignment,
                 "warnings": list(self.warnings),
             }
@@ -333,6 +385,8 @@ def restitution(
         columns are not needed: the fit uses those the trace has (θ alone is looser).
     """
     st = _structure(require_trace(trace), structure)
+    check_theta(trace, st)
+    check_frozen(trace)
     seg = segment_trace(trace, theta_min=theta_min)
     if trace.ag is not None:  # the table motion drives the model: its unit must be plausible
         check_ag(trace, st, seg)
@@ -381,11 +435,18 @@ def restitution(
     cols = channel_columns(trace, st)  # checks the trace's sensors against the specimen
     accel = tuple(c for c in trace.names if cols[c].startswith("a") and cols[c] != "ag")
     track = fitting.track_of(trace, st, impact, accel, theta_min, options)
-    fitting.align(track, seg.impacts[0].t)
     shown = progress if progress is not None else n_fit > 3
-    with Progress(n_fit + 1, f"restitution {st.name}", show=shown, unit="impacts") as bar:
-        fitted = fitting.fit_impacts(track, n_fit, bar, warnings)
-        bar.update(n_fit + 1)
+    try:  # a fit's first point is the trace's own reading: a model that cannot run it is
+        # the trace's mistake (the checks above name the known ones)
+        fitting.align(track, seg.impacts[0].t)
+        with Progress(n_fit + 1, f"restitution {st.name}", show=shown, unit="impacts") as bar:
+            fitted = fitting.fit_impacts(track, n_fit, bar, warnings)
+            bar.update(n_fit + 1)
+    except TrialRejected as err:
+        raise InputError(
+            f"{trace.source}: the model of {st.name!r} cannot run from what the trace "
+            f"shows ({err}); check the trace's units and that it is a test of {st.name!r}"
+        ) from None
     loose = [i for i, f in fitted.items() if estimated[i] and not f.r_std <= LIMITS["r_std"]]
     if loose:
         warnings.append(
@@ -411,47 +472,62 @@ def restitution(
             }
         )
     table = pd.DataFrame(rows)
-    means = _means(table, "r", st)
-    energy = _means(table, "r_energy", st)
+    means, missing = _means(table, "r", st)
+    energy, _ = _means(table, "r_energy", st)
     # the response of the specimen fragment: the estimated impacts' r, then the corner means
+    # (the specimen's where a corner has none)
     est = table[table["estimated"]]
-    phys = track.phys | {"r_er": means[0], "r_el": means[1]}
+    spec = st.specimen
+    phys = track.phys | {
+        "r_er": spec.r_right if means[0] is None else means[0],
+        "r_el": spec.r_left if means[1] is None else means[1],
+    }
     values = dict(zip(est["model_impact"].astype(int), est["r"]))
     final = track.run(values, float(track.t[-1]) - track.nuis["t_offset"], phys=phys)
     align = {k: float(track.nuis[k]) for k in ("t_offset", "theta_bias", "theta0")}
     return RestitutionEstimate(
         table, *means, energy_means=dict(zip(("r_mean_right", "r_mean_left", "sigma_r"), energy)),
         alignment=align, structure=st, impact=impact, theta_min=seg.theta_min, segments=seg,
-        response=final.response, warnings=tuple(warnings),
+        response=final.response, warnings=tuple(warnings), not_estimated=missing,
     )  # fmt: skip
 
 
-def _means(table: pd.DataFrame, column: str, st) -> tuple[float, float, float]:
-    """(right mean, left mean, pooled σ) of `column` over the estimated impacts.
+def _means(table: pd.DataFrame, column: str, st) -> tuple[list, dict]:
+    """([right mean, left mean, pooled σ], reasons) of `column` over the estimated impacts.
 
     The coefficients vary from impact to impact (the spread σ, paper 001 Table 1's σ_r)
     and each is known to its r_std: the means weigh each impact by 1 / (σ² + r_std²),
     σ first from equal weights — nearly equal weights where r_std ≪ σ, a poorly
     determined impact counting less. σ is the pooled sample standard deviation about
-    the corner means.
+    the corner means. A corner without an estimated impact has no mean, and fewer than
+    `MIN_SIGMA_IMPACTS` impacts no σ: None, with the reason under its name in `reasons`
+    (the specimen's σ_r then weighs the means).
     """
     est = table[table["estimated"]]
-    spec = st.specimen
     groups = []
-    for corner, default in (("right", spec.r_right), ("left", spec.r_left)):
+    for corner in ("right", "left"):
         rows = est[est["corner"] == corner]
         std = rows["r_std"].to_numpy(dtype=float) if column == "r" else np.zeros(len(rows))
-        groups.append((rows[column].to_numpy(dtype=float), std, float(default)))
+        groups.append((rows[column].to_numpy(dtype=float), std))
+    n = len(est)
+    reasons = {
+        f"r_mean_{corner}": f"no estimated impact on the {corner} corner"
+        for corner, (x, _) in zip(("right", "left"), groups)
+        if not x.size
+    }
+    if n < MIN_SIGMA_IMPACTS:
+        reasons["sigma_r"] = (
+            f"{n} estimated impact{'s' if n != 1 else ''}; σ_r needs at least {MIN_SIGMA_IMPACTS}"
+        )
 
     def pooled(means) -> float:
-        d = np.concatenate([x - m for (x, _, _), m in zip(groups, means)])
-        dof = d.size - sum(1 for x, _, _ in groups if x.size)
-        return float(math.sqrt(d @ d / dof)) if dof > 0 else float(spec.sigma_r)
+        d = np.concatenate([x - m for (x, _), m in zip(groups, means) if x.size])
+        return float(math.sqrt(d @ d / (d.size - sum(1 for x, _ in groups if x.size))))
 
-    means = [float(x.mean()) if x.size else default for x, _, default in groups]
-    sigma = pooled(means)
-    for j, (x, std, _) in enumerate(groups):
+    means = [float(x.mean()) if x.size else None for x, _ in groups]
+    sigma = pooled(means) if n >= MIN_SIGMA_IMPACTS else float(st.specimen.sigma_r)
+    for j, (x, std) in enumerate(groups):
         w = np.where(np.isfinite(std), 1.0 / (sigma**2 + std**2 + 1e-12), 0.0)
         if x.size and w.sum() > 0.0:
             means[j] = float(np.average(x, weights=w))
-    return means[0], means[1], pooled(means)
+    return [*means, pooled(means) if n >= MIN_SIGMA_IMPACTS else None], reasons

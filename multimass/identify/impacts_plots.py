@@ -35,13 +35,17 @@ def plot_restitution(est, path=None):
         )  # fmt: skip
         ax.plot(rows["t"], rows["r_energy"], "x", color=colour, label=f"{corner}: energy estimate")
         mean = est.r_mean_right if corner == "right" else est.r_mean_left
+        if mean is None:  # no estimated impact on this corner: no line
+            continue
         ax.axhline(mean, color=colour, lw=1.0, ls="--", label=f"r̄ {corner} = {mean:.3f}")
-        ax.axhspan(mean - est.sigma_r, mean + est.sigma_r, color=colour, alpha=0.08)
+        if est.sigma_r is not None:
+            ax.axhspan(mean - est.sigma_r, mean + est.sigma_r, color=colour, alpha=0.08)
     ax.set_ylabel("coefficient of restitution r")
     ax.set_xlabel("impact time on the trace's clock (s)")
+    spread = "not estimated" if est.sigma_r is None else f"{est.sigma_r:.3f}"
     ax.set_title(
         f"{est.structure.name}: restitution per impact for {est.impact} "
-        f"(σ_r = {est.sigma_r:.3f}; open: below θ_min = {est.theta_min:g} rad)"
+        f"(σ_r = {spread}; open: below θ_min = {est.theta_min:g} rad)"
     )
     small = df[~df["estimated"]]
     ax.plot(small["t"], small["r"], "o", mfc="none", color="0.5")

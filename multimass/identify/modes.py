@@ -81,7 +81,7 @@ from . import _modes_combine as combining
 from . import _modes_fit as fitting
 from . import _modes_select as select
 from ._modes_combine import MIN_ENERGY
-from ._trace_checks import check_ag
+from ._trace_checks import check_ag, check_frozen, check_theta
 from .segments import THETA_MIN, Segments, require_trace, segment_trace
 
 __all__ = ["OperationalModes", "IdentifiedModes", "operational_modes", "METHODS", "MIN_ENERGY"]
@@ -411,6 +411,8 @@ def operational_modes(
         trace, method, phases, modes, theta_min, min_periods
     )
     st = _structure(trace, structure)
+    check_theta(trace, st)
+    check_frozen(trace)
     seg = segments if segments is not None else segment_trace(trace, theta_min=theta_min)
     if not isinstance(seg, Segments) or seg.trace.time.size != trace.time.size:
         raise InputError("`segments`: give the Segments of this trace (segment_trace(trace))")

@@ -23,6 +23,7 @@ from ..errors import InputError
 from .excitations import Excitation
 from .samples import (
     DT_RTOL,
+    check_peak,
     check_samples,
     check_scale,
     float_array,
@@ -30,7 +31,7 @@ from .samples import (
     units_of,
 )
 from .textfile import as_path, read_text
-from .units import canonical_units
+from .units import canonical_units, to_mps2
 
 __all__ = ["Record", "read_two_column", "read_at2", "read_record"]
 
@@ -44,6 +45,10 @@ class Record(Excitation):
     ``time[0] + k dt`` and is zero before the first and after the last sample.
 
     Build it with `read_record`, `read_two_column`, `read_at2` or `Record.from_arrays`.
+    Every way checks that the values as written (``accel / scale``, in `units`) peak
+    within `multimass.inputs.samples.PEAK_G` (1e-4 to 5 g): outside, a unit slip is named
+    (`multimass.inputs.samples.check_peak`); a larger or smaller synthetic motion is written at
+    an earthquake's amplitude and given its factor as `scale`.
 
     Attributes
     ----------
@@ -88,6 +93,8 @@ class Record(Excitation):
                 f"`time` ({dt!r} s); omit `dt` or correct it"
             )
         check_scale(self.source, self.scale)
+        # the values as the source wrote them (before `scale`) in a plausible unit
+        check_peak(self.source, time, accel / (self.scale * to_mps2(1.0, self.units)), self.units)
         time.flags.writeable = False
         accel.flags.writeable = False
         object.__setattr__(self, "time", time)
@@ -299,7 +306,8 @@ def read_two_column(path, units: str, scale: float = 1.0, name: str | None = Non
     InputError
         Naming the file and line: unknown units, unreadable numbers, a line without
         two columns, non-finite values, fewer than 2 samples, non-increasing or
-        non-uniform time, a bad `scale`.
+        non-uniform time, a bad `scale`, a peak outside 1e-4–5 g before `scale` (the
+        likely unit slip named).
     """
     path = as_path(path, what=_TWO_COLUMN)
     source = str(path)
@@ -423,7 +431,7 @@ def read_at2(path, scale: float = 1.0, name: str | None = None) -> Record:
     InputError
         Naming the file and line: missing or unreadable header fields, a velocity or
         displacement file, unreadable or non-finite values, NPTS disagreeing with the
-        number of values, a bad `scale`.
+        number of values, a bad `scale`, a peak outside 1e-4–5 g before `scale`.
     """
     path = as_path(path, what=_AT2)
     source = str(path)

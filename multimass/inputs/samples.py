@@ -14,7 +14,7 @@ import numbers
 import numpy as np
 
 from ..errors import InputError
-from .units import canonical_units, to_mps2
+from .units import UNITS, canonical_units, to_mps2
 
 __all__ = [
     "DT_RTOL",
@@ -27,6 +27,8 @@ __all__ = [
     "check_samples",
     "check_span",
     "check_scale",
+    "check_peak",
+    "PEAK_G",
     "scaled_to_mps2",
     "units_of",
 ]
@@ -41,6 +43,15 @@ DT_RTOL = 1e-6
 DT_MIN, DT_MAX = 1e-6, 1.0
 #: Latest plausible sample time (s): a day; records last seconds to minutes.
 T_MAX = 86_400.0
+
+#: Plausible peak of a record's values before `scale` (g). Above: beyond any recorded
+#: earthquake (the largest recorded peak ground acceleration is about 4 g: 2008
+#: Iwate-Miyagi, station IWTH25; the bundled records peak at 0.35-0.99 g). Below: a
+#: thousandth of the gentlest motion that can rock a bundled structure (uplift needs about
+#: g tan α, 0.1 g and more), and at the noise of a strong-motion accelerograph. Either is
+#: almost surely a unit slip (m/s² read as g multiplies the peak by 9.81).
+PEAK_G = (1e-4, 5.0)
+_COMMON_G = (0.01, 2.0)  # peaks of the motions records are run for: where a slip lands
 
 
 def float_array(source: str, name: str, value) -> np.ndarray:
@@ -175,6 +186,55 @@ def check_scale(source: str, scale) -> float:
             f"mirror the response instead)"
         )
     return x
+
+
+def check_peak(source: str, time, values, units: str) -> None:
+    """InputError if the largest ``|values|`` (in `units`, before any scale) lies outside
+    `PEAK_G`, naming the sample, the peak, the likely unit slip and the fix.
+
+    A peak meant to be that large or small (a synthetic input) is given through the
+    record's `scale`: write the values at an earthquake's amplitude and scale them.
+    """
+    given, units = units, canonical_units(units)
+    values = np.asarray(values, dtype=float)
+    if values.size == 0 or not np.all(np.isfinite(values)):
+        return  # check_samples names those
+    k = int(np.argmax(np.abs(values)))
+    peak = abs(float(values[k]))
+    peak_g = float(to_mps2(peak, units)) / float(to_mps2(1.0, "g"))
+    low, high = PEAK_G
+    if low <= peak_g <= high or peak == 0.0:  # all zero: no motion, not a unit slip
+        return
+    where_ = f"{source}, sample {k} (t = {float(time[k]):g} s)"
+    if peak_g > high:
+        what = (
+            f"beyond any recorded earthquake (the largest recorded peaks are about 4 g; "
+            f"accepted up to {high:g} g)"
+        )
+    else:
+        what = f"below {low:g} g, too weak to rock any structure (accepted from {low:g} g)"
+    slips = [
+        (abs(math.log(float(to_mps2(1.0, u)) / float(to_mps2(1.0, units)))), u)
+        for u in UNITS
+        if u != units
+        and _COMMON_G[0] <= float(to_mps2(peak, u)) / float(to_mps2(1.0, "g")) <= _COMMON_G[1]
+    ]
+    guesses = [
+        f"{u} read as {units} (peak {float(to_mps2(peak, u)) / float(to_mps2(1.0, 'g')):.3g} g)"
+        for _, u in sorted(slips)[:2]
+    ]
+    if len(guesses) == 1:
+        fix = f"give `units` = {slips[0][1]!r} (--units {slips[0][1]})"
+    else:
+        fix = "give the unit the values are in as `units` (--units)"
+    hint = f"likely {' or '.join(guesses)}: {fix}" if guesses else "check the values' unit"
+    in_g = "" if units == "g" else f" = {peak_g:.3g} g"
+    raise InputError(
+        f"{where_}: `units` = {given!r}: peak {peak:g} {given}{in_g}, {what}; "
+        f"{hint}. A peak meant to be this {'large' if peak_g > high else 'small'} (a "
+        "synthetic input): write the values at an earthquake's amplitude and give the "
+        "factor as `scale` (--scale)"
+    )
 
 
 def scaled_to_mps2(source: str, values: np.ndarray, units: str, scale: float) -> np.ndarray:

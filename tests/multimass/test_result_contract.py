@@ -20,7 +20,7 @@ import pandas as pd
 import pytest
 
 import multimass
-from multimass import FreeRelease, simulate, simulate_outcome
+from multimass import FreeRelease, SineWave, simulate, simulate_outcome
 from multimass.engines import nscd
 from multimass.engines.flexible_oscillator import FlexibleOscillator, simulate_oscillator
 from multimass.engines.newmark import newmark_block
@@ -150,3 +150,53 @@ def test_json_holds_radians_and_degrees_beside_them(case):
     assert d["peaks_deg"] == pytest.approx([math.degrees(p) for p in res.peaks])
     assert d["theta_max_deg"] == pytest.approx(math.degrees(d["theta_max"]))
     assert not [k for k in d if "deg" in k and not k.endswith("_deg")], name
+
+
+# --------------------------------------------------------------------- ending at an overturn
+def _b6m_sine():
+    """B6M under a sine of 3 g tan α at 10 rad/s: it overturns in its first swing (0.35 s)."""
+    st = multimass.from_specimen("B6M")
+    return st, SineWave(amplitude=3.0 * st.g * math.tan(st.alpha_cg), omega=10.0)
+
+
+def _overturn_simulate(**kw):
+    st, exc = _b6m_sine()
+    return simulate(st, exc, "CIM", 2.0, restitution=0.9, **kw), exc
+
+
+def _overturn_newmark_block():
+    st, exc = _b6m_sine()
+    return newmark_block(st, exc, 2.0, restitution=0.9), exc
+
+
+def _overturn_poisson_block():
+    block = PoissonBlock.from_slenderness(4.0, width=0.4)
+    exc = SineWave(amplitude=1.2 * block.g, omega=2.0 * block.p)
+    return simulate_block(block, 0.0, 10.0, ag=exc), exc
+
+
+OVERTURNING = {
+    "simulate-scipy": lambda: _overturn_simulate(),
+    "simulate-scipy-events-only": lambda: _overturn_simulate(output_dt=None),
+    "simulate-compiled": lambda: _overturn_simulate(backend="compiled"),
+    "simulate-newmark": lambda: _overturn_simulate(integrator="newmark"),
+    "newmark_block": _overturn_newmark_block,
+    "poisson_block": _overturn_poisson_block,
+}
+
+
+@pytest.mark.parametrize("name", list(OVERTURNING))
+def test_an_overturned_series_ends_at_the_overturn(name):
+    """Every engine that records a series stops it at the overturn event: its last row is
+    the overturning instant (|θ| = π/2, the default overturning angle, with the event's
+    θ̇), and no row — no frozen state, no ground motion — is made up after it."""
+    res, exc = OVERTURNING[name]()
+    assert res.status == "overturned", (name, res.message)
+    over = res.events[-1]
+    assert over.kind == "overturn"
+    df = res.series
+    assert df["t"].iloc[-1] == pytest.approx(over.time, abs=1e-12), name
+    assert abs(df["theta"].iloc[-1]) == pytest.approx(math.pi / 2, abs=1e-9)
+    assert df["thetadot"].iloc[-1] == pytest.approx(over.thetadot_minus, rel=1e-9)
+    if "ag" in df:  # the ground motion at the overturn, from the excitation itself
+        assert df["ag"].iloc[-1] == pytest.approx(exc(over.time), rel=1e-9, abs=1e-12)

@@ -188,6 +188,8 @@ def test_large_pulse_overturns():
     ev = resp.events[-1]
     assert ev.kind == "overturn" and abs(ev.theta) >= math.pi / 2 - 1e-6
     assert resp.summary()["overturn_time"] == ev.time
+    # nothing is computed after the overturn: the series (and its ground motion) ends there
+    assert resp.series["t"].iloc[-1] == ev.time < resp.t_end
 
 
 def test_positive_ground_acceleration_rocks_to_the_left_first():

@@ -112,6 +112,32 @@ def test_degenerate_data_get_a_status_not_numbers(k, status, theta_bounds):
         fit.bootstrap(20)
 
 
+@pytest.mark.parametrize(
+    "levels,n,k",
+    [([0.5, 1.0, 2.0], 10, [5, 5, 5]), ([1.5, 2.2], 25, [23, 23])],
+)
+def test_flat_counts_have_a_zero_slope_and_status_5(levels, n, k):
+    """The same fraction exceeding at every level: the likelihood is maximal at slope
+    1/β = 0 exactly (Φ(η) = k/n at every level fixes η, so η cannot vary with ln x), a
+    curve that does not increase — status 5 by the module's contract, not θ with β ~ 1e17."""
+    fit = fit_lognormal(levels, n, k)
+    assert not fit.converged and fit.status == 5
+    assert math.isnan(fit.theta) and math.isnan(fit.beta)
+    assert STATUS[5] in fit.message
+    with pytest.raises(InputError, match="without a maximum"):
+        fit.confidence()
+
+
+def test_a_band_without_finite_ends_is_a_named_error_not_an_overflow():
+    """One exceedance more in a million runs at the top level: a rising curve (status 0)
+    whose Fisher variances are huge (σ of ln β ≈ 700, far past exp's range of ±709);
+    the band is refused with the reason and the fix."""
+    fit = fit_lognormal([0.5, 1.0, 2.0], 10**6, [500_000, 500_000, 500_001])
+    assert fit.status == 0
+    with pytest.raises(InputError, match="without a finite end.*bootstrap"):
+        fit.confidence()
+
+
 def test_single_level_is_not_identifiable():
     fit = fit_lognormal([0.5, 0.5], [10, 10], [3, 4])
     assert fit.status == 4 and "two distinct levels" in fit.message

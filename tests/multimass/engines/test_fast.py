@@ -350,9 +350,10 @@ def test_other_explicit_methods(method):
 
 def test_failure_is_reported_not_returned_as_data():
     # ü_g = 1e308 m/s²: finite input whose products overflow, so no step size is small
-    # enough; the compiled path says so (the reference raises on cos(inf) here)
+    # enough; the compiled path says so (the reference raises on cos(inf) here). The
+    # amplitude is the scale's: a record written at 1e308 m/s² is refused as a unit slip
     blk = multimass.rigid_block("B6M")
-    rec = Record.from_arrays([0.0, 0.5, 1.0], [1e308, 1e308, 1e308], units="m/s2")
+    rec = Record.from_arrays([0.0, 0.5, 1.0], [1.0, 1.0, 1.0], units="m/s2", scale=1e308)
     with np.errstate(all="ignore"):
         resp = simulate(blk, rec, "CIM", 1.0, restitution=0.9, output_dt=None, backend="compiled")
     assert resp.status == "failed"

@@ -26,7 +26,12 @@ from multimass.errors import InputError
 from multimass.identify import _calibration_setup as setup
 from multimass.identify import _modes_select as select
 from multimass.identify import calibrate, operational_modes, restitution, synthetic_trace
-from multimass.identify._trace_checks import check_ag, require_sensors
+from multimass.identify._trace_checks import (
+    check_ag,
+    check_frozen,
+    check_theta,
+    require_sensors,
+)
 from multimass.identify.segments import segment_trace
 from multimass.inputs.excitations import CosinePulse
 from multimass.inputs.traces import Trace, format_trace, read_trace, write_trace
@@ -65,6 +70,16 @@ def traces():
         units=dict(free.units), source="still.csv", specimen="S1",
     )  # fmt: skip
     ag1, ag2 = table1.channels["ag"], table2.channels["ag"]
+    # a logger that held its last value: the first 1.2 s of `free`, then 50 s of its last row
+    k = int(np.searchsorted(free.time, 1.2, side="right"))
+    dt = float(free.time[1] - free.time[0])
+    held = free.time[k - 1] + dt * np.arange(1, int(round(50.0 / dt)) + 1)
+    frozen = Trace(
+        time=np.concatenate([free.time[:k], held]),
+        channels={c: np.concatenate([x[:k], np.full(held.size, x[k - 1])])
+                  for c, x in free.channels.items()},
+        units=dict(free.units), source="frozen.csv", specimen="S1",
+    )  # fmt: skip
     return {
         "free": free,
         "table1": table1,
@@ -81,6 +96,11 @@ def traces():
         "ag_large": _derive(table2, "ag_large.csv", channels={"ag": G * ag2}),
         # g under an `m/s2` header: 9.81 times too small
         "ag_small": _derive(table2, "ag_small.csv", channels={"ag": ag2 / G}, units={"ag": "m/s2"}),
+        "frozen": frozen,
+        # θ written in degrees under a `[rad]` header: 180/π times too large
+        "deg_as_rad": _derive(
+            free, "deg_as_rad.csv", channels={"theta": np.degrees(free.channels["theta"])}
+        ),
     }
 
 
@@ -105,6 +125,18 @@ AG_SMALL = (
     r"uplifts 'S2' \(g tan α_cg = 2\.57 m/s2\), yet θ rocks to 0\.\d+ rad"
 )
 TO_MPS2 = r"m/s2 under a `g` header .*write it as `ag \[m/s2\]`"
+FROZEN = (
+    r"every channel \(theta, a_A1, a_A2, a_A3, a_A4\) is frozen from t = 1\.2 s to the end "
+    r"\(50 s, 10000 samples, each constant to the bit\): the logger held its last value; "
+    r"crop the trace at t = 1\.2 s"
+)
+# S1's α_cg = 0.3472 rad (atan of paper 001 Table 1's B over H_cg, computed); the release
+# at 0.11 rad reads 6.3 "rad" in degrees
+DEGREES = (
+    r"column `theta` \[rad\]: \|θ\| reaches 6\.\d+ rad at t = \S+ s, beyond the overturning "
+    r"angle of 'S1' \(α_cg = 0\.3472 rad\), yet the trace goes on: the values look like "
+    r"degrees under a `\[rad\]` header \(0\.11\d rad if so\): write the column as `theta \[deg\]`"
+)
 TO_G = r"in g under an `m/s2` header .*write it as `ag \[g\]`, or, for a free-vibration test"
 
 # (case, tool, trace, Python keywords, command-line flags, what the message must say)
@@ -156,6 +188,9 @@ CASES = [
     *[("f: m/s2 as g, 4.3 g", tool, "ag_big", {}, [], [AG_BIG, TO_MPS2]) for tool in TOOLS],
     *[("f: m/s2 as g, 2.9 g", tool, "ag_large", {}, [], [AG_LARGE, TO_MPS2]) for tool in TOOLS],
     *[("f: g as m/s2", tool, "ag_small", {}, [], [AG_SMALL, TO_G]) for tool in TOOLS],
+    # (g) a logger that held its last value for 50 s; θ in degrees under a `[rad]` header
+    *[("g: frozen tail", tool, "frozen", {}, [], [FROZEN]) for tool in TOOLS],
+    *[("g: degrees as rad", tool, "deg_as_rad", {}, [], [DEGREES]) for tool in TOOLS],
 ]  # fmt: skip
 IDS = [f"{tool}-{case}" for case, tool, *_ in CASES]
 
@@ -250,6 +285,8 @@ def test_the_good_traces_pass_every_check(traces):
     for name, spec in (("table1", "S1"), ("table2", "S2"), ("free", "S1")):
         tr = traces[name]
         check_ag(tr, from_specimen(spec), segment_trace(tr))
+        check_frozen(tr)
+        check_theta(tr, from_specimen(spec))
     require_sensors(free, s1, s1.specimen.sensors, "")
     for trace in (traces["fs50"], traces["fs100"]):
         assert segment_trace(trace).half_cycles  # 45 Hz and more: segmented
@@ -283,3 +320,15 @@ def test_restitution_needs_theta_alone(traces):
     )  # fmt: skip
     est = restitution(short, "S1", "DD2", progress=False)
     assert len(est.impacts) >= 1 and np.isfinite(est.r_mean_left)
+
+
+def test_a_trace_the_model_cannot_start_from_is_a_named_error(traces, monkeypatch):
+    """Behind the checks of the trace: a first fitting point the model refuses (here θ
+    read 180/π too large, the θ check switched off) is an InputError that names the trace
+    and the fix, never the fitting's internal rejection escaping as a traceback."""
+    import multimass.identify.impacts as impacts
+
+    for module in (impacts, setup):
+        monkeypatch.setattr(module, "check_theta", lambda trace, st: None)
+    with pytest.raises(InputError, match=r"deg_as_rad.csv: the model of 'S1' cannot run .*units"):
+        restitution(traces["deg_as_rad"], "S1", "DD2", progress=False)

@@ -221,3 +221,51 @@ def test_cli_unknown_model_is_one_line(tmp_path, s1_dd2, capsys):
     trace_file, _ = syn.write(tmp_path / "t.csv")
     assert main(["restitution", str(trace_file), "--impact", "LCP"]) != 0
     assert "give the model the coefficients are for" in capsys.readouterr().err
+
+
+def test_one_impact_leaves_the_other_corner_and_sigma_not_estimated(tmp_path, capsys):
+    """A trace with one impact (S1 released from 0.11 rad, cut at 0.8 s: its first
+    impact lands on the left corner at 0.38 s, the next one after 0.98 s) estimates
+    r̄_el alone; r̄_er (no impact on the right) and σ_r (one impact; a spread needs at
+    least three) are reported as not estimated in the result, the JSON, the text and
+    the fragment, never as the specimen's 0.93 and 0.025 (paper 001 Table 1) in the
+    fields of measured values."""
+    import tomllib
+
+    syn = synthetic_trace("S1", FreeRelease(theta0=0.11), "DD2", 0.8, seed=3, noise=0.0)
+    est = restitution(syn.trace, "S1", "DD2", progress=False)
+    rows = est.impacts[est.impacts["estimated"]]
+    assert list(rows["corner"]) == ["left"]
+    # the mean of one impact is that impact's r
+    assert est.r_mean_left == pytest.approx(rows["r"].iloc[0], abs=1e-12)
+    assert est.r_mean_right is None and est.sigma_r is None
+    assert set(est.not_estimated) == {"r_mean_right", "sigma_r"}
+    assert est.energy_means["r_mean_right"] is None and est.energy_means["sigma_r"] is None
+    assert est.values_used()["r_mean_right"] == 0.93  # what the simulations fill in
+    fragment = tomllib.loads(est.fragment())["restitution"]
+    assert set(fragment) == {"mean_left", "empirical"}
+    assert "# mean_right: not estimated (no estimated impact on the right corner" in (
+        est.fragment()
+    )
+    path = tmp_path / "S1_one.toml"
+    path.write_text(est.specimen_text(name="S1_one"), encoding="utf-8")
+    assert load(path).r_left == pytest.approx(rows["r"].iloc[0], abs=1e-4)
+    line = next(x for x in path.read_text().splitlines() if x.startswith("mean_right"))
+    assert "NOT ESTIMATED" in line
+
+    trace_file, _ = syn.write(tmp_path / "S1_one_impact.csv")
+    out = tmp_path / "o"
+    assert (
+        main(["restitution", str(trace_file), "--impact", "DD2", "--json", "--out", str(out)]) == 0
+    )
+    info = json.loads(capsys.readouterr().out)
+    assert info["r_mean_right"] is None and info["sigma_r"] is None
+    assert info["r_mean_left"] == pytest.approx(est.r_mean_left, abs=1e-9)
+    assert set(info["not_estimated"]) == {"r_mean_right", "sigma_r"}
+    assert (
+        "mean_right" not in tomllib.loads((out / "S1_restitution.toml").read_text())["restitution"]
+    )
+    assert main(["restitution", str(trace_file), "--impact", "DD2"]) == 0
+    text = capsys.readouterr().out
+    assert "r̄_er = not estimated" in text and "σ_r = not estimated" in text
+    assert "0.9300" not in text and "0.0250" not in text

@@ -73,6 +73,70 @@ def test_two_column_records_in_mps2(ground_motions, name, npts, peak_pos, peak_n
     assert rec.pga == pytest.approx(-peak_neg, abs=0.005)
 
 
+def test_kobe_in_mps2_read_as_g_is_named_with_the_slip(ground_motions):
+    """Kobe's values are m/s² (ground_motions/README.md: −6.80 at its peak); read as g
+    they peak at 6.8 g, beyond any recorded earthquake (about 4 g), and 6.80 / 9.81 =
+    0.693 g is what m/s² gives: the error names the sample, the peak, the slip and the fix,
+    from every reader and from arrays."""
+    path = ground_motions / "kobe_1995.dat"
+    expect = (
+        r"kobe_1995.dat, sample \d+.*`units` = '[gG]': peak 6.8\d* [gG].*"
+        r"m/s2 read as g \(peak 0.693 g\).*--units m/s2"
+    )
+    for read in (
+        lambda: read_record(path, units="g"),
+        lambda: read_two_column(path, units="G"),
+        lambda: Record.from_arrays(*np.loadtxt(path).T, units="g", source=str(path)),
+    ):
+        with pytest.raises(InputError, match=expect):
+            read()
+
+
+@pytest.mark.parametrize(
+    "units, scale, slip",
+    [
+        ("m/s2", 1.0, r"cm/s2 read as m/s2 \(peak 0.693 g\)"),  # Kobe in gal: 680 "m/s²"
+        ("g", 1.0, r"cm/s2 read as g \(peak 0.693 g\)"),  # 680 "g"
+        ("g", 1e-3, r"cm/s2 read as g"),  # the check is on the values as written, not scaled
+    ],
+)
+def test_a_peak_beyond_any_earthquake_is_refused(tmp_path, units, scale, slip):
+    """Kobe's peak 6.80 m/s² written in cm/s² (×100, 680): read as m/s² it is 69 g, as g
+    680 g; the peak is judged before `scale`."""
+    t = np.arange(0.0, 1.0, 0.01)
+    a = 680.0 * np.sin(2 * np.pi * t)
+    with pytest.raises(InputError, match=f"{slip}.*synthetic input.*--scale"):
+        Record.from_arrays(t, a, units=units, scale=scale)
+
+
+def test_a_peak_below_any_motion_is_refused_and_names_both_likely_units(ground_motions):
+    """El Centro's values are in g (peak 0.3487, README); read as mm/s² they are 3.6e-5 g,
+    below 1e-4 g; in m/s² (0.0355 g) or g (0.349 g) they are plausible: both are named."""
+    with pytest.raises(
+        InputError, match=r"below 0.0001 g.*m/s2 read as mm/s2.*or g read as mm/s2 \(peak 0.349 g\)"
+    ):
+        read_record(ground_motions / "elcentro_1940_NS.dat", units="mm/s2")
+
+
+def test_a_large_synthetic_peak_passes_through_scale():
+    """A 10 g input written at 1 g and scaled by 10: the scale is the user's statement."""
+    t = np.arange(0.0, 1.0, 0.01)
+    rec = Record.from_arrays(t, np.sin(2 * np.pi * t), units="g", scale=10.0)
+    assert rec.pga == pytest.approx(10.0 * G * np.abs(np.sin(2 * np.pi * t)).max(), rel=1e-12)
+    assert rec.scaled(100.0).pga == pytest.approx(100.0 * rec.pga, rel=1e-12)
+    zero = Record.from_arrays(t, np.zeros_like(t), units="g")  # no motion: not a unit slip
+    assert zero.pga == 0.0
+
+
+def test_cli_names_the_unit_slip_in_one_line(ground_motions, capsys):
+    from multimass.cli import main
+
+    argv = ["simulate", "S1", "--record", str(ground_motions / "kobe_1995.dat"), "--units", "g"]
+    assert main(argv + ["--t-end", "1"]) == 2
+    err = capsys.readouterr().err
+    assert "m/s2 read as g" in err and "Traceback" not in err and err.count("\n") == 1
+
+
 def test_two_column_needs_units(ground_motions):
     with pytest.raises(InputError, match=r"kobe_1995.dat.*`units` is missing.*never guessed"):
         read_record(ground_motions / "kobe_1995.dat")
