@@ -225,8 +225,8 @@ def test_read_only_install_caches_in_the_user_cache_across_processes(tmp_path):
     shutil.copytree(
         REPO / "multimass", site / "multimass", ignore=shutil.ignore_patterns("__pycache__")
     )
-    (site / "multimass" / "fast" / "__pycache__").write_text("read-only install\n")
-    (site / "multimass" / "fast" / "_probe.py").write_text(PROBE)
+    (site / "multimass" / "engines" / "fast" / "__pycache__").write_text("read-only install\n")
+    (site / "multimass" / "engines" / "fast" / "_probe.py").write_text(PROBE)
     env = {k: v for k, v in os.environ.items() if k not in ("NUMBA_CACHE_DIR", fc.QUIET_ENV)}
     env |= {"PYTHONPATH": str(site), "XDG_CACHE_HOME": str(tmp_path / "xdg")}
     user = tmp_path / "xdg" / "multimass" / "numba"
