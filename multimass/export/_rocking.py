@@ -236,12 +236,13 @@ def tilt(ops, theta):
 
     px = B if theta > 0 else -B
     c, s = math.cos(theta), math.sin(theta)
+    shift = px - c * px  # the foot's X stays fixed: the pivot slides by B (1 - cos theta)
     for node in _all_nodes():
         x0, y0 = ops.nodeCoord(node)
         ux, uy, r = ops.nodeDisp(node)
         x, y = x0 + ux - px, y0 + uy
         # clockwise by theta about (px, 0): theta > 0 leans towards +X
-        ops.setNodeDisp(node, 1, px + c * x + s * y - x0, "-commit")
+        ops.setNodeDisp(node, 1, px + c * x + s * y - x0 - shift, "-commit")
         ops.setNodeDisp(node, 2, -s * x + c * y - y0, "-commit")
         ops.setNodeDisp(node, 3, r - theta, "-commit")
 

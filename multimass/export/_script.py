@@ -104,11 +104,10 @@ if __name__ == "__main__":
     ops.wipe()
     ops.model("basic", "-ndm", 2, "-ndf", 3)
     build(ops)
-    analysis(ops)
+    start(ops)
     report(ops)
     series = ground_motion(ops)
     recorders(ops, ".", series)
-    start(ops)
     status = run(ops)
     ops.wipe()  # closes the recorders' files
     write_theta(".")

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import math
 import os
-from datetime import date
 from pathlib import Path
 
 import numpy as np
@@ -209,7 +208,7 @@ def _header(s: Structure, phase: str, record: Record | None) -> str:
 Specimen: {s.name}. {desc}
 Source: {source}.
 Ground motion: {motion}.
-Exported by multimass (multimass.export.opensees) on {date.today().isoformat()}.
+Exported by multimass (multimass.export.opensees).
 
 Units: SI throughout: m, kg, s, N, rad (N m, N/m, N m/rad, Pa, kg m^2, m/s^2).
 Axes: X lateral, positive towards the right pivot; Y up. theta > 0 rocks on the right
@@ -325,7 +324,8 @@ def build(ops):
 
 
 def start(ops):
-    """Initial state: at rest, undeformed (nothing to do in a linear phase)."""
+    """Initial state: at rest, undeformed; sets up the analysis."""
+    analysis(ops)
 '''
 
 _REPORT_LINEAR = '''

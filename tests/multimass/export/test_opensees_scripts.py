@@ -1,0 +1,104 @@
+"""Exported scripts run by themselves; bad input is refused in one line before writing.
+
+Each script is run as a user would (`python model.py` in its folder) and must write
+its recorders; a calibrated specimen (`multimass calibrate --out`, a user's TOML) exports
+like a bundled one.
+"""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import multimass
+from multimass.cli import main
+from multimass.errors import InputError
+from multimass.export import opensees
+from tests.conftest import column_toml
+
+
+def _run(path):
+    done = subprocess.run(
+        [sys.executable, path.name], cwd=path.parent, capture_output=True, text=True, timeout=600
+    )
+    assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
+    return done.stdout
+
+
+@pytest.mark.parametrize("name", ["S1", "S2", "S3"])
+def test_column_scripts_run(ops, tmp_path, name, ground_motions):
+    record = multimass.read_record(ground_motions / "elcentro_1940_NS.dat", units="g", scale=0.1)
+    for phase in ("full-contact", "uplifted"):
+        folder = tmp_path / phase
+        folder.mkdir()
+        path = folder / "model.py"
+        opensees(name, phase, record, out=path, t_end=0.5)
+        out = _run(path)
+        assert "mode 1: omega^2" in out and "completed" in out
+        theta, disp = np.loadtxt(folder / "theta.out"), np.loadtxt(folder / "disp.out")
+        assert disp.shape[1] == multimass.column(name).n + 1
+        assert theta[-1, 0] == pytest.approx(0.5, abs=2e-3)
+        assert np.all(np.isfinite(disp)) and np.max(np.abs(disp[:, 1:])) > 0
+
+
+def test_block_rocking_script_runs_and_decays(ops, tmp_path):
+    """B6M released from 0.1 rad rocks and loses amplitude at each impact (paper 004:
+    Housner's r = 1 - 1.5 sin^2 alpha < 1), and never exceeds the release angle."""
+    path = tmp_path / "model.py"
+    opensees("B6M", "rocking", release=0.1, out=path, t_end=1.0)
+    _run(path)
+    t, theta = np.loadtxt(tmp_path / "theta.out").T
+    assert theta[0] == pytest.approx(0.1, rel=1e-2)
+    assert np.max(np.abs(theta)) <= 0.1 * (1 + 1e-2)
+    assert theta.min() < -0.02  # it crossed to the other pivot
+    assert np.max(np.abs(theta[t > 0.6])) < 0.09
+
+
+def test_user_toml_exports_like_a_bundled_specimen(ops, tmp_path):
+    """A user's file (as `calibrate --out` writes) exports by path, CLI and Python alike,
+    into the same model as the specimen it copies."""
+    toml = column_toml(tmp_path, [0.06, 0.49, 0.93, 1.43, 1.93], [77.3, 6.2, 88.2, 8.2, 46.2])
+    assert main(["export", str(toml), "--phase", "uplifted", "--out", str(tmp_path / "u.py")]) == 0
+    mine = (tmp_path / "u.py").read_text()
+    bundled = opensees("S1", "uplifted")
+    body = lambda text: text[text.index("G = ") :]  # past the header (name, source, date)
+    assert body(mine).replace("'custom'", "'S1'") == body(bundled).replace("NAME = 'S1'", "")
+
+
+@pytest.mark.parametrize(
+    "args, words",
+    [
+        (["S1", "--phase", "sideways"], "invalid choice"),
+        (["B6M", "--phase", "full-contact"], "rigid block"),
+        (["beam_mudric2024"], "is a beam"),
+        (["S1", "--phase", "uplifted", "--release", "0.1"], "needs phase 'rocking'"),
+        (["B6M", "--phase", "rocking", "--release", "0.5"], "overturns"),
+    ],
+)
+def test_bad_input_one_line_nothing_written(tmp_path, capsys, args, words):
+    out = tmp_path / "model.py"
+    assert main(["export", *args, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert words in err and err.count("\n") == 1
+    assert not out.exists()
+
+
+def test_non_uniform_record_refused_before_writing(tmp_path, capsys):
+    record = tmp_path / "uneven.dat"
+    record.write_text("0 0\n0.02 0.1\n0.05 0.2\n0.07 0.1\n")
+    out = tmp_path / "model.py"
+    argv = ["export", "S1", "--out", str(out), "--record", str(record), "--units", "g"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "non-uniform time step" in err and err.count("\n") == 1
+    assert not out.exists()
+
+
+def test_unwritable_path_refused(tmp_path, capsys):
+    assert main(["export", "S1", "--out", str(tmp_path / "missing" / "m.py")]) == 2
+    assert "does not exist" in capsys.readouterr().err
+    assert main(["export", "S1", "--out", str(tmp_path)]) == 2
+    assert "is a folder" in capsys.readouterr().err
+    with pytest.raises(InputError, match="give the path"):
+        opensees("S1", out=3.5)
