@@ -102,3 +102,24 @@ def test_unwritable_path_refused(tmp_path, capsys):
     assert "is a folder" in capsys.readouterr().err
     with pytest.raises(InputError, match="give the path"):
         opensees("S1", out=3.5)
+
+
+DOCS = [
+    ("S1_uplifted.py", "S1", dict(phase="uplifted", t_end=1.0)),
+    ("S2_uplifted.py", "S2", dict(phase="uplifted", t_end=1.0)),
+    ("S3_uplifted.py", "S3", dict(phase="uplifted", t_end=1.0)),
+    ("B6M_rocking.py", "B6M", dict(phase="rocking", release=0.1, t_end=1.0)),
+]
+
+
+@pytest.mark.parametrize("name, specimen, kw", DOCS)
+def test_docs_scripts_current_and_run(ops, tmp_path, name, specimen, kw):
+    """The scripts shown in docs/opensees are what the exporter writes today, and run."""
+    from tests.conftest import REPO
+
+    shown = (REPO / "docs" / "opensees" / name).read_text()
+    assert shown == opensees(specimen, **kw), f"regenerate docs/opensees/{name}"
+    path = tmp_path / name
+    path.write_text(shown)
+    _run(path)
+    assert (tmp_path / "theta.out").stat().st_size > 0
