@@ -116,7 +116,7 @@ def opensees(
     dt: float | None = None,
     output_dt: float = 1e-3,
     release: float | None = None,
-    contact_damping: float = 1.0,
+    contact_damping: float | None = None,
     offset: int = 0,
 ) -> str:
     """The OpenSeesPy script of a specimen's model in one phase.
@@ -139,8 +139,9 @@ def opensees(
         Recorders' sampling step (s).
     release : float, optional
         Rocking only: release from rest at θ0 = `release` rad (|θ0| < α_cg).
-    contact_damping : float
-        Rocking only: damping ratio of the contact springs (`_rocking.contact`).
+    contact_damping : float, optional
+        Rocking only: damping ratio ζ_c of the contact springs; default by kind,
+        0.01 for a block and 0.1 for a column (`_rocking.CONTACT_DAMPING`).
     offset : int
         Added to every tag, to place the model beside others in one domain.
 
@@ -175,6 +176,8 @@ def opensees(
     if isinstance(offset, bool) or not isinstance(offset, int) or offset < 0:
         raise InputError(f"`offset` = {offset!r}: give a whole number >= 0 added to every tag")
     output_dt = _positive("output_dt", output_dt, "the recorders' step in s")
+    if contact_damping is None:
+        contact_damping = _rocking.contact(s)["zeta_c"]
     contact_damping = _positive("contact_damping", contact_damping, "a damping ratio")
     if t_end is None:
         t_end = float(record.duration) if record is not None else 5.0
