@@ -1,4 +1,6 @@
-"""OpenSeesPy model of specimen B6M: rocking (nonlinear: a rigid base on two compression-only contact springs at the pivots).
+"""OpenSeesPy model of specimen B6M, phase rocking.
+
+Phase: nonlinear: a rigid base on two compression-only contact springs at the pivots.
 
 Specimen: B6M. Medium slender block, h/b = 4.5 (the same block in papers 002 and 004).
 Source: paper 004, Table 1; paper 002, Table 1.
@@ -15,12 +17,15 @@ larger one, import this file and call `build(ops)` in your own domain (2-D, 3 de
 of freedom per node); set OFFSET first if your tags collide with these.
 """
 
+
 import os
 import sys
+
 
 # ---------------------------------------------------------------- OpenSeesPy
 # multimass.export._runtime.load_opensees, copied: the Linux wheel's bundled BLAS
 # must be loaded before OpenSeesPy imports on machines without a system BLAS.
+
 def load_opensees():
     """Import and return ``openseespy.opensees``, loading the wheel's bundled BLAS first.
 
@@ -60,6 +65,9 @@ MASSES = []  # kg, lumped at nodes 1..N
 M0 = 1.0896  # kg, base (node 0)
 J0 = 0.0039072375  # kg m^2, base rotary inertia about its centre of mass
 H0 = 0.10125  # m, height of the base's centre of mass above the pivots
+
+# ---------------------------------------------------------------- tags
+# OFFSET is added to each: node i (1..N) and the beam from node i to i + 1 are i
 BASE = 1000
 PIVOT = 1001
 BASE_SPRING = 1000
@@ -79,6 +87,7 @@ T_END = 1.0  # s, end of the analysis
 DT = 0.00016666666666666666  # s, analysis step (multimass.export.default_dt)
 OUTPUT_DT = 0.001  # s, recorders' step
 N_MODES = 0  # modes with mass
+
 
 # ---------------------------------------------------------------- rocking contact
 # Contact springs at the pivots: compression-only (ENT). Their stiffness makes the
@@ -104,6 +113,7 @@ K_AXIAL = 4379888419.330521  # N/m, node 1 on the base, vertically
 RELEASE = 0.1  # rad, initial theta (None: start at rest, upright)
 CORNER_R, CORNER_L, GROUND_R, GROUND_L, FOOT, MASS_NODE = 1002, 1003, 1004, 1005, 1006, 1007
 ARM, CONTACT = 1100, 1200
+
 
 def nodes_and_masses(ops):
     """Nodes 1..N with their masses (free in X, Y and rotation); the rigid base's nodes.
@@ -136,8 +146,10 @@ def _foot():
 def _mass_node():
     return OFFSET + (MASS_NODE if H0 != HUB_Y else BASE)
 
+
 def elements(ops):
     """A rigid block has no elastic elements."""
+
 
 def base(ops):
     """The rigid base: stiff corotational arms from the hub to the corners, foot, mass."""
@@ -160,11 +172,14 @@ def contact_springs(ops):
                     "-mat", OFFSET + CONTACT, "-dir", 2, "-doRayleigh", 1)
         ops.setElementRayleighDampingFactors(tag, 0.0, 0.0, 0.0, BETA_C)
 
+
 def base_springs(ops):
     """A rigid block has no elastic column: nothing ties it to the base but rigidity."""
 
+
 def damping(ops):
     """A rigid block: no structural damping; energy is lost at the contacts only."""
+
 
 def build(ops):
     """Add the model to the current domain (2-D, 3 dof per node); returns its node tags."""
@@ -227,6 +242,7 @@ def start(ops):
         tilt(ops, RELEASE)
     analysis(ops)
 
+
 def analysis(ops):
     """A nonlinear transient analysis: Newton on Newmark's average acceleration.
 
@@ -262,6 +278,7 @@ def report(ops):
     print(f"{NAME}: contact springs K_N = {K_N:.4g} N/m, OMEGA_C = {OMEGA_C:.4g} rad/s, "
           f"ZETA_C = {ZETA_C}")
 
+
 def ground_motion(ops):
     """The record as a `Path` time series and a uniform excitation in X.
 
@@ -277,6 +294,7 @@ def ground_motion(ops):
                    "-startTime", RECORD_T0)
     ops.pattern("UniformExcitation", tag, 1, "-accel", tag)
     return tag
+
 
 def recorders(ops, folder=".", series=None):
     """The channels of multimass.simulate, sampled every OUTPUT_DT s.
@@ -305,6 +323,7 @@ def write_theta(folder="."):
     with open(os.path.join(folder, "theta.out"), "w") as dst:
         for t, r in rows:
             dst.write(f"{t} {-float(r)!r}\n")
+
 
 if __name__ == "__main__":
     ops = load_opensees()

@@ -1,4 +1,6 @@
-"""OpenSeesPy model of specimen S2: uplifted (linear, rocking on the right pivot, linearised about θ = 0 (paper 001, Eqs 19-20)).
+"""OpenSeesPy model of specimen S2, phase uplifted.
+
+Phase: linear, rocking on the right pivot, linearised about θ = 0 (paper 001, Eqs 19-20).
 
 Specimen: S2. Mass concentrated at the top (mass arrangement S2).
 Source: paper 001, Table 1.
@@ -15,12 +17,15 @@ larger one, import this file and call `build(ops)` in your own domain (2-D, 3 de
 of freedom per node); set OFFSET first if your tags collide with these.
 """
 
+
 import os
 import sys
+
 
 # ---------------------------------------------------------------- OpenSeesPy
 # multimass.export._runtime.load_opensees, copied: the Linux wheel's bundled BLAS
 # must be loaded before OpenSeesPy imports on machines without a system BLAS.
+
 def load_opensees():
     """Import and return ``openseespy.opensees``, loading the wheel's bundled BLAS first.
 
@@ -65,11 +70,15 @@ I_S = 1.833e-06  # m^4, second moment of area
 K_FP = 500000000.0  # N/m, horizontal spring, base to node 1
 K_ROT = 2000000.0  # N m/rad, rotational spring, base to node 1
 ZETA_1, ZETA_2 = 0.0025, 0.015  # fractions of critical, full-contact modes 1 and 2
-OMEGA_1, OMEGA_2 = 32.900329942177095, 615.1714337742183  # rad/s, undamped full-contact modes 1 and 2
+# rad/s, undamped full-contact modes 1 and 2
+OMEGA_1, OMEGA_2 = 32.900329942177095, 615.1714337742183
 RAYLEIGH_A0 = 0.11203526938518094  # 1/s, C = a0 M + a1 K (multimass.damping)
 RAYLEIGH_A1 = 4.847084562125757e-05  # s
 # axial area: inextensible in the linear phases (Y fixed); while rocking, stiff
 AXIAL_AREA = 0.11896160086533264  # m^2
+
+# ---------------------------------------------------------------- tags
+# OFFSET is added to each: node i (1..N) and the beam from node i to i + 1 are i
 BASE = 1000
 PIVOT = 1001
 BASE_SPRING = 1000
@@ -90,6 +99,7 @@ DT = 7.692307692307693e-05  # s, analysis step (multimass.export.default_dt)
 OUTPUT_DT = 0.001  # s, recorders' step
 N_MODES = 6  # modes with mass
 
+
 def nodes_and_masses(ops):
     """Nodes 1..N at the specimen heights with their lumped masses, and the base (node 0).
 
@@ -106,6 +116,7 @@ def nodes_and_masses(ops):
     ops.node(OFFSET + BASE, 0.0, 0.0)
     ops.mass(OFFSET + BASE, M0, M0, J0)  # kg, kg, kg m^2
 
+
 def elements(ops):
     """Elastic beam-columns E_s I_s between consecutive nodes (paper 001, Eq 1)."""
     ops.geomTransf("Linear", OFFSET + 1)
@@ -116,6 +127,7 @@ def elements(ops):
             "elasticBeamColumn", OFFSET + i, OFFSET + i, OFFSET + i + 1,
             AXIAL_AREA, E_S, I_S, OFFSET + 1,
         )
+
 
 def base(ops):
     """Uplifted on the right pivot: the rigid base rotates about the pivot (θ > 0).
@@ -172,6 +184,7 @@ def gravity_terms(ops):
         ops.element("zeroLength", OFFSET + GRAVITY_POS + i, OFFSET + FRAME + i, OFFSET + i,
                     "-mat", OFFSET + GRAVITY_POS + i, "-dir", 1)
 
+
 def damping(ops):
     """Rayleigh damping C = a0 M + a1 K of the elastic column (multimass.damping).
 
@@ -192,6 +205,7 @@ def damping(ops):
         ops.element("zeroLength", OFFSET + DASHPOT + i, OFFSET + FRAME + i, OFFSET + i,
                     "-mat", OFFSET + DASHPOT + i, "-dir", 1)
 
+
 def build(ops):
     """Add the model to the current domain (2-D, 3 dof per node); returns its node tags."""
     nodes_and_masses(ops)
@@ -205,6 +219,7 @@ def build(ops):
 def start(ops):
     """Initial state: at rest, undeformed; sets up the analysis."""
     analysis(ops)
+
 
 def analysis(ops):
     """A linear transient analysis: Newmark's average acceleration (gamma = 1/2, beta = 1/4).
@@ -238,6 +253,7 @@ def run(ops, folder=".", t_end=None, dt=None):
     dt = DT if dt is None else dt
     return ops.analyze(int(round(t_end / dt)), dt)
 
+
 def report(ops):
     """Print the undamped modes: omega^2, and f = omega / 2 pi where omega^2 > 0."""
     import math
@@ -245,6 +261,7 @@ def report(ops):
     for k, lam in enumerate(eigenvalues(ops), start=1):
         f = f"{math.sqrt(lam) / (2 * math.pi):.6g} Hz" if lam > 0 else "unstable (rocking)"
         print(f"mode {k}: omega^2 = {lam:.9g} rad^2/s^2, {f}")
+
 
 def ground_motion(ops):
     """The record as a `Path` time series and a uniform excitation in X.
@@ -261,6 +278,7 @@ def ground_motion(ops):
                    "-startTime", RECORD_T0)
     ops.pattern("UniformExcitation", tag, 1, "-accel", tag)
     return tag
+
 
 def recorders(ops, folder=".", series=None):
     """The channels of multimass.simulate, sampled every OUTPUT_DT s.
@@ -289,6 +307,7 @@ def write_theta(folder="."):
     with open(os.path.join(folder, "theta.out"), "w") as dst:
         for t, r in rows:
             dst.write(f"{t} {-float(r)!r}\n")
+
 
 if __name__ == "__main__":
     ops = load_opensees()

@@ -206,7 +206,9 @@ def _header(s: Structure, phase: str, record: Record | None) -> str:
         if record is not None
         else "none (free vibration)"
     )
-    return f'''"""OpenSeesPy model of specimen {s.name}: {phase} ({PHASES[phase]}).
+    return f'''"""OpenSeesPy model of specimen {s.name}, phase {phase}.
+
+Phase: {PHASES[phase]}.
 
 Specimen: {s.name}. {desc}
 Source: {source}.
@@ -251,13 +253,18 @@ def _constants(s, phase, record, t_end, dt, output_dt, offset) -> str:
             f"K_ROT = {float(spec.K_rot)!r}  # N m/rad, rotational spring, base to node 1",
             f"ZETA_1, ZETA_2 = {float(spec.zeta_1)!r}, {float(spec.zeta_2)!r}  "
             "# fractions of critical, full-contact modes 1 and 2",
-            f"OMEGA_1, OMEGA_2 = {float(omega[0])!r}, {float(omega[min(1, omega.size - 1)])!r}"
-            "  # rad/s, undamped full-contact modes 1 and 2",
+            "# rad/s, undamped full-contact modes 1 and 2",
+            f"OMEGA_1, OMEGA_2 = {float(omega[0])!r}, {float(omega[min(1, omega.size - 1)])!r}",
             f"RAYLEIGH_A0 = {float(a0)!r}  # 1/s, C = a0 M + a1 K (multimass.damping)",
             f"RAYLEIGH_A1 = {float(a1)!r}  # s",
             "# axial area: inextensible in the linear phases (Y fixed); while rocking, stiff",
             f"AXIAL_AREA = {_axial_area(s)!r}  # m^2",
         ]
+    lines += [
+        "",
+        "# ---------------------------------------------------------------- tags",
+        "# OFFSET is added to each: node i (1..N) and the beam from node i to i + 1 are i",
+    ]
     lines += [f"{k} = {v}" for k, v in _TAGS.items()]
     lines += ["", "# ---------------------------------------------------------------- the motion"]
     if record is not None:
@@ -312,7 +319,7 @@ def _assemble(s, phase, record, t_end, dt, output_dt, release, contact_damping, 
             _REPORT_LINEAR,
         ]
     parts += [_script.GROUND_MOTION, _script.RECORDERS, _script.MAIN]
-    return "".join(parts)
+    return "\n".join(part for part in parts if part.strip()).replace("\n\n\n\n", "\n\n\n")
 
 
 _BUILD_LINEAR = '''

@@ -121,5 +121,9 @@ def test_docs_scripts_current_and_run(ops, tmp_path, name, specimen, kw):
     assert shown == opensees(specimen, **kw), f"regenerate docs/opensees/{name}"
     path = tmp_path / name
     path.write_text(shown)
+    # readable Python: pycodestyle and pyflakes (no undefined or unused names) clean
+    lint = ["ruff", "check", "--isolated", "--select", "E,W,F", "--line-length", "100"]
+    done = subprocess.run([sys.executable, "-m", *lint, str(path)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stdout[-3000:]
     _run(path)
     assert (tmp_path / "theta.out").stat().st_size > 0
