@@ -85,16 +85,19 @@ def default_dt(s: Structure, phase: str, record: Record | None, output_dt: float
 
 
 def _check_out(out) -> Path | None:
+    """The script's path, checked writable (its missing folders are made when writing)."""
     if out is None:
         return None
     if not isinstance(out, (str, os.PathLike)) or isinstance(out, bytes) or str(out) == "":
         raise InputError(f"`out` = {out!r:.80}: give the path of the script to write")
     path = Path(out)
-    folder = path.parent if str(path.parent) else Path(".")
     if path.is_dir():
         raise InputError(f"`out` = {str(path)!r} is a folder; give a file name, e.g. model.py")
+    folder = path.parent
+    while not folder.exists() and folder != folder.parent:
+        folder = folder.parent
     if not folder.is_dir():
-        raise InputError(f"`out` = {str(path)!r}: its folder {str(folder)!r} does not exist")
+        raise InputError(f"`out` = {str(path)!r}: {str(folder)!r} is a file, not a folder")
     if not os.access(folder, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
         raise InputError(f"`out` = {str(path)!r}: not writable here; choose another path")
     return path
@@ -190,6 +193,7 @@ def opensees(
     text = _assemble(s, phase, record, t_end, dt, output_dt, release, contact_damping, offset)
     if path is not None:
         try:
+            path.parent.mkdir(parents=True, exist_ok=True)
             path.write_text(text)
         except OSError as exc:
             raise InputError(f"`out` = {str(path)!r}: cannot be written ({exc.strerror})") from None

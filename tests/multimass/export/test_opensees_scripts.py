@@ -5,6 +5,7 @@ its recorders; a calibrated specimen (`multimass calibrate --out`, a user's TOML
 like a bundled one.
 """
 
+import os
 import subprocess
 import sys
 
@@ -96,8 +97,17 @@ def test_non_uniform_record_refused_before_writing(tmp_path, capsys):
 
 
 def test_unwritable_path_refused(tmp_path, capsys):
-    assert main(["export", "S1", "--out", str(tmp_path / "missing" / "m.py")]) == 2
-    assert "does not exist" in capsys.readouterr().err
+    (tmp_path / "notes.txt").write_text("a file")
+    assert main(["export", "S1", "--out", str(tmp_path / "notes.txt" / "m.py")]) == 2
+    assert "is a file, not a folder" in capsys.readouterr().err
+    readonly = tmp_path / "readonly"
+    readonly.mkdir(mode=0o500)
+    if not os.access(readonly, os.W_OK):  # root may write anywhere: then nothing to test
+        assert main(["export", "S1", "--out", str(readonly / "m.py")]) == 2
+        assert "not writable" in capsys.readouterr().err
+    # a missing folder is made, like the other commands' --out
+    assert main(["export", "S1", "--out", str(tmp_path / "new" / "m.py")]) == 0
+    assert (tmp_path / "new" / "m.py").is_file()
     assert main(["export", "S1", "--out", str(tmp_path)]) == 2
     assert "is a folder" in capsys.readouterr().err
     with pytest.raises(InputError, match="give the path"):
