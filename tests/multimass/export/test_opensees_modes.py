@@ -66,3 +66,24 @@ def test_uplifted_rocking_eigenvalue_near_p_l(ops, tmp_path):
     got = _opensees_eigenvalues(ops, tmp_path, stiff, "uplifted")[0]
     p_l = multimass.column(stiff).p_l
     assert got == pytest.approx(-(p_l**2), rel=1e-3)
+
+
+def test_two_models_share_one_domain(ops, tmp_path):
+    """`build(ops)` drops the model into a larger one: S1 and S2 built side by side in one
+    domain (S2's tags offset) have the union of their eigenvalues, each within 1e-6."""
+    models = []
+    for name, offset in (("S1", 0), ("S2", 10000)):
+        path = tmp_path / f"{name}.py"
+        opensees(name, "uplifted", out=path, offset=offset)
+        models.append(load_script(path))
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    for module in models:
+        module.build(ops)
+    models[0].analysis(ops)
+    got = np.sort(ops.eigen("-fullGenLapack", 12))
+    want = []
+    for name in ("S1", "S2"):
+        system = modal.rocking(multimass.column(name))
+        want.append(sla.eigh(system.K, system.M, eigvals_only=True))
+    np.testing.assert_allclose(got, np.sort(np.concatenate(want)), rtol=EIGEN_RTOL)
