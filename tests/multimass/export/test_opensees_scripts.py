@@ -75,6 +75,7 @@ def test_user_toml_exports_like_a_bundled_specimen(ops, tmp_path):
         (["beam_mudric2024"], "is a beam"),
         (["S1", "--phase", "uplifted", "--release", "0.1"], "needs phase 'rocking'"),
         (["B6M", "--phase", "rocking", "--release", "0.5"], "overturns"),
+        (["S1", "--units", "g"], "give --record FILE too"),
     ],
 )
 def test_bad_input_one_line_nothing_written(tmp_path, capsys, args, words):
