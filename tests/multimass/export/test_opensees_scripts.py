@@ -18,6 +18,8 @@ from multimass.errors import InputError
 from multimass.export import opensees
 from tests.conftest import column_toml
 
+from .conftest import load_script
+
 
 def _run(path):
     done = subprocess.run(
@@ -162,3 +164,27 @@ def test_column_rocking_script_first_impact_matches_simulate(ops, tmp_path):
     np.testing.assert_allclose(
         theta[before], np.interp(t[before], ref.series["t"], ref.series["theta"]), atol=5e-3
     )
+
+
+def test_calibrated_specimen_exports_its_fitted_damping(ops, tmp_path):
+    """A calibrated file, written as `calibrate --out` writes it (`specimens.toml_text.
+    specimen_text` with fitted [damping] and [restitution]), reaches OpenSees in one
+    command with its fitted ζ1, ζ2: the script's Rayleigh coefficients are those of
+    `damping.rayleigh_coefficients` at the fitted ratios (not S1's)."""
+    from multimass import specimens
+    from multimass.damping import rayleigh_coefficients
+    from multimass.specimens.toml_text import specimen_text
+
+    fitted = {"damping": {"zeta_1": 0.012, "zeta_2": 0.021}}
+    fitted["restitution"] = {"mean_right": 0.9, "mean_left": 0.88, "sigma": 0.02}
+    path = tmp_path / "S1_calibrated.toml"
+    path.write_text(specimen_text(specimens.load("S1"), fitted, note="calibrated", name="S1-fit"))
+    out = tmp_path / "model.py"
+    assert main(["export", str(path), "--phase", "full-contact", "--out", str(out)]) == 0
+    module = load_script(out)
+    omega = multimass.column("S1").full_contact_omega
+    a0, a1 = rayleigh_coefficients(omega[0], omega[1], 0.012, 0.021)
+    assert module.NAME == "S1-fit"
+    assert (module.RAYLEIGH_A0, module.RAYLEIGH_A1) == pytest.approx((a0, a1), rel=1e-12)
+    assert module.RAYLEIGH_A0 != pytest.approx(multimass.column("S1").rayleigh[0], rel=1e-3)
+    _run(out)
