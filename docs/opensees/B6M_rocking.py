@@ -62,8 +62,8 @@ G = 9.81  # m/s^2
 B = 0.0225  # m, half the distance between the pivots
 HEIGHTS = []  # m, nodes 1..N above the base
 MASSES = []  # kg, lumped at nodes 1..N
-M0 = 1.0896  # kg, base (node 0)
-J0 = 0.0039072375  # kg m^2, base rotary inertia about its centre of mass
+M0 = 1.0896  # kg, the block
+J0 = 0.0039072375  # kg m^2, the block's rotary inertia about its centre of mass
 H0 = 0.10125  # m, height of the base's centre of mass above the pivots
 
 # ---------------------------------------------------------------- tags
@@ -100,7 +100,8 @@ K_N = 43798884.1933052  # N/m, each spring: 2 K_N B^2 = J_p OMEGA_C^2
 # impact on stiff springs loses energy by itself (it excites the bouncing of the
 # base, which the damping then removes); ZETA_C sets how much. Defaults, measured
 # against the toolkit (docs/opensees): 0.01 for a rigid block (Housner's decay
-# within 4 % over six impacts), 0.1 for a column (S1: between CIM and DD2).
+# within 4 % over six impacts), 0.1 for a column (S1: peaks within 0.005 rad of
+# the toolkit's DD2).
 ZETA_C = 0.01
 BETA_C = 2.0 * ZETA_C / OMEGA_C  # s
 # Sliding is prevented at the base's centre (X fixed at the foot, level with the

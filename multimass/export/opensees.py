@@ -241,8 +241,10 @@ def _constants(s, phase, record, t_end, dt, output_dt, offset) -> str:
         f"B = {s.B!r}  # m, half the distance between the pivots",
         f"HEIGHTS = {_script.number_list(s.H)}  # m, nodes 1..N above the base",
         f"MASSES = {_script.number_list(s.m)}  # kg, lumped at nodes 1..N",
-        f"M0 = {s.m0!r}  # kg, base (node 0)",
-        f"J0 = {s.J0!r}  # kg m^2, base rotary inertia about its centre of mass",
+        f"M0 = {s.m0!r}  # kg, " + ("the block" if s.is_rigid else "base (node 0)"),
+        f"J0 = {s.J0!r}  # kg m^2, "
+        + ("the block's" if s.is_rigid else "base")
+        + " rotary inertia about its centre of mass",
         f"H0 = {s.h0!r}  # m, height of the base's centre of mass above the pivots",
     ]
     if not s.is_rigid:
