@@ -72,7 +72,7 @@ K_ROT = 2000000.0  # N m/rad, rotational spring, base to node 1
 ZETA_1, ZETA_2 = 0.005, 0.015  # fractions of critical, full-contact modes 1 and 2
 # rad/s, undamped full-contact modes 1 and 2
 OMEGA_1, OMEGA_2 = 37.06676670423307, 313.20690744856046
-RAYLEIGH_A0 = 0.24246249569492145  # 1/s, C = a0 M + a1 K (multimass.damping)
+RAYLEIGH_A0 = 0.24246249569492145  # 1/s, C = a0 M + a1 K (multimass.model.damping)
 RAYLEIGH_A1 = 9.331170698514537e-05  # s
 # axial area: inextensible in the linear phases (Y fixed); while rocking, stiff
 AXIAL_AREA = 0.11896160086533264  # m^2
@@ -186,7 +186,7 @@ def gravity_terms(ops):
 
 
 def damping(ops):
-    """Rayleigh damping C = a0 M + a1 K of the elastic column (multimass.damping).
+    """Rayleigh damping C = a0 M + a1 K of the elastic column (multimass.model.damping).
 
     a0, a1 give ZETA_1 and ZETA_2 at the first two full-contact modes (OMEGA_1, OMEGA_2
     rad/s). K is the column's stiffness: the beams and the base springs, whose element
