@@ -1,4 +1,4 @@
-"""One source for each equation (issue 13 item 3): `multimass.equations` and
+"""One source for each equation: `multimass.equations` and
 `multimass.impact_models.gaussian_force` are the only implementations of paper 001's
 Eqs 3–8 and 14–17, and both the solve_ivp path and the compiled path run them.
 

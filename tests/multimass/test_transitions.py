@@ -1,5 +1,5 @@
 """Paper 001's uplift condition (Eq 8) and the Dirac-delta width (Eq 15), pinned by
-hand-computed states (issue 12: both were held only by a broad chatter count).
+hand-computed states (not only by a run's chatter count).
 
 The reference numbers are worked out by hand in the comments, from the paper's formulas,
 for a one-node structure whose matrices are written here, not built by the code.
