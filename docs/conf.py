@@ -135,6 +135,9 @@ sphinx_gallery_conf = {
     "reset_modules": ("matplotlib",),
     "capture_repr": ("_repr_html_", "__repr__"),
     "min_reported_time": 1,
+    # each function's reference page lists the examples that call it (minigallery)
+    "doc_module": ("multimass",),
+    "backreferences_dir": "api/generated/backreferences",
 }
 
 # -- modules whose docstrings still warn -----------------------------------------------
