@@ -1,4 +1,4 @@
-"""One import name (issue 13): the distribution installs `multimass` and nothing else at the
+"""One import name: the distribution installs `multimass` and nothing else at the
 top level of site-packages; the folders the design card keeps at the repository's top level
 (modal/, impact_models/, specimens/) import only as multimass.modal, ... ."""
 

@@ -18,8 +18,8 @@ PYTHON_BLOCKS = re.findall(r"```python\n(.*?)```", README, flags=re.S)
 
 @pytest.mark.parametrize("how", ["file", "stdin"])
 def test_readme_python_example_runs_as_a_script(how, tmp_path):
-    # issue 12: saved as script.py (or piped to `python -`) the example ran twice and died with
-    # BrokenProcessPool: the overturning map's process pool re-ran the unguarded script
+    # saved as script.py (or piped to `python -`) the example runs once: the overturning map's
+    # process pool must not re-run the unguarded script (BrokenProcessPool)
     assert PYTHON_BLOCKS, "README.md has no python example"
     code = "\n".join(PYTHON_BLOCKS)
     script = tmp_path / "script.py"

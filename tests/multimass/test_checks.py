@@ -1,4 +1,4 @@
-"""The accuracy checks of a run and the status they decide (multimass.checks, issue 12)."""
+"""The accuracy checks of a run and the status they decide (multimass.checks)."""
 
 import json
 
@@ -56,9 +56,10 @@ def test_the_tolerance_is_the_users():
 
 
 def test_a_pulse_the_structure_cannot_follow_is_not_judged_on_round_off():
-    # issue 12: a cosine pulse of 1e9 rad/s (6 ns) reported an energy balance error of 1.01:
-    # all its energies are ~1e-15 J, round-off against the ~1e-7 J the solver's absolute
-    # tolerance resolves (m_t g B atol); the structure does not move, as physics says
+    # a cosine pulse of 1e9 rad/s (6 ns) is not judged on round-off (its energy balance
+    # error would read 1.01): all its energies are ~1e-15 J, round-off against the ~1e-7 J
+    # the solver's absolute tolerance resolves (m_t g B atol); the structure does not move,
+    # as physics says
     r = simulate("S1", CosinePulse(amplitude=0.4 * G, omega=1e9), "DD2", 2.0)
     st = multimass.column("S1")
     floor = energy_floor(st, 1e-10)

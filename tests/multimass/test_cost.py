@@ -111,7 +111,7 @@ def test_progress_is_automatic_from_the_estimate(capsys):
 
 
 def test_estimate_of_a_long_record_run_shows_progress():
-    # issue 12: record runs took 49 s with nothing on screen; S1 for 40 s through solve_ivp
+    # a run that takes tens of seconds shows progress: S1 for 40 s through solve_ivp
     cost = estimate("S1", FreeRelease(0.1), "DD2", 40.0)
     from multimass.progress import PROGRESS_AFTER_S
 

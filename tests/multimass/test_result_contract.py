@@ -1,4 +1,4 @@
-"""Every engine returns a result on one contract (`multimass.result`, issue 13 item 4).
+"""Every engine returns a result on one contract (`multimass.result`).
 
 One small case per engine — the solve_ivp path, the compiled path, Newmark through
 `simulate`, `simulate_outcome`, `newmark_block` (paper 004), the paper-000 contact

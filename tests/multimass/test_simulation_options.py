@@ -1,4 +1,4 @@
-"""`SimulationOptions`: every option of `simulate` validated once, in one place (issue 13 item 5)."""
+"""`SimulationOptions`: every option of `simulate` validated once, in one place."""
 
 import math
 

@@ -13,8 +13,8 @@ import pytest
 from multimass.bench.failures import KINDS
 from multimass.cli import main
 
-HEADLINE = ("speedup_single", "speedup_map", "scaling_2_workers", "peak_error_rad")  # issue 7
-ROW_KEYS = ("model", "method", "tolerance", "error", "wall_time_s", "n_rhs", "failure")  # issue 7
+HEADLINE = ("speedup_single", "speedup_map", "scaling_2_workers", "peak_error_rad")  # bench.json
+ROW_KEYS = ("model", "method", "tolerance", "error", "wall_time_s", "n_rhs", "failure")  # rows.csv
 MODELS = {"rigid_block", "S1_CIM", "S1_DD2", "lcp_block", "nscd", "S1 stiffness"}
 
 
@@ -27,7 +27,7 @@ def test_bench_json_structure(tmp_path, capsys):
     for key in HEADLINE:
         assert isinstance(res[key], float) and res[key] > 0
     assert set(res["targets"]["pass"]) == set(HEADLINE)
-    # the smoke case is smaller than issue 7's: measured, not judged
+    # the smoke case is smaller than the target cases: measured, not judged
     assert all(v is None for v in res["targets"]["pass"].values())
     rows = res["rows"]
     assert {r["model"] for r in rows} == MODELS
@@ -85,7 +85,7 @@ def test_bench_rejects_quick_with_smoke(capsys):
 
 
 def test_the_full_run_measures_the_target_cases():
-    # issue 7: S1 DD2 release for 10 s, the 100 x 100 B6M map
+    # the target cases: S1 DD2 release for 10 s, the 100 x 100 B6M map
     from multimass.bench.config import preset
     from multimass.bench.targets import TARGET_CASE
 

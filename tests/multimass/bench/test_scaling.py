@@ -1,4 +1,4 @@
-"""``multimass bench --scaling`` (multimass/bench/scaling.py; issue 15, item 6).
+"""``multimass bench --scaling`` (multimass/bench/scaling.py).
 
 The smoke configuration (seconds; its numbers mean nothing) runs the whole
 pipeline and writes every file; only the structure is checked (benchmarks are

@@ -2,7 +2,7 @@
 
 Reference values: the model's modes from `multimass.modal.analyse` (independent of the
 identification); the trace is a synthetic S1 free-vibration test (0.11 rad, 10 s,
-DD2, 200 Hz, noise 2 % of each channel's peak: issue 14).
+DD2, 200 Hz, noise 2 % of each channel's peak: paper 001 Section 4.3's test, logged).
 """
 
 import json

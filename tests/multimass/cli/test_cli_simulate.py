@@ -264,7 +264,7 @@ def test_spectrum_json(capsys, tmp_path):
     assert (tmp_path / "S1_spectrum_omega.png").is_file()
 
 
-# --- issue 12: what a user sees ---------------------------------------------------------------
+# --- what a user sees: one line for a mistake, a status for a doubtful run --------------------
 
 
 def test_simulate_newmark_from_the_command_line(capsys):

@@ -235,7 +235,7 @@ def test_bad_simulation_input(osc):
         simulate_oscillator(osc, 0.5, 1.0, ag="record.csv")
 
 
-# -- runs that start on the ground (issue 12): the given state, its energy, friction
+# -- runs that start on the ground: the given state, its energy, friction
 
 
 @pytest.mark.parametrize("u0, udot0", [(0.0, 0.0), (0.5, 0.0), (0.5, -0.3), (2.5, 0.2)])

@@ -246,7 +246,7 @@ def test_housner_reference_agrees_with_the_engine(case):
     assert np.abs(theta_h - theta_engine).max() < 1e-6 * block.alpha
 
 
-# -- runs that start on the ground (issue 12): the given state, its energy, its first peak
+# -- runs that start on the ground: the given state, its energy, its first peak
 
 
 def b6m_block():
@@ -266,8 +266,8 @@ def first_peak(block, dphi):
 
 @pytest.mark.parametrize("dphi", [0.25, -0.25, 0.5, -0.5, 1.0, -1.0, 1.5])
 def test_upright_block_with_a_spin_rocks_to_the_closed_form_peak(dphi):
-    # regression, issue 12: started upright with a spin, the block used to stay at rest
-    # (every touching corner was closed, the spin projected away, the ledger started after)
+    # started upright with a spin, the block rocks: the spin is not projected away by
+    # closing every touching corner, and the ledger starts from the given state
     block = b6m_block()
     r = simulate_block(block, 0.0, 0.12 if abs(dphi) <= 1.0 else 0.3, dphi0=dphi, dt_out=1e-5)
     peak = first_peak(block, dphi)

@@ -1,6 +1,6 @@
-"""Bad input to the trace tools is a named error with the fix (issue 14).
+"""Bad input to the trace tools is a named error with the fix.
 
-The issue's cases — a trace with no rocking, half-cycles too short for what is asked,
+The cases — a trace with no rocking, half-cycles too short for what is asked,
 sensors the specimen names missing, a sampling rate too low for the modes asked, NaN
 samples, an ``ag`` channel in the wrong unit — for each tool: `restitution`,
 `operational_modes` and `calibrate` from Python (an `InputError` whose message names

@@ -1,5 +1,5 @@
-"""`multimass.identify.calibrate`: calibration of a column model against test traces (issue 14,
-item 4), on synthetic S1 traces whose truth is known (`synthetic_trace`).
+"""`multimass.identify.calibrate`: calibration of a column model against test traces,
+on synthetic S1 traces whose truth is known (`synthetic_trace`).
 
 Kept short: 2.6 s of a 0.11 rad free release of S1 (paper 001 Section 4.3, Fig 6), DD2
 (Table 2), 200 Hz, 2 % noise — five large half-cycles. The full 10 s measurements on

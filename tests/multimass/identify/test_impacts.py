@@ -1,4 +1,4 @@
-"""Restitution from traces (issue 14, item 1): segments, the energy estimate, the
+"""Restitution from traces: segments, the energy estimate, the
 model-based estimate against the truth of synthetic traces, the specimen fragment."""
 
 import json
@@ -21,7 +21,7 @@ from multimass.specimens import load
 
 @pytest.fixture(scope="module")
 def s1_dd2():
-    """S1, 0.11 rad release, 10 s, DD2, noise 2 % of peak, 200 Hz (issue 14's must-show)."""
+    """S1, 0.11 rad release, 10 s, DD2, noise 2 % of peak, 200 Hz (paper 001 Section 4.3's test, logged)."""
     syn = synthetic_trace("S1", FreeRelease(theta0=0.11), "DD2", 10.0, seed=1)
     return syn, restitution(syn.trace, "S1", "DD", progress=False)
 

@@ -1,11 +1,11 @@
-"""Operational modes from traces (issue 14, item 2): multimass.identify.modes.
+"""Operational modes from traces: multimass.identify.modes.
 
 The reference values are independent of the identification: the model's modes come
 from `multimass.modal.analyse` (the Foss eigen-solution of the linearised column,
 paper 001 Eqs 19–25); the paper's own numbers from paper 001 Section 4.2 / Fig 4; the
 truth of the synthetic traces (impact times, transitions) only checks which samples
 were used. Synthetic traces: S1 released from 0.11 rad, 10 s, 200 Hz, noise 2 % of each
-channel's peak (issue 14's free-vibration test).
+channel's peak (paper 001 Section 4.3's free-vibration test).
 """
 
 import json

@@ -1,4 +1,4 @@
-"""Synthetic traces with a known truth (multimass.identify.synthetic, issue 14 item 5).
+"""Synthetic traces with a known truth (multimass.identify.synthetic).
 
 Each test recovers something the simulator was given: the samples written, the truth
 kept apart, the noise, bias and clock offset asked for, the restitution each impact
@@ -16,8 +16,8 @@ from multimass import FreeRelease, G, InputError, SineWave, read_trace
 from multimass.identify import read_truth, synthetic_trace, truth_path
 from multimass.result import json_ready
 
-THETA0 = 0.11  # rad: issue 14's synthetic S1 free-vibration test
-T_END = 5.0  # s: the issue's tests last 10 s; half keeps these fast
+THETA0 = 0.11  # rad: S1's free-vibration test (paper 001, Section 4.3, Fig 6)
+T_END = 5.0  # s: the bundled synthetic trace lasts 10 s; half keeps these fast
 
 
 def _s1(impact="DD2", **kw):

@@ -238,8 +238,8 @@ def test_numpy_scalars_and_0d_arrays_return_floats():
     assert s(np.int64(0)) == 0.0
 
 
-# issue 12: `CosinePulse(0.4*G, 15)` used to be read as ω = 3.9 rad/s, A = 15 m/s² (S1 overturned
-# instead of rocking to 0.025 rad); pulses now take keyword arguments only, named alike.
+# Read positionally, `CosinePulse(0.4*G, 15)` could mean ω = 3.9 rad/s, A = 15 m/s² (S1 overturns
+# instead of rocking to 0.025 rad): pulses take keyword arguments only, named alike.
 @pytest.mark.parametrize("cls", [SineWave, CosineWave, CosinePulse, Ricker])
 def test_pulses_refuse_positional_arguments(cls):
     with pytest.raises(

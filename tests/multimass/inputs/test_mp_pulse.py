@@ -1,4 +1,4 @@
-"""The Mavroeidis–Papageorgiou pulse (issue 16, item 1): closed forms, validation, paths.
+"""The Mavroeidis–Papageorgiou pulse (M&P 2003, BSSA 93(3)): closed forms, validation, paths.
 
 References: M&P 2003 (BSSA 93(3)) give the velocity; the acceleration and displacement
 of `multimass.inputs.pulse_shapes` are its derivative and integral. The tests integrate the

@@ -1,4 +1,4 @@
-"""``multimass suite`` (issue 16, items 3–5): files, JSON, resume, bad input as exit 2."""
+"""``multimass suite``: files, JSON, resume, bad input as exit 2."""
 
 import json
 from pathlib import Path

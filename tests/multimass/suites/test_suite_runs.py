@@ -1,4 +1,4 @@
-"""Suites (issue 16, item 3): the TOML, the runs, determinism, resume, bad input.
+"""Suites: the TOML, the runs, determinism, resume, bad input.
 
 References: IMs of the scaled records are recomputed here with `multimass.analysis.intensity` on
 `Record.scaled` (the suite scales IMs from unit-scale values: PGA, PGV, PGD and Sa

@@ -1,4 +1,4 @@
-"""Adaptive overturning maps (issue 15, item 3): identical to brute force, fewer cells.
+"""Adaptive overturning maps: identical to brute force, fewer cells.
 
 The adaptive map refines a coarse lattice only where neighbouring cells disagree
 (`multimass.sweeps.map_adaptive`); on the B6M maps it must reproduce the brute-force

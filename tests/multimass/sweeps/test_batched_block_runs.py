@@ -1,4 +1,4 @@
-"""Batched rigid-block runs under pulses and records, each with its own restitution (issue 15).
+"""Batched rigid-block runs under pulses and records, each with its own restitution.
 
 `multimass.engines.fast.block_runs.run_excitations` (and
 `multimass.sweeps.block_outcomes.simulate_outcomes`, which falls back to one

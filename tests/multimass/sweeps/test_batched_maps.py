@@ -1,4 +1,4 @@
-"""Batched overturning maps (issue 15, item 1): whole chunks of cells in one compiled call.
+"""Batched overturning maps: whole chunks of cells in one compiled call.
 
 The batch (`multimass.engines.fast.block_runs`) must give what one `map_cell` per cell gives
 on the compiled path — the reference, selected with ``maps.BATCHED = False`` — in

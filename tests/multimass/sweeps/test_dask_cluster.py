@@ -1,6 +1,6 @@
 """A real Dask cluster: a scheduler and two workers, each a separate process on localhost.
 
-Issue 15, item 5. The fixture starts them with the `dask` command line over TCP, as on an
+The fixture starts them with the `dask` command line over TCP, as on an
 office cluster (``dask scheduler`` / ``dask worker``, each worker under a nanny that
 restarts it if it dies), and the tests send sweeps through ``--executor dask
 --dask-address``: the results must equal the serial executor's in every cell, and a worker
@@ -300,7 +300,7 @@ def test_a_spectrum_from_the_command_line_equals_the_serial_spectrum(dask_cluste
 
 
 def test_a_suite_on_the_cluster_equals_the_serial_suite(dask_cluster, tmp_path):
-    # issue 16: `multimass suite` runs on the sweep engine, so on a cluster too
+    # `multimass suite` runs on the sweep engine, so on a cluster too
     suite = tmp_path / "suite.toml"
     suite.write_text(
         'name = "B6M on a cluster"\n[structure]\nspecimen = "B6M"\n'

@@ -1,4 +1,4 @@
-"""Overturning maps streamed to Parquet chunks and resumed (issue 15, item 2).
+"""Overturning maps streamed to Parquet chunks and resumed.
 
 A map forced to store must give the in-memory map cell for cell (the same compiled
 batch, however the cells are cut into chunks), an interrupted run must compute only

@@ -192,8 +192,8 @@ def test_unknown_block_and_column():
 
 
 def test_undecided_cells_are_neither_overturned_nor_safe():
-    # issue 12: "undecided" (still rocking, with the energy to overturn, at the end of the run)
-    # counted as not overturned, untested. With 0.02 s of free rocking (retried with 0.08 s)
+    # "undecided" (still rocking, with the energy to overturn, at the end of the run) counts
+    # neither as overturned nor as safe. With 0.02 s of free rocking (retried with 0.08 s)
     # most cells of this grid cannot be decided; with the default 10 s they all are.
     kw = dict(omega_p=[2.0, 4.0, 6.0], amp=[1.5, 3.0, 5.0], executor="serial", refine=2)
     short = overturning_map("B6M", "sine", t_free=0.02, **kw)

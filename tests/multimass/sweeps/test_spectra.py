@@ -84,7 +84,7 @@ def test_bad_spectrum_input(kwargs, fragment):
 
 
 def test_one_convention_for_the_mean_overturned_and_inaccurate_runs_apart():
-    # issue 12: the printed mean counted overturned runs as π/2 while the plot left them out
+    # the printed mean and the plot use one convention: overturned runs (θ_max = π/2) left out
     import pandas as pd
 
     from multimass.cli.spectrum_cmd import _stats_line
@@ -114,7 +114,7 @@ def test_one_convention_for_the_mean_overturned_and_inaccurate_runs_apart():
 
 
 def test_spectrum_options_are_checked_before_the_workers_start():
-    # issue 12: --t-free nan and --dt nan came back as a JobError from a worker
+    # --t-free nan and --dt nan are named in the parent, not a JobError from a worker
     with pytest.raises(InputError, match="`t_free` = nan"):
         pulse_spectrum("S1", "cosine", omega=15.0, amp=0.4 * G, t_free=float("nan"))
     with pytest.raises(InputError, match="`rtol` = nan"):

@@ -529,7 +529,7 @@ def test_dask_closes_the_cluster_it_started(dask_client):
     assert dask_client.status == "running"
 
 
-# --- issue 12: scripts without the __main__ guard ----------------------------------------
+# --- scripts without the __main__ guard run sweeps on the process pool ------------------------
 
 UNGUARDED = """
 import multimass

@@ -1,4 +1,4 @@
-"""`NSCDResult` on the toolkit's one result contract (`multimass.result`, issue 13 item 4):
+"""`NSCDResult` on the toolkit's one result contract (`multimass.result`):
 status and outcome sets, event kinds, peaks in radians with the release angle first, the
 series and ledger names, JSON with degrees only beside radians.
 
