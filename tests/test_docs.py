@@ -83,7 +83,12 @@ def _public_modules() -> dict[str, bool]:
 
 
 def test_the_required_modules_are_documented():
-    missing = [m for m in REQUIRED if m not in _documented()]
+    documented = _documented()
+
+    def covered(m: str) -> bool:  # listed, or inside a package listed with :recursive:
+        return m in documented or any(m.startswith(d + ".") and r for d, r in documented.items())
+
+    missing = [m for m in REQUIRED if not covered(m)]
     assert not missing, f"docs/api does not document {missing}"
 
 
