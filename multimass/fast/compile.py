@@ -65,6 +65,7 @@ __all__ = [
     "warm_up",
     "warm_up_contact",
     "warm_up_columns",
+    "warm_up_exponential",
     "compile_once",
     "watch_compiles",
     "CompileReport",
@@ -76,6 +77,7 @@ __all__ = [
     "COLD_COMPILE_S",
     "CONTACT_COMPILE_S",
     "COLUMNS_COMPILE_S",
+    "EXPONENTIAL_COMPILE_S",
     "LOAD_S",
 ]
 
@@ -96,6 +98,10 @@ _COLUMNS = "_column_kernel"  # whole column runs for sweeps: a group of its own 
 _COLUMNS_STAMP = "multimass_columns.sources"
 #: Wall time of a cold compile of the whole column runs (s; 2-core machine, idle).
 COLUMNS_COMPILE_S = 7.0
+_EXPONENTIAL = "_exp_kernel"  # the exponential rocking integrator (method "exponential")
+_EXPONENTIAL_STAMP = "multimass_exponential.sources"
+#: Wall time of a cold compile of the exponential rocking integrator (s; 2-core machine).
+EXPONENTIAL_COMPILE_S = 8.0
 _STAMP = "multimass_fast.sources"
 
 
@@ -508,7 +514,7 @@ def _tiny_column_call() -> None:
 
     from . import _column_kernel as ck
     from . import _maths as mx
-    from .column_runs import _TABLES
+    from .column_runs import _NO_ROCK, _TABLES
 
     (_, _, y0, _), model = _one_node()
     one = np.ones(1)
@@ -519,12 +525,53 @@ def _tiny_column_call() -> None:
     cfg[ck.CF_MAX_STEP], cfg[ck.CF_R_RIGHT], cfg[ck.CF_R_LEFT] = 1e-3, 0.9, 0.9
     ep = np.zeros(mx.EP_SIZE) + 1.0
     t_end = np.array([1e-3])
-    ck.column_run(1e-3, 1, y0, t_end, *model, *ground, modes, _TABLES, ep, cfg, np.zeros(0))
+    ck.column_run(
+        1e-3, 1, y0, t_end, *model, *ground, modes, _NO_ROCK, _TABLES, ep, cfg, np.zeros(0)
+    )
 
 
-def _sources(contact: bool = False, columns: bool = False) -> list[Path]:
+def _tiny_exponential_call() -> None:
+    """Call the exponential rocking integrator once with the argument types of every real
+    call (1 node, rocking)."""
+    import numpy as np
+
+    from . import _maths as mx
+    from ._exp_kernel import exp_phase
+
+    start, model = _one_node()
+    codes = np.array([mx.EV_ZERO, mx.EV_PEAK, mx.EV_ACTIVATE], dtype=np.int64)
+    rock = (
+        np.zeros((4, 4)),
+        np.array([-1.0 + 10.0j, 1.0 + 0.0j]),
+        np.ones((4, 2), np.complex128),
+        np.ones((2, 4), np.complex128),
+        np.array([2.0, 1.0]),
+    )
+    exp_phase(
+        *start,
+        1,
+        *model,
+        np.zeros(mx.FP_SIZE),
+        codes,
+        np.array([-1.0, 0.0, -1.0]),
+        np.array([1, 0, 1], dtype=np.int64),
+        np.array([1.0, 0.0, 1.0]),
+        np.full(3, -np.inf),
+        np.zeros(mx.EP_SIZE) + 1.0,
+        mx.EXC_NONE,
+        np.zeros(mx.PAR_SIZE),
+        np.zeros(2),
+        *rock,
+        1e-8,
+        1e-10,
+        5e-3,
+    )
+
+
+def _sources(contact: bool = False, columns: bool = False, exponential: bool = False) -> list[Path]:
     """The kernel modules and the equations they compile (of the contact group's kernel,
-    or of the whole column runs', which compile both groups' code)."""
+    of the exponential integrator's, or of the whole column runs', which compile all
+    groups' code)."""
     from .._nigam_jennings import __file__ as nigam_jennings
     from ..equations import __file__ as equations
     from ..impact_models.gaussian_force import __file__ as gaussian_force
@@ -533,8 +580,10 @@ def _sources(contact: bool = False, columns: bool = False) -> list[Path]:
 
     physics = [Path(equations), Path(gaussian_force), Path(pulse_shapes)]
     if columns:
-        own = [_HERE / f"{_COLUMNS}.py", Path(impact_models)]
+        own = [_HERE / f"{_COLUMNS}.py", _HERE / f"{_EXPONENTIAL}.py", Path(impact_models)]
         return _sources(contact=True) + own
+    if exponential:
+        return _sources() + [_HERE / f"{_EXPONENTIAL}.py"]
     if contact:  # the closed-form contact compiles the others' event code too
         return (
             [_HERE / f"{m}.py" for m in (*_KERNEL_MODULES, _CONTACT)]
@@ -630,5 +679,23 @@ def warm_up_columns(progress: bool | None = None) -> CompileReport:
         _sources(columns=True),
         _COLUMNS_STAMP,
         COLUMNS_COMPILE_S,
+        progress,
+    )
+
+
+def warm_up_exponential(progress: bool | None = None) -> CompileReport:
+    """Compile (or load) the exponential rocking integrator (`._exp_kernel`), once per
+    process.
+
+    A group of its own, compiled on the first run with ``method="exponential"``, with
+    the notice of `warm_up`. Arguments and result as `warm_up`.
+    """
+    return _warm_up_group(
+        _EXPONENTIAL,
+        "the exponential rocking integrator",
+        _tiny_exponential_call,
+        _sources(exponential=True),
+        _EXPONENTIAL_STAMP,
+        EXPONENTIAL_COMPILE_S,
         progress,
     )
