@@ -30,7 +30,7 @@ from numba.extending import register_jitable
 from ..impact_models import gaussian_force as gf
 from ..impact_models import models as im
 from ._contact_kernel import contact_phase
-from ._exp_kernel import exp_phase
+from ._exp_kernel import exp_phase, new_cache
 from ._kernel import integrate_phase
 from ._maths import (
     EP_LIMIT,
@@ -189,6 +189,7 @@ def column_run(
     n = m.size
     phi, w, z, gam, h_max, screen = modes
     L_r, lam_r, V_r, W_r, wt_r = rock
+    exp_cache = new_cache(lam_r.size)
     has_force = cfg[CF_FORCE] != 0.0
     tdmin, delay, window = cfg[CF_TDMIN], cfg[CF_DELAY], cfg[CF_WINDOW]
     ring = np.empty(int(cfg[CF_COUNT]))
@@ -242,8 +243,8 @@ def column_run(
         elif phase != 0 and cfg[CF_EXPONENTIAL] != 0.0:
             status, t_new, y_new, ev, nfev, samples, _, _, nt_y = exp_phase(
                 t, t_stop, y, t_eval, phase, m, H, K, C_, mp, fp, codes, dirs, term, quiet,
-                ton, ep, kind, par, smp, L_r, lam_r, V_r, W_r, wt_r, cfg[CF_RTOL], cfg[CF_ATOL],
-                cfg[CF_MAX_STEP],
+                ton, ep, kind, par, smp, L_r, lam_r, V_r, W_r, wt_r, exp_cache, cfg[CF_RTOL],
+                cfg[CF_ATOL], cfg[CF_MAX_STEP],
             )  # fmt: skip
         else:
             status, t_new, y_new, ev, nfev, samples, _, _, nt_y = integrate_phase(

@@ -82,7 +82,7 @@ from numba import njit
 from ._maths import EXC_RECORD, event_value, rhs_call
 from ._rk import _MAX_BRENT, _MAX_FACTOR, _MIN_FACTOR, _SAFETY, EVENT, FAILED, OK, zeroin_next
 
-__all__ = ["exp_phase", "phi_functions", "ERROR_EXPONENT"]
+__all__ = ["exp_phase", "new_cache", "phi_functions", "ERROR_EXPONENT"]
 
 #: Step-size exponent: the error estimate is O(h⁵).
 ERROR_EXPONENT = -0.2
@@ -360,16 +360,29 @@ def _piece_end(t, kind, par):
 
 
 @njit(cache=True, error_model="numpy")
-def _quantised(h_abs, t, t_end, piece):
-    """The step size to try for a proposed `h_abs`: the power of 2^(1/_QUANTA) below
-    it; within a record's interval ending at `piece`, the interval's rest split into
-    equal steps no longer than that; never past `t_end`."""
-    h = 2.0 ** (math.floor(_QUANTA * math.log2(h_abs)) / _QUANTA)
+def _quantised(h_abs, level, t, t_end, piece):
+    """(step size to try, its level) for a proposed `h_abs`: the level is the power of
+    2^(1/_QUANTA) below it, or the current `level` if that is at most twice as long
+    (a new size costs a new φ-table: grow by doubling or not at all); within a
+    record's interval ending at `piece`, the interval's rest is split into equal steps
+    no longer than the level; never past `t_end`."""
+    q = 2.0 ** (math.floor(_QUANTA * math.log2(h_abs)) / _QUANTA)
+    if level <= q < 2.0 * level:
+        q = level
     rest = t_end - t
     if t_end == piece:
-        n = math.ceil(rest / h * (1.0 - 1e-12))
-        return rest / max(n, 1)
-    return min(h, rest)
+        n = math.ceil(rest / q * (1.0 - 1e-12))
+        return rest / max(n, 1), q
+    return min(q, rest), q
+
+
+@njit(cache=True, error_model="numpy")
+def new_cache(k):
+    """What `exp_phase` keeps from one call to the next of a run, for `k` modes: the
+    φ-tables of the last step sizes (`_table`) and the last accepted step size (the
+    next phase's first try)."""
+    tables = np.empty((_SLOTS, _ROWS, k), np.complex128)
+    return tables, np.full(_SLOTS, -1.0), np.zeros(_SLOTS, np.int64), np.zeros(1)
 
 
 @njit(cache=True, error_model="numpy")
@@ -439,6 +452,7 @@ def exp_phase(
     V,
     W,
     wt,
+    cache,
     rtol,
     atol,
     max_step,
@@ -446,7 +460,9 @@ def exp_phase(
     """Integrate the rocking phase `side` from (t0, y0) towards t_stop with events.
 
     Arguments and returns as `._kernel.integrate_phase`, with the method code replaced
-    by `RockingModes.arrays` (L, lam, V, W, wt).
+    by `RockingModes.arrays` (L, lam, V, W, wt) and the run's `new_cache`. The first
+    step tries the last accepted step of the previous call (the Hairer–Nørsett–Wanner
+    guess of `_first_step` in the first call).
     """
     ny, ne, k = y0.size, ev_code.size, lam.size
     model = (side, m, H, K, C_, mp, fp, kind, par, smp)
@@ -459,8 +475,7 @@ def exp_phase(
     E, dl = np.empty((9, k), np.complex128), np.zeros((2 * _GAUSS, ny))
     Zq = np.empty((_GAUSS, k), np.complex128)
     work = (ya, yb, yc, ynew, Na, Nb, Nc, Nnew, est, zs, E, dl, Zq, ytmp)
-    tables = np.empty((_SLOTS, _ROWS, k), np.complex128)
-    h_tab, age = np.full(_SLOTS, -1.0), np.zeros(_SLOTS, np.int64)
+    tables, h_tab, age, last = cache
     y, y_old, Nn = y0.copy(), np.empty(ny), np.empty(ny)
     g, g_new = np.empty(ne), np.empty(ne)
     active, roots = np.empty(ne, np.int64), np.empty(ne)
@@ -469,7 +484,8 @@ def exp_phase(
     t, i_eval, n_nt = t0, 0, 0
     _nonlinear(t, y, Nn, Lm, model)
     nfev = 1
-    h_abs = _first_step(y, Nn, t_stop - t0, max_step, rtol, atol)
+    h_abs = last[0] if last[0] > 0.0 else _first_step(y, Nn, t_stop - t0, max_step, rtol, atol)
+    level = 0.0
     for i in range(ne):
         g[i] = event_value(
             ev_code[i], t, y, ev_ton[i], ev_quiet[i], side, m, H, K, C_, mp, ep, kind, par, smp
@@ -485,7 +501,7 @@ def exp_phase(
         while True:
             if h_abs < min_step:
                 return FAILED, t, y, -1, nfev, samples[:i_eval], nt_i[:0], nt_t[:0], nt_y[:0]
-            h = _quantised(h_abs, t, t_end, piece)
+            h, level = _quantised(h_abs, level, t, t_end, piece)
             t_new = t + h if t + h < t_end else t_end
             co = _table(h, t, lam, tables, h_tab, age)
             _step(t, y, Nn, h, co, modes, model, work)
@@ -497,7 +513,8 @@ def exp_phase(
                     factor = _MAX_FACTOR
                 if rejected and factor > 1.0:
                     factor = 1.0
-                h_abs = abs(h) * factor if t_new < t_end else max(h_abs, abs(h) * factor)
+                h_abs = level * factor  # (h is shorter only at the end of a piece)
+                last[0] = h_abs
                 break
             factor = _SAFETY * err**ERROR_EXPONENT
             if not (factor > _MIN_FACTOR):

@@ -536,7 +536,7 @@ def _tiny_exponential_call() -> None:
     import numpy as np
 
     from . import _maths as mx
-    from ._exp_kernel import exp_phase
+    from ._exp_kernel import exp_phase, new_cache
 
     start, model = _one_node()
     codes = np.array([mx.EV_ZERO, mx.EV_PEAK, mx.EV_ACTIVATE], dtype=np.int64)
@@ -562,6 +562,7 @@ def _tiny_exponential_call() -> None:
         np.zeros(mx.PAR_SIZE),
         np.zeros(2),
         *rock,
+        new_cache(2),
         1e-8,
         1e-10,
         5e-3,

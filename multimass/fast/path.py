@@ -23,7 +23,7 @@ from ..errors import InputError
 from ..result import Event
 from . import _maths as mx
 from ._contact_kernel import contact_phase
-from ._exp_kernel import exp_phase
+from ._exp_kernel import exp_phase, new_cache
 from ._kernel import integrate_phase
 from ._rk import EVENT, FAILED, METHOD_CODES
 from .contact_modes import ContactModes
@@ -146,6 +146,7 @@ class FastPath:
     dd: tuple = field(default=(0.0, 0.0, 0.0))  # C_p, n_min, z
     contact: ContactModes | None = None  # full contact in closed form (`._contact_kernel`)
     rocking: RockingModes | None = None  # rocking by the exponential method (`._exp_kernel`)
+    exp_cache: tuple | None = None  # its φ-tables and last step, kept between phases
 
     @classmethod
     def of(
@@ -265,8 +266,10 @@ class FastPath:
             out = contact_phase(*start, *model, codes, dirs, quiet, t_on, ep, *ground, *modes)
         elif s.phase != 0 and self.rocking is not None:
             tol = (max(float(ivp["rtol"]), _RTOL_MIN), float(ivp["atol"]), float(ivp["max_step"]))
+            if self.exp_cache is None:
+                self.exp_cache = new_cache(self.rocking.lam.size)
             out = exp_phase(*start, int(s.phase), *model, fp, codes, dirs, term, quiet, t_on, ep,
-                            *ground, *self.rocking.arrays, *tol)  # fmt: skip
+                            *ground, *self.rocking.arrays, self.exp_cache, *tol)  # fmt: skip
         else:
             out = integrate_phase(
                 *start,
