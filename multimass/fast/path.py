@@ -154,15 +154,18 @@ class FastPath:
     ) -> FastPath:
         """Validate that the compiled path can run this case, and lay out its arrays.
 
-        `full_contact` is "exact" (`._contact_kernel`: a record or free vibration, a
-        column with classical damping), "integrate" (the Runge–Kutta pair,
-        as every other phase) or "auto" (exact where it applies).
+        `method` is a key of `METHOD_CODES` or `EXPONENTIAL` (the rocking phases of a
+        column by `._exp_kernel`, its full contact as with DOP853). `full_contact` is
+        "exact" (`._contact_kernel`: a record or free vibration, a column with
+        classical damping), "integrate" (the Runge–Kutta pair, as every other phase)
+        or "auto" (exact where it applies).
 
         Raises
         ------
         InputError
-            For an excitation, impact model or method the kernels do not know, or
-            ``full_contact="exact"`` where it does not apply.
+            For an excitation, impact model or method the kernels do not know,
+            ``full_contact="exact"`` where it does not apply, or the exponential method
+            for a rigid block (no elastic modes).
         """
         if not (isinstance(method, str) and (method in METHOD_CODES or method == EXPONENTIAL)):
             raise InputError(
