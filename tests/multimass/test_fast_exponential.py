@@ -255,3 +255,18 @@ def test_the_warm_up_compiles_the_one_specialisation_runs_use():
     simulate("S2", rec, "CIM", 1.0, **kw)
     outcome_summary("S1", rec, "DD5", 1.0, backend="compiled", method="exponential", seed=1)
     assert len(exp_phase.signatures) == 1
+
+
+@pytest.mark.parametrize("amp, outcome", [(0.6, "completed"), (1.0, "overturned")])
+def test_a_pulse_and_overturning_against_a_tight_reference(amp, outcome):
+    """A cosine pulse (not piecewise linear: ü_g stays in N, steps are not cut at samples)
+    that S1 survives or overturns under: outcome, overturning time, θ_max and the ledger."""
+    exc = multimass.CosinePulse(omega=8.0, amplitude=amp * 9.81)
+    kw = dict(backend="compiled", output_dt=None, progress=False, max_step=np.inf)
+    ref = simulate("S1", exc, "DD2", 3.0, method="DOP853", rtol=1e-12, atol=1e-14, **kw)
+    got = simulate("S1", exc, "DD2", 3.0, method="exponential", rtol=1e-9, atol=1e-11, **kw)
+    over = lambda r: [e.time for e in r.events if e.kind == "overturn"]
+    assert got.outcome == ref.outcome == outcome
+    assert np.allclose(over(got), over(ref), rtol=0.0, atol=1e-7)
+    assert abs(got.theta_max - ref.theta_max) < 1e-8
+    assert got.energy_balance_error < 1e-6
