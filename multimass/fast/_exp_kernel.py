@@ -349,9 +349,12 @@ def _brent(code, a, b, t_on, quiet, dense, model, ep, ytmp):
 
 @njit(cache=True, error_model="numpy")
 def _piece_end(t, kind, par):
-    """The next sample of a record after t (+inf off the record or for other excitations)."""
-    if kind != EXC_RECORD or t >= par[1] or t < par[0]:
+    """The next sample of a record after t: its start before it, +inf after its end or
+    for other excitations (their breakpoints end the phase loop's segments)."""
+    if kind != EXC_RECORD or t >= par[1]:
         return np.inf
+    if t < par[0]:
+        return par[0]
     x = (t - par[0]) * par[2]
     i = math.floor(x)
     if i + 1 - x < _PIECE_EPS:
