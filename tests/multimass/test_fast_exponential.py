@@ -270,3 +270,16 @@ def test_a_pulse_and_overturning_against_a_tight_reference(amp, outcome):
     assert np.allclose(over(got), over(ref), rtol=0.0, atol=1e-7)
     assert abs(got.theta_max - ref.theta_max) < 1e-8
     assert got.energy_balance_error < 1e-6
+
+
+def test_a_compile_group_of_its_own():
+    from multimass.fast import compile as fc
+
+    fast = {
+        k.py_func.__name__
+        for k in fc._kernels_of(f"multimass.fast.{m}" for m in fc._KERNEL_MODULES)
+    }
+    own = {k.py_func.__name__ for k in fc._kernels_of([f"multimass.fast.{fc._EXPONENTIAL}"])}
+    assert "exp_phase" in own and "exp_phase" not in fast
+    # the whole column runs call it: its source is part of their cache's fingerprint
+    assert fc._HERE / f"{fc._EXPONENTIAL}.py" in fc._sources(columns=True)
