@@ -203,20 +203,17 @@ def _stage(y, zy, co_e, h, ca, za, cb, zb, V, wt, out, la, na, lb, nb, z):
 
 
 @njit(cache=True, error_model="numpy")
-def _step(t, y, Nn, h, co, modes, model, work):
-    """One step of size h from (t, y) with N_n = N(t, y) (module docstring): the new state
-    in ynew, its N in Nnew, the error estimate in est, the dense output's coefficients
-    in E[:5] (modes) and dl[:5] (ledger)."""
+def _predictor(t, y, Nn, h, co, modes, model, work):
+    """Krogstad's stages from (t, y) with N_n = N(t, y), and the quadratic p of N through
+    them in modes, into E[5:8] (module docstring, step 1)."""
     Lm, lam, V, W, wt = modes
-    side, m, H, K, C_, mp, fp, kind, par, smp = model
-    ya, yb, yc, ynew, Na, Nb, Nc, Nnew, est, zs, E, dl, Zq, ytmp = work
+    ya, yb, yc, _, Na, Nb, Nc, _, _, zs, E, _, _, _ = work
     zy, zn, za, zb, zc, zt, zz, cn, cb = (
         zs[0], zs[1], zs[2], zs[3], zs[4], zs[5], zs[6], zs[7], zs[8]
     )  # fmt: skip
-    k, nm, ny = lam.size, V.shape[0], y.size
+    k = lam.size
     _to_modes(W, y, zy)
     _to_modes(W, Nn, zn)
-    # Krogstad's stages
     half, one, c2 = co[0], co[3], co[1]
     for j in range(k):
         zt[j] = 0j
@@ -234,19 +231,23 @@ def _step(t, y, Nn, h, co, modes, model, work):
     _stage(y, zy, one, h, cn, zn, cb, zb, V, wt, yc, 0.0, Nn, 1.0, Nb, zz)
     _nonlinear(t + h, yc, Nc, Lm, model)
     _to_modes(W, Nc, zc)
-    # Krogstad's solution (zt, for the estimate) and its quadratic p of N (E[5:8])
     for j in range(k):
-        p1, p2, p3 = co[4, j], co[5, j], co[6, j]
-        zt[j] = one[j] * zy[j] + h * (
-            (p1 - 3.0 * p2 + 4.0 * p3) * zn[j]
-            + (2.0 * p2 - 4.0 * p3) * (za[j] + zb[j])
-            + (4.0 * p3 - p2) * zc[j]
-        )
         E[5, j] = zn[j]
         E[6, j] = -3.0 * zn[j] + 2.0 * (za[j] + zb[j]) - zc[j]
         E[7, j] = 2.0 * (zn[j] - za[j] - zb[j] + zc[j])
-    # the collocation sweep: N on Krogstad's dense output at the Gauss nodes
-    for q in range(_GAUSS):
+
+
+@njit(cache=True, error_model="numpy")
+def _sweep(t, y, h, co, modes, model, work):
+    """The collocation sweep on the predictor (module docstring, step 2): N at the Gauss
+    nodes, the polynomial of degree 4 through them (E[:5], ledger dl[:5]), its
+    quadrature to the new state (ynew) and N there (Nnew)."""
+    Lm, lam, V, W, wt = modes
+    _, _, _, ynew, _, _, _, Nnew, _, zs, E, dl, Zq, ytmp = work
+    zy, zz = zs[0], zs[6]
+    k, nm, ny = lam.size, V.shape[0], y.size
+    one = co[3]
+    for q in range(_GAUSS):  # N on the predictor's dense output at the nodes
         cq = _NODES[q]
         r = _R_NODES + 4 * q
         for j in range(k):
@@ -264,8 +265,7 @@ def _step(t, y, Nn, h, co, modes, model, work):
             Zq[q, j] = zz[j]
         for i in range(nm, ny):
             dl[_GAUSS + q, i] = Nnew[i]
-    # the interpolating polynomial of degree 4 through the nodes, and its quadrature
-    for j in range(k):
+    for j in range(k):  # the interpolating polynomial and its exponential quadrature
         acc = one[j] * zy[j]
         for p in range(_GAUSS):
             e = 0j
@@ -275,7 +275,7 @@ def _step(t, y, Nn, h, co, modes, model, work):
             acc += h * co[_R_GAUSS + p, j] * e
         zz[j] = acc
     _from_modes(V, wt, zz, ynew)
-    for i in range(nm, ny):
+    for i in range(nm, ny):  # the ledger: the same with L = 0 (Gauss–Legendre)
         acc = 0.0
         for p in range(_GAUSS):
             c = 0.0
@@ -284,9 +284,23 @@ def _step(t, y, Nn, h, co, modes, model, work):
             dl[p, i] = c
             acc += c / (p + 1)
         ynew[i] = y[i] + h * acc
+    _nonlinear(t + h, ynew, Nnew, Lm, model)
+
+
+@njit(cache=True, error_model="numpy")
+def _step(t, y, Nn, h, co, modes, model, work):
+    """One step of size h from (t, y) with N_n = N(t, y) (module docstring): the new state
+    in ynew, its N in Nnew, the error estimate in est, the dense output's coefficients
+    in E[:5] (modes) and dl[:5] (ledger)."""
+    _, lam, V, W, wt = modes
+    est, zs, E, dl = work[8], work[9], work[10], work[11]
+    Nnew = work[7]
+    zz, zt = zs[6], zs[5]
+    k, nm, ny = lam.size, V.shape[0], y.size
+    _predictor(t, y, Nn, h, co, modes, model, work)
+    _sweep(t, y, h, co, modes, model, work)
     # the estimate: N at the new state against the polynomial's value there (built on
     # the predictor), weighted as a defect growing like θ⁴: h 4! φ_5(hL)
-    _nonlinear(t + h, ynew, Nnew, Lm, model)
     _to_modes(W, Nnew, zz)
     for j in range(k):
         d = zz[j]
