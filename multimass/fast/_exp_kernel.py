@@ -19,7 +19,7 @@ x = Σ wt Re(V z) (`RockingModes`).
 1. *predictor*: Krogstad's fourth-order exponential Runge–Kutta method (S. Krogstad,
    "Generalized integrating factor methods for stiff PDEs", J. Comput. Phys. 203 (2005)
    72–88; tableau as in M. Hochbruck & A. Ostermann, "Exponential integrators", Acta
-   Numerica 19 (2010) 209–286, Sec. 2.3), nodes c = (0, ½, ½, 1), φ_{j,i} = φ_j(c_i hL)::
+   Numerica 19 (2010) 209–286, Sec. 2), nodes c = (0, ½, ½, 1), φ_{j,i} = φ_j(c_i hL)::
 
        U_a = e^{hL/2} x + h ½φ_{1,2} N_n
        U_b = e^{hL/2} x + h [(½φ_{1,3} − φ_{2,3}) N_n + φ_{2,3} N_a]
@@ -40,7 +40,7 @@ x = Σ wt Re(V z) (`RockingModes`).
    integrals are the same quadrature with L = 0 (Gauss–Legendre, exact for degree 9:
    their integrands u̇ᵀCu̇ and ü_g 1ᵀMu̇ oscillate with the elastic modes, which the
    stages alone would not resolve). It is the exponential quadrature rule of
-   Hochbruck & Ostermann's Sec. 2.1 on Gauss nodes, with the stage values taken from
+   Hochbruck & Ostermann's Sec. 2 on Gauss nodes, with the stage values taken from
    the predictor: one Picard sweep of exponential collocation. Where N is a
    polynomial of degree ≤ 4 in t alone — the linear system under ü_g linear in t,
    between two samples of a record — the step is exact to round-off. Otherwise its
@@ -116,7 +116,7 @@ _INV_FACT5 = np.array([1.0 / math.factorial(k + 5) for k in range(_TERMS)])
 def phi_functions(z):
     """(φ_0, …, φ_5)(z) of a complex scalar z.
 
-    φ_0 = e^z, φ_{j+1}(z) = (φ_j(z) − 1/j!)/z (Hochbruck & Ostermann 2010, Eq 2.10);
+    φ_0 = e^z, φ_{j+1}(z) = (φ_j(z) − 1/j!)/z (the recurrence of Hochbruck & Ostermann 2010, Sec. 2);
     for small |z| the recurrence cancels and the series Σ_k z^k/(k+j)! is summed.
     """
     if abs(z) < _TAYLOR:

@@ -2,9 +2,8 @@
 
 References, each independent of the code under test:
 
-* φ-functions: the first row of the exponential of an augmented matrix (Hochbruck &
-  Ostermann 2010, Acta Numerica, Eq 2.11 / Sidje's Expokit construction), by
-  `scipy.linalg.expm`;
+* φ-functions: the first row of the exponential of an augmented matrix (the identity
+  used by Expokit, R. B. Sidje, ACM TOMS 24 (1998) 130–156), by `scipy.linalg.expm`;
 * the linear part: the uplifted modal analysis' state matrix (paper 001, Eqs 19–21,
   `multimass.modal.linearisation.rocking`);
 * the linear system under a piecewise-linear ground motion (full contact, paper 001
