@@ -34,6 +34,11 @@ _IMPLICIT_RHS_SECONDS = 200e-6  # solve_ivp Radau/BDF/LSODA
 _NEWMARK_STEP_SECONDS = 5e-6  # a few Newton iterations
 _IMPLICIT_STEPS_PER_CAP = 3.0  # steps per max_step (≤ 5 ms)
 _ACCURACY_STEP = 5e-3  # s, a smooth motion's step
+# the exponential rocking integrator (multimass.engines.fast._exp_kernel): a step's cost in
+# right-hand sides (9 calls and the modal transforms, ~5 µs for S1) and its typical step
+# (S1 released, rtol 1e-8: 2 ms; benchmarks/exponential_rocking.py)
+_EXPONENTIAL_RHS_PER_STEP = 8
+_EXPONENTIAL_STEP = 2e-3
 
 
 def spectral_radius(structure) -> float:
@@ -102,6 +107,11 @@ def simulation_cost(
         steps = t_end / dt
         seconds = steps * _NEWMARK_STEP_SECONDS
         basis = f"Newmark steps of dt = {dt:g} s over t_end = {t_end:g} s"
+    elif method == "exponential":  # no mode limits its step: accuracy does (S1: ~2 ms)
+        cap = min(max_step, _EXPONENTIAL_STEP)
+        steps = t_end / cap
+        seconds = steps * _EXPONENTIAL_RHS_PER_STEP * _RHS_SECONDS[backend] * size
+        basis = f"exponential steps of ~{cap:g} s over t_end = {t_end:g} s"
     elif isinstance(method, str) and method in _EXPLICIT:
         rho = spectral_radius(structure)
         steps, per_step, basis = _explicit_steps(t_end, rho, method, max_step)

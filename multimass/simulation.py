@@ -305,7 +305,11 @@ class _Plan:
         call), or None where that does not apply or the kernel could not finish it."""
         if self.fast is None or self.st.n < 1 or self.options.integrator != "solve_ivp":
             return None
-        from .engines.fast import warm_up, warm_up_contact  # numba loads only for "compiled"
+        from .engines.fast import (  # numba loads only for "compiled"
+            warm_up,
+            warm_up_contact,
+            warm_up_exponential,  # numba: "compiled"
+        )
         from .engines.fast.column_runs import BROKEN, ColumnRun
         from .engines.fast.compile import warm_up_columns
 
@@ -317,6 +321,8 @@ class _Plan:
         warm_up()
         if self.fast.contact is not None:
             warm_up_contact()
+        if self.fast.rocking is not None:
+            warm_up_exponential()
         warm_up_columns()
         outcome, t_over, top, n_impacts, _, err = run.run()
         if outcome == BROKEN:
@@ -327,11 +333,17 @@ class _Plan:
 
     def _phase_loop(self) -> PhaseLoop:
         if self.fast is not None:
-            from .engines.fast import warm_up, warm_up_contact  # numba loads only for "compiled"
+            from .engines.fast import (  # numba loads only for "compiled"
+                warm_up,
+                warm_up_contact,
+                warm_up_exponential,
+            )  # "compiled" only
 
             warm_up()  # compile or load once per process, before the clock
             if self.fast.contact is not None:
                 warm_up_contact()
+            if self.fast.rocking is not None:
+                warm_up_exponential()
         phase, y = self.start
         return PhaseLoop(
             self.st, self.model, self.ground, self.t_end, phase, y.copy(), self.options, self.fast

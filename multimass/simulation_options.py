@@ -18,7 +18,15 @@ from . import validation as v
 from .errors import InputError
 from .progress import budget_seconds
 
-__all__ = ["SimulationOptions", "INTEGRATORS", "BACKENDS", "METHODS", "FULL_CONTACT", "DEFAULTS"]
+__all__ = [
+    "SimulationOptions",
+    "INTEGRATORS",
+    "BACKENDS",
+    "METHODS",
+    "COMPILED_METHODS",
+    "FULL_CONTACT",
+    "DEFAULTS",
+]
 
 #: Integrators of `simulate`: name → what it is.
 INTEGRATORS = {
@@ -35,6 +43,11 @@ BACKENDS = {
 FULL_CONTACT = ("auto", "exact", "integrate")
 #: The solve_ivp methods by name (an ``scipy.integrate.OdeSolver`` subclass is accepted too).
 METHODS = ("RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")
+#: Methods of backend "compiled" only: name → what it is.
+COMPILED_METHODS = {
+    "exponential": "rocking phases by an exponential Runge–Kutta method that advances the "
+    "linearised column exactly (multimass.engines.fast._exp_kernel); full contact as with DOP853",
+}
 
 
 @dataclass(frozen=True)
@@ -52,7 +65,10 @@ class SimulationOptions:
     seed : int, optional
         Seed (≥ 0) of the random restitution (DD5): same seed, same response.
     method : str or OdeSolver subclass
-        One of `METHODS` (default DOP853) or an ``scipy.integrate.OdeSolver`` subclass.
+        One of `METHODS` (default DOP853), an ``scipy.integrate.OdeSolver`` subclass, or,
+        with backend "compiled", "exponential" (`COMPILED_METHODS`: the rocking phases of a
+        column by an exponential integrator, its elastic modes advanced exactly; full
+        contact as with DOP853, or in closed form per `full_contact`).
     rtol, atol, max_step : float
         solve_ivp tolerances and longest step (s; inf for none).
     thetadot_min : float
@@ -163,12 +179,20 @@ class SimulationOptions:
                 "backend='compiled'"
             )
         method = self.method
-        if not (
+        if isinstance(method, str) and method in COMPILED_METHODS:
+            if self.backend != "compiled" or self.integrator != "solve_ivp":
+                raise InputError(
+                    f"`method` = {method!r} needs backend='compiled' (backend "
+                    f"{self.backend!r}, integrator {self.integrator!r}); pass "
+                    "backend='compiled' or use one of " + ", ".join(METHODS)
+                )
+        elif not (
             (isinstance(method, str) and method in METHODS)
             or (isinstance(method, type) and issubclass(method, scipy.integrate.OdeSolver))
         ):
             raise InputError(
-                f"`method` = {method!r}: use one of {', '.join(METHODS)} or an OdeSolver subclass"
+                f"`method` = {method!r}: use one of {', '.join(METHODS)}, an OdeSolver "
+                f"subclass, or with backend='compiled' {', '.join(COMPILED_METHODS)}"
             )
         budget_seconds(self.max_hours)  # checks it
 

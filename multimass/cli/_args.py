@@ -196,7 +196,8 @@ def add_solver_args(p) -> None:
     g.add_argument(
         "--method",
         default=DEFAULTS["method"],
-        help=f"RK23, RK45, DOP853, Radau, BDF or LSODA (default {DEFAULTS['method']})",
+        help="RK23, RK45, DOP853, Radau, BDF or LSODA, or with --backend compiled "
+        f"exponential (the rocking phases of a column; default {DEFAULTS['method']})",
     )
     g.add_argument(
         "--rtol",

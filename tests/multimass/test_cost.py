@@ -52,6 +52,22 @@ def test_steps_follow_the_stiffest_mode(scale):
     assert "stiffest mode" in cost.basis
 
 
+def test_the_exponential_estimate_against_its_steps():
+    # the exponential rocking integrator: 9 right-hand sides a step attempt; its steps are
+    # not set by the stiffest mode, so the estimate is its typical step (S1 released)
+    r = simulate(
+        "S1", FreeRelease(0.1), "DD2", 2.0, backend="compiled", method="exponential",
+        output_dt=None, max_step=math.inf,
+    )  # fmt: skip
+    cost = simulation_cost(
+        multimass.column("S1"), 2.0, method="exponential", max_step=math.inf, output_dt=None,
+        backend="compiled", integrator="solve_ivp",
+    )  # fmt: skip
+    ratio = cost.steps / (r.n_rhs / 9)
+    assert 0.5 <= ratio <= 3.0, ratio
+    assert "exponential steps" in cost.basis
+
+
 def test_memory_counts_the_output_grid():
     st = multimass.column("S1")
     cost = simulation_cost(

@@ -12,9 +12,10 @@ in one compiled call (`multimass.engines.fast.column_runs`), bit for bit.
 
 * `FastPath` — replaces one solve_ivp call (`multimass.engines.fast.path`);
 * `encode` — the excitations the kernels know (`multimass.engines.fast.excitation`);
-* `warm_up`, `warm_up_contact`, `warm_up_columns` — compile or load the kernels
-  (the closed-form contact and the whole column runs of `multimass.engines.fast.column_runs`
-  are groups of their own) once per process, timed apart, with a notice and a
+* `warm_up`, `warm_up_contact`, `warm_up_columns`, `warm_up_exponential` — compile or
+  load the kernels (the closed-form contact, the whole column runs of
+  `multimass.engines.fast.column_runs` and the exponential rocking integrator of
+  ``method="exponential"`` are groups of their own) once per process, timed apart, with a notice and a
   progress bar when it compiles (`multimass.engines.fast.compile`).
 
 `multimass.engines.fast.compile` is imported first, on purpose: it decides where numba
@@ -23,7 +24,13 @@ before any kernel module defines its ``cache=True`` functions.
 """
 
 from . import compile as _compile  # noqa: F401  (first: the cache folder, before any kernel)
-from .compile import CompileReport, warm_up, warm_up_columns, warm_up_contact
+from .compile import (
+    CompileReport,
+    warm_up,
+    warm_up_columns,
+    warm_up_contact,
+    warm_up_exponential,
+)
 from .excitation import KNOWN, encode
 from .path import FastPath, check_model
 
@@ -35,5 +42,6 @@ __all__ = [
     "warm_up",
     "warm_up_contact",
     "warm_up_columns",
+    "warm_up_exponential",
     "CompileReport",
 ]

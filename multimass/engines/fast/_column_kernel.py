@@ -30,6 +30,7 @@ from numba.extending import register_jitable
 from ...impact_models import gaussian_force as gf
 from ...impact_models import models as im
 from ._contact_kernel import contact_phase
+from ._exp_kernel import exp_phase, new_cache
 from ._kernel import integrate_phase
 from ._maths import (
     EP_LIMIT,
@@ -96,8 +97,9 @@ R_CORNERS, R_RANDOM, R_TABLE = 0, 1, 2
     CF_FLOOR,
     CF_EXACT,
     CF_FLOOR_E,
-) = range(20)
-CF_SIZE = 20
+    CF_EXPONENTIAL,
+) = range(21)
+CF_SIZE = 21
 
 # event tables (`multimass.engines.fast.path._EVENTS`): contact, rocking, activate, deactivate
 T_CONTACT, T_ROCKING, T_ACTIVATE, T_DEACTIVATE = range(4)
@@ -148,6 +150,7 @@ def column_run(
     par,
     smp,
     modes,
+    rock,
     tables,
     ep0,
     cfg,
@@ -168,6 +171,9 @@ def column_run(
         As `FastPath` (model arrays, scalars, encoded excitation).
     modes : tuple
         (phi, w, z, gam, h_max, screen) of `ContactModes` (used if cfg[CF_EXACT]).
+    rock : tuple
+        (L, lam, V, W, wt) of `RockingModes`: the rocking phases by the exponential
+        method of `._exp_kernel` if cfg[CF_EXPONENTIAL] (full contact as cfg[CF_METHOD]).
     tables : tuple
         Per key (T_CONTACT, ...), the tuple (codes, directions, terminal, quiet,
         guarded) of `multimass.engines.fast.path`'s event tables.
@@ -182,6 +188,8 @@ def column_run(
     """
     n = m.size
     phi, w, z, gam, h_max, screen = modes
+    L_r, lam_r, V_r, W_r, wt_r = rock
+    exp_cache = new_cache(lam_r.size)
     has_force = cfg[CF_FORCE] != 0.0
     tdmin, delay, window = cfg[CF_TDMIN], cfg[CF_DELAY], cfg[CF_WINDOW]
     ring = np.empty(int(cfg[CF_COUNT]))
@@ -231,6 +239,12 @@ def column_run(
             status, t_new, y_new, ev, nfev, samples, _, _, nt_y = contact_phase(
                 t, t_stop, y, t_eval, m, H, K, C_, mp, codes, dirs, quiet, ton, ep, kind, par,
                 smp, phi, w, z, gam, h_max, screen,
+            )  # fmt: skip
+        elif phase != 0 and cfg[CF_EXPONENTIAL] != 0.0:
+            status, t_new, y_new, ev, nfev, samples, _, _, nt_y = exp_phase(
+                t, t_stop, y, t_eval, phase, m, H, K, C_, mp, fp, codes, dirs, term, quiet,
+                ton, ep, kind, par, smp, L_r, lam_r, V_r, W_r, wt_r, exp_cache, cfg[CF_RTOL],
+                cfg[CF_ATOL], cfg[CF_MAX_STEP],
             )  # fmt: skip
         else:
             status, t_new, y_new, ev, nfev, samples, _, _, nt_y = integrate_phase(

@@ -93,6 +93,7 @@ class ColumnRun:
     model: tuple
     ground: tuple
     modes: tuple
+    rock: tuple
     ep: np.ndarray
     cfg: np.ndarray
     table: np.ndarray | None
@@ -133,6 +134,12 @@ class ColumnRun:
         else:  # unused; arrays of the same types
             e1, e2 = np.zeros(1), np.zeros((1, 1))
             modes = (e2, e1, e1, e1, 0.0, np.zeros((3, 1)))
+        rm = fast.rocking
+        if rm is not None:
+            cfg[ck.CF_EXPONENTIAL] = 1.0
+            rock = rm.arrays
+        else:  # unused; arrays of the same types
+            rock = _NO_ROCK
         phase, y0 = start
         return cls(
             t_end=float(t_end),
@@ -142,6 +149,7 @@ class ColumnRun:
             model=(fast.m, fast.H, fast.K, fast.C, fast.mp),
             ground=(fast.kind, fast.par, fast.samples),
             modes=modes,
+            rock=rock,
             ep=event_params(st, o.thetadot_min, o.overturn_angle, fast.dd),
             cfg=cfg,
             table=table,
@@ -162,6 +170,7 @@ class ColumnRun:
                 *self.model,
                 *self.ground,
                 self.modes,
+                self.rock,
                 _TABLES,
                 self.ep,
                 self.cfg,
@@ -183,3 +192,10 @@ class ColumnRun:
 
 
 _TABLES = _tables()
+_NO_ROCK = (
+    np.zeros((1, 1)),
+    np.zeros(1, np.complex128),
+    np.zeros((1, 1), np.complex128),
+    np.zeros((1, 1), np.complex128),
+    np.zeros(1),
+)

@@ -65,6 +65,7 @@ __all__ = [
     "warm_up",
     "warm_up_contact",
     "warm_up_columns",
+    "warm_up_exponential",
     "compile_once",
     "watch_compiles",
     "CompileReport",
@@ -76,6 +77,7 @@ __all__ = [
     "COLD_COMPILE_S",
     "CONTACT_COMPILE_S",
     "COLUMNS_COMPILE_S",
+    "EXPONENTIAL_COMPILE_S",
     "LOAD_S",
 ]
 
@@ -94,8 +96,14 @@ _CONTACT_STAMP = "multimass_contact.sources"
 CONTACT_COMPILE_S = 7.0
 _COLUMNS = "_column_kernel"  # whole column runs for sweeps: a group of its own too
 _COLUMNS_STAMP = "multimass_columns.sources"
-#: Wall time of a cold compile of the whole column runs (s; 2-core machine, idle).
-COLUMNS_COMPILE_S = 7.0
+#: Wall time of a cold compile of the whole column runs (s; 2-core machine, idle): they
+#: call the exponential rocking integrator too, compiled here unless its group came first.
+COLUMNS_COMPILE_S = 12.0
+_EXPONENTIAL = "_exp_kernel"  # the exponential rocking integrator (method "exponential")
+_EXPONENTIAL_STAMP = "multimass_exponential.sources"
+#: Wall time of a cold compile of the exponential rocking integrator (s; 2-core machine,
+#: estimated from loaded runs: 19–59 s while the fast kernels took 46–50 s, ~17 s idle).
+EXPONENTIAL_COMPILE_S = 7.0
 _STAMP = "multimass_fast.sources"
 
 
@@ -508,7 +516,7 @@ def _tiny_column_call() -> None:
 
     from . import _column_kernel as ck
     from . import _maths as mx
-    from .column_runs import _TABLES
+    from .column_runs import _NO_ROCK, _TABLES
 
     (_, _, y0, _), model = _one_node()
     one = np.ones(1)
@@ -519,12 +527,54 @@ def _tiny_column_call() -> None:
     cfg[ck.CF_MAX_STEP], cfg[ck.CF_R_RIGHT], cfg[ck.CF_R_LEFT] = 1e-3, 0.9, 0.9
     ep = np.zeros(mx.EP_SIZE) + 1.0
     t_end = np.array([1e-3])
-    ck.column_run(1e-3, 1, y0, t_end, *model, *ground, modes, _TABLES, ep, cfg, np.zeros(0))
+    ck.column_run(
+        1e-3, 1, y0, t_end, *model, *ground, modes, _NO_ROCK, _TABLES, ep, cfg, np.zeros(0)
+    )
 
 
-def _sources(contact: bool = False, columns: bool = False) -> list[Path]:
+def _tiny_exponential_call() -> None:
+    """Call the exponential rocking integrator once with the argument types of every real
+    call (1 node, rocking)."""
+    import numpy as np
+
+    from . import _maths as mx
+    from ._exp_kernel import exp_phase, new_cache
+
+    start, model = _one_node()
+    codes = np.array([mx.EV_ZERO, mx.EV_PEAK, mx.EV_ACTIVATE], dtype=np.int64)
+    rock = (
+        np.zeros((4, 4)),
+        np.array([-1.0 + 10.0j, 1.0 + 0.0j]),
+        np.ones((4, 2), np.complex128),
+        np.ones((2, 4), np.complex128),
+        np.array([2.0, 1.0]),
+    )
+    exp_phase(
+        *start,
+        1,
+        *model,
+        np.zeros(mx.FP_SIZE),
+        codes,
+        np.array([-1.0, 0.0, -1.0]),
+        np.array([1, 0, 1], dtype=np.int64),
+        np.array([1.0, 0.0, 1.0]),
+        np.full(3, -np.inf),
+        np.zeros(mx.EP_SIZE) + 1.0,
+        mx.EXC_NONE,
+        np.zeros(mx.PAR_SIZE),
+        np.zeros(2),
+        *rock,
+        new_cache(2),
+        1e-8,
+        1e-10,
+        5e-3,
+    )
+
+
+def _sources(contact: bool = False, columns: bool = False, exponential: bool = False) -> list[Path]:
     """The kernel modules and the equations they compile (of the contact group's kernel,
-    or of the whole column runs', which compile both groups' code)."""
+    of the exponential integrator's, or of the whole column runs', which compile all
+    groups' code)."""
     from ...impact_models.gaussian_force import __file__ as gaussian_force
     from ...impact_models.models import __file__ as impact_models
     from ...inputs.pulse_shapes import __file__ as pulse_shapes
@@ -533,8 +583,10 @@ def _sources(contact: bool = False, columns: bool = False) -> list[Path]:
 
     physics = [Path(equations), Path(gaussian_force), Path(pulse_shapes)]
     if columns:
-        own = [_HERE / f"{_COLUMNS}.py", Path(impact_models)]
+        own = [_HERE / f"{_COLUMNS}.py", _HERE / f"{_EXPONENTIAL}.py", Path(impact_models)]
         return _sources(contact=True) + own
+    if exponential:
+        return _sources() + [_HERE / f"{_EXPONENTIAL}.py"]
     if contact:  # the closed-form contact compiles the others' event code too
         return (
             [_HERE / f"{m}.py" for m in (*_KERNEL_MODULES, _CONTACT)]
@@ -630,5 +682,23 @@ def warm_up_columns(progress: bool | None = None) -> CompileReport:
         _sources(columns=True),
         _COLUMNS_STAMP,
         COLUMNS_COMPILE_S,
+        progress,
+    )
+
+
+def warm_up_exponential(progress: bool | None = None) -> CompileReport:
+    """Compile (or load) the exponential rocking integrator (`._exp_kernel`), once per
+    process.
+
+    A group of its own, compiled on the first run with ``method="exponential"``, with
+    the notice of `warm_up`. Arguments and result as `warm_up`.
+    """
+    return _warm_up_group(
+        _EXPONENTIAL,
+        "the exponential rocking integrator",
+        _tiny_exponential_call,
+        _sources(exponential=True),
+        _EXPONENTIAL_STAMP,
+        EXPONENTIAL_COMPILE_S,
         progress,
     )

@@ -23,12 +23,18 @@ from ...result import Event
 from .._events import handle_event
 from . import _maths as mx
 from ._contact_kernel import contact_phase
+from ._exp_kernel import exp_phase, new_cache
 from ._kernel import integrate_phase
 from ._rk import EVENT, FAILED, METHOD_CODES
 from .contact_modes import ContactModes
 from .excitation import encode
+from .rocking_modes import RockingModes
 
-__all__ = ["FastPath", "check_model", "event_params", "ROCKING_EVENTS"]
+__all__ = ["FastPath", "check_model", "event_params", "ROCKING_EVENTS", "EXPONENTIAL"]
+
+#: The method name of the exponential integrator of the rocking phases (`._exp_kernel`);
+#: full contact, where it is not solved in closed form, integrates with DOP853.
+EXPONENTIAL = "exponential"
 
 _FAIL_MESSAGE = "Required step size is less than spacing between numbers."
 _NONE = np.empty(0)
@@ -139,6 +145,8 @@ class FastPath:
     delay: float
     dd: tuple = field(default=(0.0, 0.0, 0.0))  # C_p, n_min, z
     contact: ContactModes | None = None  # full contact in closed form (`._contact_kernel`)
+    rocking: RockingModes | None = None  # rocking by the exponential method (`._exp_kernel`)
+    exp_cache: tuple | None = None  # its φ-tables and last step, kept between phases
 
     @classmethod
     def of(
@@ -146,30 +154,40 @@ class FastPath:
     ) -> FastPath:
         """Validate that the compiled path can run this case, and lay out its arrays.
 
-        `full_contact` is "exact" (`._contact_kernel`: a record or free vibration, a
-        column with classical damping), "integrate" (the Runge–Kutta pair,
-        as every other phase) or "auto" (exact where it applies).
+        `method` is a key of `METHOD_CODES` or `EXPONENTIAL` (the rocking phases of a
+        column by `._exp_kernel`, its full contact as with DOP853). `full_contact` is
+        "exact" (`._contact_kernel`: a record or free vibration, a column with
+        classical damping), "integrate" (the Runge–Kutta pair, as every other phase)
+        or "auto" (exact where it applies).
 
         Raises
         ------
         InputError
-            For an excitation, impact model or method the kernels do not know, or
-            ``full_contact="exact"`` where it does not apply.
+            For an excitation, impact model or method the kernels do not know,
+            ``full_contact="exact"`` where it does not apply, or the exponential method
+            for a rigid block (no elastic modes).
         """
-        if not (isinstance(method, str) and method in METHOD_CODES):
+        if not (isinstance(method, str) and (method in METHOD_CODES or method == EXPONENTIAL)):
             raise InputError(
                 f"`method` = {getattr(method, '__name__', method)!r}: backend='compiled' "
-                f"integrates with the explicit pairs {', '.join(METHOD_CODES)}; "
-                "use backend='scipy' for implicit methods"
+                f"integrates with the explicit pairs {', '.join(METHOD_CODES)} or "
+                f"{EXPONENTIAL!r}; use backend='scipy' for implicit methods"
             )
         check_model(model)
+        rocking = None
+        if method == EXPONENTIAL:
+            rocking = RockingModes.of(st)
+            if isinstance(rocking, str):
+                raise InputError(
+                    f"`method` = {EXPONENTIAL!r}: {st.name} cannot use it: {rocking}; "
+                    "use method='DOP853'"
+                )
         kind, par, samples = encode(excitation)
         dd = (
             (float(model.C_p), float(model.n_min), float(model.z))
             if model.has_force
             else (0.0, 0.0, 0.0)
         )
-        arr = lambda a: np.array(a, dtype=np.float64, order="C")  # writable C copies
         contact = None
         if full_contact != "integrate":
             contact = (
@@ -185,9 +203,10 @@ class FastPath:
                         "use full_contact='auto' or 'integrate'"
                     )
                 contact = None
+        arr = lambda a: np.array(a, dtype=np.float64, order="C")  # writable C copies
         return cls(
             method=method,
-            code=METHOD_CODES[method],
+            code=METHOD_CODES[method if rocking is None else "DOP853"],
             m=arr(st.m),
             H=arr(st.H),
             K=arr(st.K).reshape(st.n, st.n),
@@ -199,6 +218,7 @@ class FastPath:
             delay=float(delay),
             dd=dd,
             contact=contact,
+            rocking=rocking,
         )
 
     # -- the run's energies and momenta, as the compiled whole runs form them --------------------
@@ -247,6 +267,12 @@ class FastPath:
             cm = self.contact
             modes = (cm.phi, cm.w, cm.z, cm.gam, cm.h_max, cm.screen)
             out = contact_phase(*start, *model, codes, dirs, quiet, t_on, ep, *ground, *modes)
+        elif s.phase != 0 and self.rocking is not None:
+            tol = (max(float(ivp["rtol"]), _RTOL_MIN), float(ivp["atol"]), float(ivp["max_step"]))
+            if self.exp_cache is None:
+                self.exp_cache = new_cache(self.rocking.lam.size)
+            out = exp_phase(*start, int(s.phase), *model, fp, codes, dirs, term, quiet, t_on, ep,
+                            *ground, *self.rocking.arrays, self.exp_cache, *tol)  # fmt: skip
         else:
             out = integrate_phase(
                 *start,

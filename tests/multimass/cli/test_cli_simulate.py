@@ -130,6 +130,23 @@ def test_simulate_full_contact_flag(ground_motions, capsys):
     assert runs["exact"]["options"]["full_contact"] == "exact"
 
 
+def test_simulate_method_exponential(ground_motions, capsys):
+    argv = ["simulate", "S1", "--record", str(ground_motions / "elcentro_1940_NS.dat")]
+    argv += ["--units", "g", "--scale", "1.1", "--t-end", "3", "--json", "--backend", "compiled"]
+    runs = {}
+    for method in ("DOP853", "exponential"):
+        assert main(argv + ["--method", method]) == 0
+        runs[method] = _json(capsys)
+    assert runs["exponential"]["options"]["method"] == "exponential"
+    assert runs["exponential"]["n_impacts"] == runs["DOP853"]["n_impacts"] >= 3
+    # both at the default rtol = 1e-8 (DOP853 is the more accurate: its steps are
+    # held by stability); they differ by the rocking phases' error
+    assert runs["exponential"]["theta_max"] == pytest.approx(runs["DOP853"]["theta_max"], rel=1e-4)
+    # without the compiled backend: one clean line that says what to pass
+    assert main(["simulate", "S1", "--release", "0.05", "--method", "exponential"]) != 0
+    assert "needs backend='compiled'" in capsys.readouterr().err
+
+
 @pytest.mark.parametrize(
     "argv, fragment",
     [

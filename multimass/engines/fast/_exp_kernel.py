@@ -1,0 +1,597 @@
+"""`exp_phase`: a rocking phase advanced by an exponential integrator.
+
+**The split.** While a column rocks, y' = f(t, y) (paper 001, Eqs 4–5, the compiled
+right-hand side `._maths.rhs`, unchanged) is written over its mechanical part
+x = [u, θ, u̇, θ̇] as x' = L x + N(t, y), with L the Jacobian at rest
+(`multimass.engines.fast.rocking_modes`: the uplifted modal analysis' state matrix, Eqs 19–21)
+and N = f − L x everything else: the constant restoring moment, the ground motion, the
+nonlinear part of sin θ and cos θ, the θ̇² and θ̇ u̇ terms, the dependence of the mass
+matrix on u, the Dirac-delta force of Eqs 14–17. The ledger's integrals
+[D, W_g, W_F] are part of y with a zero linear part: N is their integrand. The stiff
+elastic modes (41 Hz and 527 Hz in S1) sit in L, which is advanced exactly; N varies
+on the time scales of the rocking and of the record. L is diagonal in its
+eigenvectors, so every φ-function, φ_0 = e^z, φ_{j+1}(z) = (φ_j(z) − 1/j!)/z, is a
+scalar per mode: z = V⁻¹ x, the combinations are formed mode by mode, and
+x = Σ wt Re(V z) (`RockingModes`).
+
+**A step** from (t, x) with N_n = N(t, x), of size h:
+
+1. *predictor*: Krogstad's fourth-order exponential Runge–Kutta method (S. Krogstad,
+   "Generalized integrating factor methods for stiff PDEs", J. Comput. Phys. 203 (2005)
+   72–88; tableau as in M. Hochbruck & A. Ostermann, "Exponential integrators", Acta
+   Numerica 19 (2010) 209–286, Sec. 2), nodes c = (0, ½, ½, 1), φ_{j,i} = φ_j(c_i hL)::
+
+       U_a = e^{hL/2} x + h ½φ_{1,2} N_n
+       U_b = e^{hL/2} x + h [(½φ_{1,3} − φ_{2,3}) N_n + φ_{2,3} N_a]
+       U_c = e^{hL} x + h [(φ_1 − 2φ_2) N_n + 2φ_2 N_b]
+
+   with its continuous output x̃(t + θh) = e^{θhL} x + θh [φ_1(θhL) p_0 + θ φ_2(θhL)
+   p_1 + 2θ² φ_3(θhL) p_2], the exponential quadrature of the quadratic
+   p(θ) = p_0 + p_1 θ + p_2 θ² through N_n, (N_a + N_b)/2 and N_c at θ = 0, ½, 1 (at
+   θ = 1 it is Krogstad's solution);
+2. *one collocation sweep*: N at x̃ on the five Gauss–Legendre nodes θ_q of [0, 1], the
+   polynomial P of degree 4 through those values, P(θ) = Σ_k e_k θ^k, and the exact
+   integral of the variation-of-constants formula with N replaced by P:
+
+       x(t + θh) = e^{θhL} x + θh Σ_k k! θ^k φ_{k+1}(θhL) e_k
+
+   (∫_0^τ e^{(τ−s)L} (s/h)^k ds = τ k! (τ/h)^k φ_{k+1}(τL)). This is the step's solution
+   (θ = 1) and its dense output (any θ; continuous at both ends); the ledger's
+   integrals are the same quadrature with L = 0 (Gauss–Legendre, exact for degree 9:
+   their integrands u̇ᵀCu̇ and ü_g 1ᵀMu̇ oscillate with the elastic modes, which the
+   stages alone would not resolve). It is the exponential quadrature rule of
+   Hochbruck & Ostermann's Sec. 2 on Gauss nodes, with the stage values taken from
+   the predictor: one Picard sweep of exponential collocation. Where N is a
+   polynomial of degree ≤ 4 in t alone — the linear system under ü_g linear in t,
+   between two samples of a record — the step is exact to round-off. Otherwise its
+   error is that of the predictor at the nodes, O(h⁴), times h and the Lipschitz
+   constant of N (small: N holds no stiff term): O(h⁵) per step, order 4
+   (tests/multimass/test_fast_exponential.py measures it). The predictor's order
+   matters through that product only.
+
+A step costs 3 + 5 + 1 evaluations of f (the last, at the new state, is the next step's
+N_n) and, per evaluation, a transform into and out of the modes (O(N²) each).
+
+**Error estimate.** est = h 4! φ_5(hL) (N(t + h, x⁺) − P(1)): the defect of the
+polynomial at the step's end — where the predictor's error is largest — against N at
+the new state, weighted as a defect growing like θ⁴ (the weight of e_4 above; 1/5 for
+the ledger). It is O(h⁵); the step size is controlled as in SciPy's RK45 (`._kernel`:
+RMS norm with atol + rtol·max(|y|, |y⁺|), safety 0.9, growth in [0.2, 10],
+exponent −1/5).
+
+**Steps.** Under a record a step never crosses a sample of ü_g (ü_g is linear
+between samples, `multimass.inputs.records`; a kink inside a step would cost the order): the
+rest of each sample interval is split into equal steps. Elsewhere step sizes are
+powers of 2^(1/4). So few distinct sizes occur, and their φ-tables (per mode: the
+predictor's, the nodes', the quadrature's) are kept and reused (`_table`). No step
+passes `max_step` or `t_stop`.
+
+**Events** are located on the dense output with the same event functions
+(`._maths.event_value`) and the same root finder (`._rk.zeroin_next`) as the
+Runge–Kutta kernel `._kernel`; the output grid is filled from it.
+"""
+
+from __future__ import annotations
+
+import cmath
+import math
+
+import numpy as np
+from numba import njit
+
+from ._maths import EXC_RECORD, event_value, rhs_call
+from ._rk import _MAX_BRENT, _MAX_FACTOR, _MIN_FACTOR, _SAFETY, EVENT, FAILED, OK, zeroin_next
+
+__all__ = ["exp_phase", "new_cache", "phi_functions", "ERROR_EXPONENT"]
+
+#: Step-size exponent: the error estimate is O(h⁵).
+ERROR_EXPONENT = -0.2
+#: |z| below which φ_j(z) is summed as its Taylor series (20 terms: < 1e-20 relative);
+#: above it the recurrence's cancellation costs φ_5 at most ~1e-13 of its value.
+_TAYLOR = 1.0
+_TERMS = 20
+#: A record's sample closer than this share of its interval ahead of t is t's own.
+_PIECE_EPS = 1e-9
+#: Step sizes are powers of 2^(1/_QUANTA) (or a record interval split in equal parts), so
+#: that few distinct sizes occur and their φ-functions are reused from `_SLOTS` tables.
+_QUANTA = 4
+_SLOTS = 4
+#: Two step sizes closer than this many ulps of the time are the same size.
+_SAME_H = 64 * 2.220446049250313e-16
+#: Gauss–Legendre nodes on [0, 1] of the collocation sweep, and the matrix that turns
+#: values there into the coefficients of their interpolating polynomial in θ = τ/h.
+_GAUSS = 5
+_NODES = 0.5 * (np.polynomial.legendre.leggauss(_GAUSS)[0] + 1.0)
+_TO_POLY = np.ascontiguousarray(np.linalg.inv(np.vander(_NODES, increasing=True)))
+#: Rows of the step's coefficient table (`_coefficients`).
+_R_KROG = 0  # 7 rows: e^{hL/2}, ½φ_1(hL/2), φ_2(hL/2), e^{hL}, φ_1, φ_2, φ_3 (of hL)
+_R_GAUSS = 7  # 5 rows: k! φ_{k+1}(hL), k = 0 … 4
+_R_NODES = 12  # 4 rows per node: φ_0 … φ_3 of c_q hL
+_ROWS = _R_NODES + 4 * _GAUSS
+#: 1/(k + 5)!, k = 0 … _TERMS − 1: the Taylor coefficients of φ_5.
+_INV_FACT5 = np.array([1.0 / math.factorial(k + 5) for k in range(_TERMS)])
+
+
+@njit(cache=True, error_model="numpy")
+def phi_functions(z):
+    """(φ_0, …, φ_5)(z) of a complex scalar z.
+
+    φ_0 = e^z, φ_{j+1}(z) = (φ_j(z) − 1/j!)/z (the recurrence of Hochbruck & Ostermann 2010, Sec. 2);
+    for small |z| the recurrence cancels and the series Σ_k z^k/(k+j)! is summed.
+    """
+    if abs(z) < _TAYLOR:
+        # Horner from the top: φ_5 = Σ z^k/(k+5)!, then φ_{j} = 1/j! + z φ_{j+1}
+        p5 = 0j
+        for k in range(_TERMS - 1, -1, -1):
+            p5 = p5 * z + _INV_FACT5[k]
+        p4 = 1.0 / 24.0 + z * p5
+        p3 = 1.0 / 6.0 + z * p4
+        p2 = 0.5 + z * p3
+        p1 = 1.0 + z * p2
+        p0 = 1.0 + z * p1
+        return p0, p1, p2, p3, p4, p5
+    p0 = cmath.exp(z)
+    p1 = (p0 - 1.0) / z
+    p2 = (p1 - 1.0) / z
+    p3 = (p2 - 0.5) / z
+    p4 = (p3 - 1.0 / 6.0) / z
+    p5 = (p4 - 1.0 / 24.0) / z
+    return p0, p1, p2, p3, p4, p5
+
+
+@njit(cache=True, error_model="numpy")
+def _coefficients(h, lam, co):
+    """The step's φ-functions per mode into co (rows: `_R_KROG`, `_R_GAUSS`, `_R_NODES`)."""
+    for j in range(lam.size):
+        a0, a1, a2, _, _, _ = phi_functions(0.5 * h * lam[j])
+        b0, b1, b2, b3, b4, b5 = phi_functions(h * lam[j])
+        co[0, j], co[1, j], co[2, j] = a0, 0.5 * a1, a2
+        co[3, j], co[4, j], co[5, j], co[6, j] = b0, b1, b2, b3
+        co[7, j], co[8, j], co[9, j], co[10, j], co[11, j] = b1, b2, 2.0 * b3, 6.0 * b4, 24.0 * b5
+        for q in range(_GAUSS):
+            c0, c1, c2, c3, _, _ = phi_functions(_NODES[q] * h * lam[j])
+            r = _R_NODES + 4 * q
+            co[r, j], co[r + 1, j], co[r + 2, j], co[r + 3, j] = c0, c1, c2, c3
+
+
+@njit(cache=True, error_model="numpy")
+def _to_modes(W, x, z):
+    """z = W x over the mechanical part of x."""
+    for j in range(W.shape[0]):
+        acc = 0j
+        for i in range(W.shape[1]):
+            acc += W[j, i] * x[i]
+        z[j] = acc
+
+
+@njit(cache=True, error_model="numpy")
+def _from_modes(V, wt, z, x):
+    """x[:2N+2] = Σ_j wt_j Re(V_j z_j)."""
+    nm = V.shape[0]
+    for i in range(nm):
+        x[i] = 0.0
+    for j in range(V.shape[1]):
+        zr, zi, w = z[j].real, z[j].imag, wt[j]
+        for i in range(nm):
+            v = V[i, j]
+            x[i] += w * (v.real * zr - v.imag * zi)
+
+
+@njit(cache=True, error_model="numpy")
+def _nonlinear(t, y, out, Lm, model):
+    """N = f(t, y) − L x (ledger rows: f), into out."""
+    side, m, H, K, C_, mp, fp, kind, par, smp = model
+    rhs_call(t, y, out, side, m, H, K, C_, mp, fp, kind, par, smp)
+    nm = Lm.shape[0]
+    for i in range(nm):
+        acc = 0.0
+        for j in range(nm):
+            acc += Lm[i, j] * y[j]
+        out[i] -= acc
+
+
+@njit(cache=True, error_model="numpy")
+def _stage(y, zy, co_e, h, ca, za, cb, zb, V, wt, out, la, na, lb, nb, z):
+    """out = state from modes e·zy + h (ca·za + cb·zb) (per-mode coefficients) and ledger
+    y + h (la·na + lb·nb); z is scratch."""
+    for j in range(zy.size):
+        z[j] = co_e[j] * zy[j] + h * (ca[j] * za[j] + cb[j] * zb[j])
+    _from_modes(V, wt, z, out)
+    nm = V.shape[0]
+    for i in range(nm, y.size):
+        out[i] = y[i] + h * (la * na[i] + lb * nb[i])
+
+
+@njit(cache=True, error_model="numpy")
+def _predictor(t, y, Nn, h, co, modes, model, work):
+    """Krogstad's stages from (t, y) with N_n = N(t, y), and the quadratic p of N through
+    them in modes, into E[5:8] (module docstring, step 1)."""
+    Lm, lam, V, W, wt = modes
+    ya, yb, yc, _, Na, Nb, Nc, _, _, zs, E, _, _, _ = work
+    zy, zn, za, zb, zc, zt, zz, cn, cb = (
+        zs[0], zs[1], zs[2], zs[3], zs[4], zs[5], zs[6], zs[7], zs[8]
+    )  # fmt: skip
+    k = lam.size
+    _to_modes(W, y, zy)
+    _to_modes(W, Nn, zn)
+    half, one, c2 = co[0], co[3], co[1]
+    for j in range(k):
+        zt[j] = 0j
+    _stage(y, zy, half, h, c2, zn, c2, zt, V, wt, ya, 0.5, Nn, 0.0, Nn, zz)
+    _nonlinear(t + 0.5 * h, ya, Na, Lm, model)
+    _to_modes(W, Na, za)
+    for j in range(k):
+        cn[j] = co[1, j] - co[2, j]
+    _stage(y, zy, half, h, cn, zn, co[2], za, V, wt, yb, 0.0, Nn, 0.5, Na, zz)
+    _nonlinear(t + 0.5 * h, yb, Nb, Lm, model)
+    _to_modes(W, Nb, zb)
+    for j in range(k):
+        cn[j] = co[4, j] - 2.0 * co[5, j]
+        cb[j] = 2.0 * co[5, j]
+    _stage(y, zy, one, h, cn, zn, cb, zb, V, wt, yc, 0.0, Nn, 1.0, Nb, zz)
+    _nonlinear(t + h, yc, Nc, Lm, model)
+    _to_modes(W, Nc, zc)
+    for j in range(k):
+        E[5, j] = zn[j]
+        E[6, j] = -3.0 * zn[j] + 2.0 * (za[j] + zb[j]) - zc[j]
+        E[7, j] = 2.0 * (zn[j] - za[j] - zb[j] + zc[j])
+
+
+@njit(cache=True, error_model="numpy")
+def _sweep(t, y, h, co, modes, model, work):
+    """The collocation sweep on the predictor (module docstring, step 2): N at the Gauss
+    nodes, the polynomial of degree 4 through them (E[:5], ledger dl[:5]), its
+    quadrature to the new state (ynew) and N there (Nnew)."""
+    Lm, lam, V, W, wt = modes
+    _, _, _, ynew, _, _, _, Nnew, _, zs, E, dl, Zq, ytmp = work
+    zy, zz = zs[0], zs[6]
+    k, nm, ny = lam.size, V.shape[0], y.size
+    one = co[3]
+    for q in range(_GAUSS):  # N on the predictor's dense output at the nodes
+        cq = _NODES[q]
+        r = _R_NODES + 4 * q
+        for j in range(k):
+            zz[j] = co[r, j] * zy[j] + cq * h * (
+                co[r + 1, j] * E[5, j]
+                + cq * co[r + 2, j] * E[6, j]
+                + 2.0 * cq * cq * co[r + 3, j] * E[7, j]
+            )
+        _from_modes(V, wt, zz, ytmp)
+        for i in range(nm, ny):
+            ytmp[i] = y[i]  # (f does not depend on the ledger)
+        _nonlinear(t + cq * h, ytmp, Nnew, Lm, model)
+        _to_modes(W, Nnew, zz)
+        for j in range(k):
+            Zq[q, j] = zz[j]
+        for i in range(nm, ny):
+            dl[_GAUSS + q, i] = Nnew[i]
+    for j in range(k):  # the interpolating polynomial and its exponential quadrature
+        acc = one[j] * zy[j]
+        for p in range(_GAUSS):
+            e = 0j
+            for q in range(_GAUSS):
+                e += _TO_POLY[p, q] * Zq[q, j]
+            E[p, j] = e
+            acc += h * co[_R_GAUSS + p, j] * e
+        zz[j] = acc
+    _from_modes(V, wt, zz, ynew)
+    for i in range(nm, ny):  # the ledger: the same with L = 0 (Gauss–Legendre)
+        acc = 0.0
+        for p in range(_GAUSS):
+            c = 0.0
+            for q in range(_GAUSS):
+                c += _TO_POLY[p, q] * dl[_GAUSS + q, i]
+            dl[p, i] = c
+            acc += c / (p + 1)
+        ynew[i] = y[i] + h * acc
+    _nonlinear(t + h, ynew, Nnew, Lm, model)
+
+
+@njit(cache=True, error_model="numpy")
+def _step(t, y, Nn, h, co, modes, model, work):
+    """One step of size h from (t, y) with N_n = N(t, y) (module docstring): the new state
+    in ynew, its N in Nnew, the error estimate in est, the dense output's coefficients
+    in E[:5] (modes) and dl[:5] (ledger)."""
+    _, lam, V, W, wt = modes
+    est, zs, E, dl = work[8], work[9], work[10], work[11]
+    Nnew = work[7]
+    zz, zt = zs[6], zs[5]
+    k, nm, ny = lam.size, V.shape[0], y.size
+    _predictor(t, y, Nn, h, co, modes, model, work)
+    _sweep(t, y, h, co, modes, model, work)
+    # the estimate: N at the new state against the polynomial's value there (built on
+    # the predictor), weighted as a defect growing like θ⁴: h 4! φ_5(hL)
+    _to_modes(W, Nnew, zz)
+    for j in range(k):
+        d = zz[j]
+        for p in range(_GAUSS):
+            d -= E[p, j]
+        zt[j] = h * co[_R_GAUSS + 4, j] * d
+    _from_modes(V, wt, zt, est)
+    for i in range(nm, ny):
+        d = Nnew[i]
+        for p in range(_GAUSS):
+            d -= dl[p, i]
+        est[i] = h * d / 5.0
+
+
+@njit(cache=True, error_model="numpy")
+def _dense_eval(t, t_old, h, y_old, zy, E, dl, lam, V, wt, out):
+    """The dense output at t in the step [t_old, t_old + h] (module docstring); E's last
+    row is scratch."""
+    th = (t - t_old) / h
+    tau = th * h
+    z = E[8]
+    t2 = th * th
+    for j in range(zy.size):
+        p0, p1, p2, p3, p4, p5 = phi_functions(tau * lam[j])
+        acc = p1 * E[0, j] + th * p2 * E[1, j] + 2.0 * t2 * p3 * E[2, j]
+        acc += 6.0 * t2 * th * p4 * E[3, j] + 24.0 * t2 * t2 * p5 * E[4, j]
+        z[j] = p0 * zy[j] + tau * acc
+    _from_modes(V, wt, z, out)
+    for i in range(V.shape[0], y_old.size):
+        acc = 0.0
+        p = 1.0
+        for k in range(_GAUSS):
+            acc += dl[k, i] * p / (k + 1)
+            p *= th
+        out[i] = y_old[i] + tau * acc
+
+
+@njit(cache=True, error_model="numpy")
+def _brent(code, a, b, t_on, quiet, dense, model, ep, ytmp):
+    """Root of event `code` on the dense output in [a, b] (`._rk._brent`, same zeroin)."""
+    t_old, h, y_old, zy, D, dl, lam, V, wt = dense
+    side, m, H, K, C_, mp, _, kind, par, smp = model
+    _dense_eval(a, t_old, h, y_old, zy, D, dl, lam, V, wt, ytmp)
+    fa = event_value(code, a, ytmp, t_on, quiet, side, m, H, K, C_, mp, ep, kind, par, smp)
+    _dense_eval(b, t_old, h, y_old, zy, D, dl, lam, V, wt, ytmp)
+    fb = event_value(code, b, ytmp, t_on, quiet, side, m, H, K, C_, mp, ep, kind, par, smp)
+    if fa == 0.0:
+        return a
+    if fb == 0.0 or (fa > 0.0) == (fb > 0.0):
+        return b
+    c, fc, d, e = b, fb, b - a, b - a
+    for _ in range(_MAX_BRENT):
+        done, a, fa, b, c, fc, d, e = zeroin_next(a, fa, b, fb, c, fc, d, e)
+        if done:
+            return b
+        _dense_eval(b, t_old, h, y_old, zy, D, dl, lam, V, wt, ytmp)
+        fb = event_value(code, b, ytmp, t_on, quiet, side, m, H, K, C_, mp, ep, kind, par, smp)
+    return b
+
+
+@njit(cache=True, error_model="numpy")
+def _piece_end(t, kind, par):
+    """The next sample of a record after t: its start before it, +inf after its end or
+    for other excitations (their breakpoints end the phase loop's segments)."""
+    if kind != EXC_RECORD or t >= par[1]:
+        return np.inf
+    if t < par[0]:
+        return par[0]
+    x = (t - par[0]) * par[2]
+    i = math.floor(x)
+    if i + 1 - x < _PIECE_EPS:
+        i += 1
+    return min(par[0] + (i + 1) / par[2], par[1])
+
+
+@njit(cache=True, error_model="numpy")
+def _quantised(h_abs, level, t, t_end, piece):
+    """(step size to try, its level) for a proposed `h_abs`: the level is the power of
+    2^(1/_QUANTA) below it, or the current `level` if that is at most twice as long
+    (a new size costs a new φ-table: grow by doubling or not at all); within a
+    record's interval ending at `piece`, the interval's rest is split into equal steps
+    no longer than the level; never past `t_end`."""
+    q = 2.0 ** (math.floor(_QUANTA * math.log2(h_abs)) / _QUANTA)
+    if level <= q < 2.0 * level:
+        q = level
+    rest = t_end - t
+    if t_end == piece:
+        n = math.ceil(rest / q * (1.0 - 1e-12))
+        return rest / max(n, 1), q
+    return min(q, rest), q
+
+
+@njit(cache=True, error_model="numpy")
+def new_cache(k):
+    """What `exp_phase` keeps from one call to the next of a run, for `k` modes: the
+    φ-tables of the last step sizes (`_table`) and the last accepted step size (the
+    next phase's first try)."""
+    tables = np.empty((_SLOTS, _ROWS, k), np.complex128)
+    return tables, np.full(_SLOTS, -1.0), np.zeros(_SLOTS, np.int64), np.zeros(1)
+
+
+@njit(cache=True, error_model="numpy")
+def _table(h, t, lam, tables, h_tab, age):
+    """The φ-function table of step size h: a kept one, or computed into the oldest slot."""
+    tol = _SAME_H * (abs(t) + h)
+    best = 0
+    for i in range(h_tab.size):
+        age[i] += 1
+        if abs(h_tab[i] - h) <= tol:
+            age[i] = 0
+            return tables[i]
+        if age[i] > age[best]:
+            best = i
+    _coefficients(h, lam, tables[best])
+    h_tab[best], age[best] = h, 0
+    return tables[best]
+
+
+@njit(cache=True, error_model="numpy")
+def _rms(v, y, ynew, rtol, atol):
+    acc = 0.0
+    for j in range(v.size):
+        x = v[j] / (atol + max(abs(y[j]), abs(ynew[j])) * rtol)
+        acc += x * x
+    return math.sqrt(acc / v.size)
+
+
+@njit(cache=True, error_model="numpy")
+def _first_step(y, Nn, span, max_step, rtol, atol):
+    """A first step from the size of N against y (Hairer, Nørsett & Wanner I, II.4's
+    h0 = 0.01 ‖y‖/‖y'‖ with y' → N: L is exact at any step); control takes over."""
+    d0 = 0.0
+    d1 = 0.0
+    for j in range(y.size):
+        sc = atol + abs(y[j]) * rtol
+        d0 += (y[j] / sc) ** 2
+        d1 += (Nn[j] / sc) ** 2
+    h0 = 1e-6 if (d0 < 1e-10 or d1 < 1e-10) else 0.01 * math.sqrt(d0 / d1)
+    return min(max(h0, 1e-6), span, max_step)
+
+
+@njit(cache=True, error_model="numpy")
+def exp_phase(
+    t0,
+    t_stop,
+    y0,
+    t_eval,
+    side,
+    m,
+    H,
+    K,
+    C_,
+    mp,
+    fp,
+    ev_code,
+    ev_dir,
+    ev_term,
+    ev_quiet,
+    ev_ton,
+    ep,
+    kind,
+    par,
+    smp,
+    Lm,
+    lam,
+    V,
+    W,
+    wt,
+    cache,
+    rtol,
+    atol,
+    max_step,
+):
+    """Integrate the rocking phase `side` from (t0, y0) towards t_stop with events.
+
+    Arguments and returns as `._kernel.integrate_phase`, with the method code replaced
+    by `RockingModes.arrays` (L, lam, V, W, wt) and the run's `new_cache`. The first
+    step tries the last accepted step of the previous call (the Hairer–Nørsett–Wanner
+    guess of `_first_step` in the first call).
+    """
+    ny, ne, k = y0.size, ev_code.size, lam.size
+    model = (side, m, H, K, C_, mp, fp, kind, par, smp)
+    modes = (Lm, lam, V, W, wt)
+    ya, yb, yc, ynew, Na, Nb, Nc, Nnew, est, ytmp = (
+        np.empty(ny), np.empty(ny), np.empty(ny), np.empty(ny), np.empty(ny),
+        np.empty(ny), np.empty(ny), np.empty(ny), np.empty(ny), np.empty(ny),
+    )  # fmt: skip
+    zs = np.empty((9, k), np.complex128)
+    E, dl = np.empty((9, k), np.complex128), np.zeros((2 * _GAUSS, ny))
+    Zq = np.empty((_GAUSS, k), np.complex128)
+    work = (ya, yb, yc, ynew, Na, Nb, Nc, Nnew, est, zs, E, dl, Zq, ytmp)
+    tables, h_tab, age, last = cache
+    y, y_old, Nn = y0.copy(), np.empty(ny), np.empty(ny)
+    g, g_new = np.empty(ne), np.empty(ne)
+    active, roots = np.empty(ne, np.int64), np.empty(ne)
+    samples = np.empty((t_eval.size, ny))
+    nt_i, nt_t, nt_y = np.empty(8, np.int64), np.empty(8), np.empty((8, ny))
+    t, i_eval, n_nt = t0, 0, 0
+    _nonlinear(t, y, Nn, Lm, model)
+    nfev = 1
+    h_abs = last[0] if last[0] > 0.0 else _first_step(y, Nn, t_stop - t0, max_step, rtol, atol)
+    level = 0.0
+    for i in range(ne):
+        g[i] = event_value(
+            ev_code[i], t, y, ev_ton[i], ev_quiet[i], side, m, H, K, C_, mp, ep, kind, par, smp
+        )
+    while True:
+        # one accepted step (SciPy's RK45 control, exponent −1/5)
+        min_step = 10.0 * abs(np.nextafter(t, np.inf) - t)
+        if h_abs > max_step:
+            h_abs = max_step
+        rejected = False
+        piece = _piece_end(t, kind, par)
+        t_end = min(t_stop, piece)
+        while True:
+            if h_abs < min_step:
+                return FAILED, t, y, -1, nfev, samples[:i_eval], nt_i[:0], nt_t[:0], nt_y[:0]
+            h, level = _quantised(h_abs, level, t, t_end, piece)
+            t_new = t + h if t + h < t_end else t_end
+            co = _table(h, t, lam, tables, h_tab, age)
+            _step(t, y, Nn, h, co, modes, model, work)
+            nfev += 4 + _GAUSS
+            err = _rms(est, y, ynew, rtol, atol)
+            if err < 1.0:
+                factor = _MAX_FACTOR if err == 0.0 else _SAFETY * err**ERROR_EXPONENT
+                if not (factor < _MAX_FACTOR):
+                    factor = _MAX_FACTOR
+                if rejected and factor > 1.0:
+                    factor = 1.0
+                h_abs = level * factor  # (h is shorter only at the end of a piece)
+                last[0] = h_abs
+                break
+            factor = _SAFETY * err**ERROR_EXPONENT
+            if not (factor > _MIN_FACTOR):
+                factor = _MIN_FACTOR
+            h_abs = abs(h) * factor
+            rejected = True
+        t_old, t = t, t_new
+        zy_old = zs[0]
+        dense = (t_old, h, y_old, zy_old, E, dl, lam, V, wt)
+        for j in range(ny):
+            y_old[j] = y[j]
+            y[j] = ynew[j]
+            Nn[j] = Nnew[j]
+        finished = t - t_stop >= 0.0
+        terminal = -1
+        for i in range(ne):
+            g_new[i] = event_value(
+                ev_code[i], t, y, ev_ton[i], ev_quiet[i], side, m, H, K, C_, mp, ep, kind, par, smp
+            )
+        n_act = 0
+        for i in range(ne):
+            up = g[i] <= 0.0 and g_new[i] >= 0.0
+            down = g[i] >= 0.0 and g_new[i] <= 0.0
+            d = ev_dir[i]
+            if (up and d > 0.0) or (down and d < 0.0) or ((up or down) and d == 0.0):
+                active[n_act] = i
+                n_act += 1
+        for i in range(n_act):
+            roots[i] = _brent(
+                ev_code[active[i]], t_old, t, ev_ton[active[i]], ev_quiet[active[i]], dense,
+                model, ep, ytmp,
+            )  # fmt: skip
+        for i in range(1, n_act):  # sort by time, stable (`._kernel._sorted_roots`)
+            a_i, r = active[i], roots[i]
+            j = i - 1
+            while j >= 0 and roots[j] > r:
+                active[j + 1] = active[j]
+                roots[j + 1] = roots[j]
+                j -= 1
+            active[j + 1] = a_i
+            roots[j + 1] = r
+        for i in range(n_act):
+            if ev_term[active[i]]:
+                terminal, t = active[i], roots[i]
+                _dense_eval(t, t_old, h, y_old, zy_old, E, dl, lam, V, wt, y)
+                break
+            if n_nt == nt_i.size:  # grow the non-terminal roots' buffer
+                nt_i = np.concatenate((nt_i, np.empty(n_nt, np.int64)))
+                nt_t = np.concatenate((nt_t, np.empty(n_nt)))
+                nt_y = np.concatenate((nt_y, np.empty((n_nt, ny))))
+            nt_i[n_nt], nt_t[n_nt] = active[i], roots[i]
+            _dense_eval(roots[i], t_old, h, y_old, zy_old, E, dl, lam, V, wt, nt_y[n_nt])
+            n_nt += 1
+        for i in range(ne):
+            g[i] = g_new[i]
+        while i_eval < t_eval.size and t_eval[i_eval] <= t:
+            _dense_eval(t_eval[i_eval], t_old, h, y_old, zy_old, E, dl, lam, V, wt, samples[i_eval])
+            i_eval += 1
+        if terminal >= 0:
+            out = samples[:i_eval], nt_i[:n_nt], nt_t[:n_nt], nt_y[:n_nt]
+            return EVENT, t, y, terminal, nfev, out[0], out[1], out[2], out[3]
+        if finished:
+            return OK, t, y, -1, nfev, samples[:i_eval], nt_i[:n_nt], nt_t[:n_nt], nt_y[:n_nt]
