@@ -1,8 +1,4 @@
-<<<<<<< HEAD:tests/multimass/model/test_equations.py
-"""One source for each equation (issue 13 item 3): `multimass.model.equations` and
-=======
 """One source for each equation: `multimass.model.equations` and
->>>>>>> h5:tests/multimass/test_equations.py
 `multimass.impact_models.gaussian_force` are the only implementations of paper 001's
 Eqs 3–8 and 14–17, and both the solve_ivp path and the compiled path run them.
 
