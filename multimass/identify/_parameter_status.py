@@ -22,7 +22,7 @@ import math
 
 __all__ = [
     "GIVEN", "ESTIMATED", "ILL_POSED", "FIXED", "NOT_USED", "STRUCTURE_FIELDS", "Z95",
-    "given", "estimated", "fixed", "not_used", "structure_fixed", "ill_posed_reasons",
+    "given", "estimated", "estimated_note", "fixed", "not_used", "structure_fixed", "ill_posed_reasons",
     "lines", "overall",
 ]  # fmt: skip
 
@@ -54,6 +54,11 @@ def not_used(why: str, what: str = "") -> dict:
     """A parameter the model does not have."""
     return {"status": NOT_USED, "value": None, "std": None, "interval": None, "what": what,
             "note": why}  # fmt: skip
+
+
+def estimated_note(what: str) -> dict:
+    """Quantities estimated from the traces whose values are elsewhere in the result."""
+    return {"status": ESTIMATED, "value": None, "std": None, "interval": None, "what": what}
 
 
 def estimated(value: float, std: float, log: bool = False, what: str = "") -> dict:
