@@ -100,7 +100,7 @@ def ill_posed_reasons(std: float, limit, correlated: dict, log: bool = False) ->
         out.append("the traces do not constrain it (singular Jacobian)")
     elif limit is not None and std > limit:
         what = "relative std" if log else "std"
-        out.append(f"{what} {std:.2g} above {limit:g}")
+        out.append(f"{what} {std:.3g} above {limit:g}")
     for other, c in correlated.items():
         out.append(f"cannot be separated from {other} (correlation {c:+.3f})")
     return out
