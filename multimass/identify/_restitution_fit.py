@@ -6,8 +6,10 @@ come from calibration: the runs are `_calibration_model.Simulator`'s (recorded a
 least-squares window is a `_calibration_fit.Problem` solved by
 `_calibration_fit.solve`, and the standard errors are `_calibration_stats.covariance`'s.
 Here the unknowns are the coefficients of single impacts — by their index in the
-simulation, matched to the trace's impacts by time — and the trace's nuisance
-parameters (θ0, clock offset, θ bias).
+simulation, matched to the trace's impacts by time —, the model's parameters not
+given (C_p, ζ1, ζ2 as their logarithms, with calibration's bounds and steps:
+`Track.estimate`) and the trace's nuisance parameters (θ0, clock offset, θ bias);
+`parameter_report` says, for each, whether it was given, estimated or ill-posed.
 """
 
 from __future__ import annotations
