@@ -96,15 +96,15 @@ fitted, about 500 runs), 6–13 s for S3.
 **What the result says** (`RestitutionEstimate.parameters`, in the JSON, the text and
 the fragment's comments): each of C_p, ζ1, ζ2 is *given* (by the user: ``C_p=``,
 ``zeta1=``, ``zeta2=``; ``--cp``, ``--zeta1``, ``--zeta2``), *estimated* (value, std,
-95 % interval; C_p's std with `_calibration_stats.CP_REL_FLOOR`, 1 %, for the model's
-error, measured) or *ill-posed* (std beyond 25 %, correlated beyond 0.98 with a named
-unknown, or a damping ratio beyond the modes the trace shows below its anti-alias
-passband: S2 at 200 Hz shows its 20.5 Hz mode alone); θ0, the clock offset, the θ bias
-and each accelerometer's bias are estimated; the column's geometry, masses and
-stiffnesses are *fixed by the specimen file*. The status is ``ill-posed`` naming what
-the trace does not fix, else ``estimated``. The written specimen takes the estimated
-damping (its ``[damping]``), and names C_p in its comment (a specimen file holds no
-C_p).
+95 % interval; C_p's and ζ's std with `_calibration_stats.MODEL_REL_FLOOR`, 1 %, for
+the model's error, measured) or *ill-posed* (std beyond 25 %, correlated beyond 0.98
+with a named unknown, or a damping ratio beyond the modes the trace shows below its
+anti-alias passband: S2 at 200 Hz shows its 20.5 Hz mode alone); θ0, the clock offset,
+the θ bias and each accelerometer's bias are estimated; the column's geometry, masses
+and stiffnesses are *fixed by the specimen file*. The status is ``ill-posed`` naming
+what the trace does not fix, else ``estimated``. The written specimen takes the
+estimated damping (its ``[damping]``), and names C_p in its comment (a specimen file
+holds no C_p).
 
 Impacts between half-cycles whose peaks are both ≥ `theta_min` (0.01 rad, the
 paper's rule) and whose r the trace fixes (r_std ≤ 0.02) are *estimated*; the
