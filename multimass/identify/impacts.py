@@ -96,7 +96,7 @@ fitted, about 500 runs), 6–13 s for S3.
 **What the result says** (`RestitutionEstimate.parameters`, in the JSON, the text and
 the fragment's comments): each of C_p, ζ1, ζ2 is *given* (by the user: ``C_p=``,
 ``zeta1=``, ``zeta2=``; ``--cp``, ``--zeta1``, ``--zeta2``), *estimated* (value, std,
-95 % interval; C_p's and ζ's std with `_calibration_stats.MODEL_REL_FLOOR`, 1 %, for
+95 % interval; C_p's and ζ's std with `_calibration_stats.MODEL_REL_FLOOR`, 1.5 %, for
 the model's error, measured) or *ill-posed* (std beyond 25 %, correlated beyond 0.98
 with a named unknown, or a damping ratio beyond the modes the trace shows below its
 anti-alias passband: S2 at 200 Hz shows its 20.5 Hz mode alone); θ0, the clock offset,
