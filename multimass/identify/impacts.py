@@ -90,18 +90,19 @@ corner means within 0.0009 of the mean truth of the impacts they average, and 20
 208 estimated impacts within 2.5 r_std. The energy estimate is off by −0.007 … −0.039
 on average and up to 0.23 on single impacts.
 
-*Nothing given* (C_p, ζ1, ζ2 estimated; nine synthetic DD2 traces of S1, S2, S3 with
-C_p 0.6 and 1.4 × Table 2's 1750, four of them with ζ1, ζ2 0.5–1.5 × the specimen's,
-4–6 s, 200–1000 Hz, noise 1–5 %, release 0.06–0.15 rad): all 73 estimated impacts
-within 0.0032 of the truth (within 7e-4 at noise ≤ 3 %), 72 within 1.96 r_std, C_p
-within 2.5 % (0.7 % at noise ≤ 3 %). Held at Table 2's C_p the same fit was off by up
-to 0.10 on S1 at 1.4 × (14 % within 0.015, r_std covering 14 %). Run time (CPU of
-the process, 5 s traces at 200 Hz): 10.3–10.8 s with nothing given against 5.3–7.1 s
-with C_p and ζ given (the same fit, the specimen's values given); 47 s for S2 at 1000 Hz.
-θ alone (S1 DD2, 5 s, C_p and ζ given): errors up to 0.003 for half-cycles ≥ 0.025
-rad and 0.026 at 0.012 rad, with r_std 0.002–0.017 that covers them; nothing given
-(3 s), the damping is ill-posed (ζ2's relative std 6.7) and C_p 2513 ± 356 for 2450,
-with every r within its r_std.
+*Nothing given* (C_p, ζ1, ζ2 estimated; the same benchmark with ``--cp-factor``,
+``--zeta-factors``, ``--fs``, ``--t-end``, ``--theta0``: nine synthetic DD2 traces of
+S1, S2, S3 with C_p 0.6 and 1.4 × Table 2's 1750, four of them with ζ1, ζ2 0.5–1.5 ×
+the specimen's, 4–6 s, 200–1000 Hz, noise 1–5 %, release 0.06–0.15 rad): all 73
+estimated impacts within 0.0032 of the truth (within 7e-4 at noise ≤ 3 %), 72 within
+1.96 r_std, C_p within 2.5 % (0.7 % at noise ≤ 3 %). Held at Table 2's C_p the same
+fit was off by up to 0.10 on S1 at 1.4 × (14 % within 0.015, r_std covering 14 %). Run
+time (CPU of the process, 5 s traces at 200 Hz): 10.3–10.8 s with nothing given
+against 5.3–7.1 s with C_p and ζ given (the same fit, the specimen's values given); 47
+s for S2 at 1000 Hz. θ alone (S1 DD2, 5 s, C_p and ζ given): errors up to 0.003 for
+half-cycles ≥ 0.025 rad and 0.026 at 0.012 rad, with r_std 0.002–0.017 that covers
+them; nothing given (3 s), the damping is ill-posed (ζ2's relative std 6.7) and C_p
+2513 ± 356 for 2450, with every r within its r_std.
 
 **What the result says** (`RestitutionEstimate.parameters`, in the JSON, the text and
 the fragment's comments): each of C_p, ζ1, ζ2 is *given* (by the user: ``C_p=``,
