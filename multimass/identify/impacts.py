@@ -152,7 +152,7 @@ from ..traces import Trace
 from . import _restitution_fit as fitting
 from ._calibration_params import PARAMETERS
 from ._calibration_stats import LIMITS
-from ._parameter_status import overall
+from ._parameter_status import Z95, overall
 from ._trace_checks import check_ag, no_rocking
 from .segments import THETA_MIN, Segments, require_trace, segment_trace
 
@@ -206,6 +206,10 @@ class RestitutionEstimate:
         ``sensor_bias`` and ``structure`` (`multimass.identify._parameter_status`).
     status, message : str
         ``estimated``, or ``ill-posed`` with the parameters the trace does not fix.
+    r_mean_std : dict
+        ``right``, ``left`` → ``std`` of the corner mean as the mean of the impacts it
+        averages (from the fit's covariance, C_p's and ζ's uncertainty in it),
+        ``interval`` (95 %), ``n``; None for a corner without an estimated impact.
     """
 
     impacts: pd.DataFrame
@@ -223,6 +227,7 @@ class RestitutionEstimate:
     parameters: dict = field(default_factory=dict)
     status: str = "estimated"
     message: str = ""
+    r_mean_std: dict = field(default_factory=dict)
 
     def model_values(self) -> dict:
         """The values of C_p and the damping ratios the coefficients are for (given,
@@ -325,6 +330,7 @@ class RestitutionEstimate:
                 "r_mean_right": self.r_mean_right,
                 "r_mean_left": self.r_mean_left,
                 "sigma_r": self.sigma_r,
+                "r_mean_std": self.r_mean_std,
                 "energy": self.energy_means,
                 "n_estimated": int(self.impacts["estimated"].sum()),
                 "alignment": self.alignment,
@@ -515,12 +521,33 @@ def restitution(
     align = {k: float(track.nuis[k]) for k in ("t_offset", "theta_bias", "theta0")}
     parameters = fitting.parameter_report(track, given, fitted, st.specimen)
     status, message = overall(parameters)
+    mean_std = _mean_stds(table, means, track)
     return RestitutionEstimate(
         table, *means, energy_means=dict(zip(("r_mean_right", "r_mean_left", "sigma_r"), energy)),
         alignment=align, structure=st, impact=impact, theta_min=seg.theta_min, segments=seg,
         response=final.response, warnings=tuple(warnings), parameters=parameters,
-        status=status, message=message,
+        status=status, message=message, r_mean_std=mean_std,
     )  # fmt: skip
+
+
+def _mean_stds(table: pd.DataFrame, means, track) -> dict:
+    """Per corner: ``std`` of its mean as the mean of its estimated impacts (their joint
+    covariance: `_restitution_fit.mean_std`, with `_means`' weights), ``interval`` (95 %)
+    and ``n``; None where the corner has no estimated impact. (As an estimate of the
+    corner's mean over further impacts add σ_r / √n in quadrature.)"""
+    est = table[table["estimated"]]
+    out = {}
+    for j, corner in enumerate(("right", "left")):
+        rows = est[est["corner"] == corner]
+        if rows.empty:
+            out[corner] = None
+            continue
+        w = 1.0 / (means[2] ** 2 + rows["r_std"].to_numpy(dtype=float) ** 2 + 1e-12)
+        sd = fitting.mean_std(track, rows, w)
+        out[corner] = {
+            "std": sd, "interval": [means[j] - Z95 * sd, means[j] + Z95 * sd], "n": len(rows)
+        }  # fmt: skip
+    return out
 
 
 def _given(st, impact: str, cp, zeta1, zeta2) -> dict:
