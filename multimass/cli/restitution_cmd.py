@@ -119,7 +119,7 @@ def run(args) -> int:
     sd = {c: m["std"] for c, m in est.r_mean_std.items() if m}
     if sd:
         print(
-            "std of the corner means (of the impacts they average; C_p and ζ uncertain): "
+            "std of the corner means (as the means of the impacts they average): "
             + ", ".join(f"{c} {x:.4f}" for c, x in sd.items())
         )
     print(f"status: {est.status} — {est.message}")
