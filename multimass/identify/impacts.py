@@ -150,6 +150,7 @@ from ..structure import Structure, from_specimen
 from ..trace_metrics import channel_columns
 from ..traces import Trace
 from . import _restitution_fit as fitting
+from . import _restitution_report as report
 from ._calibration_params import PARAMETERS
 from ._calibration_stats import LIMITS
 from ._parameter_status import Z95, overall
@@ -519,7 +520,7 @@ def restitution(
     values = dict(zip(est["model_impact"].astype(int), est["r"]))
     final = track.run(values, float(track.t[-1]) - track.nuis["t_offset"], phys=phys)
     align = {k: float(track.nuis[k]) for k in ("t_offset", "theta_bias", "theta0")}
-    parameters = fitting.parameter_report(track, given, fitted, st.specimen)
+    parameters = report.parameter_report(track, given, fitted, st.specimen)
     status, message = overall(parameters)
     mean_std = _mean_stds(table, means, track)
     return RestitutionEstimate(
@@ -532,7 +533,7 @@ def restitution(
 
 def _mean_stds(table: pd.DataFrame, means, track) -> dict:
     """Per corner: ``std`` of its mean as the mean of its estimated impacts (their joint
-    covariance: `_restitution_fit.mean_std`, with `_means`' weights), ``interval`` (95 %)
+    covariance: `_restitution_report.mean_std`, with `_means`' weights), ``interval`` (95 %)
     and ``n``; None where the corner has no estimated impact. (As an estimate of the
     corner's mean over further impacts add σ_r / √n in quadrature.)"""
     est = table[table["estimated"]]
@@ -543,7 +544,7 @@ def _mean_stds(table: pd.DataFrame, means, track) -> dict:
             out[corner] = None
             continue
         w = 1.0 / (means[2] ** 2 + rows["r_std"].to_numpy(dtype=float) ** 2 + 1e-12)
-        sd = fitting.mean_std(track, rows, w)
+        sd = report.mean_std(track, rows, w)
         out[corner] = {
             "std": sd, "interval": [means[j] - Z95 * sd, means[j] + Z95 * sd], "n": len(rows)
         }  # fmt: skip
