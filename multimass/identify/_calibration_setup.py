@@ -33,7 +33,7 @@ from ._trace_checks import (
 )
 from .segments import segment_trace
 
-__all__ = ["Case", "cases", "structure_of"]
+__all__ = ["Case", "cases", "structure_of", "check_fit", "showable", "modes_shown"]
 
 
 # ---------------------------------------------------------------------------- the traces
@@ -229,7 +229,8 @@ def _large_run(seg, free: bool = True) -> tuple[list, int]:
 
 
 def cases(loaded: list, st: Structure, fit: tuple, channels, theta_min: float) -> list[Case]:
-    """Every trace checked against the specimen and made ready (`Case`)."""
+    """Every trace checked against the specimen and made ready (`Case`), and against what
+    `fit` asks for (`check_fit`)."""
     seen: set = set()
     out = []
     for trace in loaded:
@@ -274,7 +275,7 @@ def cases(loaded: list, st: Structure, fit: tuple, channels, theta_min: float) -
         else:
             case = replace(case, tau=float(t[0]))
         out.append(case)
-    _check_fit(out, fit, st, theta_min)
+    check_fit(out, fit, st, theta_min)
     return out
 
 
@@ -287,7 +288,24 @@ def _corner_impacts(case: Case) -> dict:
     return seen
 
 
-def _check_fit(out: list, fit, st: Structure, theta_min: float) -> None:
+def showable(out: list, fit, st: Structure, theta_min: float) -> tuple[tuple, dict]:
+    """(the names of `fit` the traces can show, name → why not for the others): the
+    default fit's check — a corner mean without an impact on its corner, C_p without an
+    impact are left out (the specimen's value, said so); the damping ratios are kept
+    and judged by the covariance (ill-posed where the traces do not fix them)."""
+    keep, dropped = [], {}
+    for name in fit:
+        try:
+            if name not in ("zeta1", "zeta2"):
+                check_fit(out, (name,), st, theta_min)
+        except InputError as err:
+            dropped[name] = str(err).split("; give")[0]
+            continue
+        keep.append(name)
+    return tuple(keep), dropped
+
+
+def check_fit(out: list, fit, st: Structure, theta_min: float) -> None:
     """InputError if the traces cannot show what `fit` asks for: a corner mean without an
     impact on its corner between two large half-cycles, C_p without an impact, more
     damping ratios than the modes below the traces' anti-alias passbands."""
@@ -315,14 +333,10 @@ def _check_fit(out: list, fit, st: Structure, theta_min: float) -> None:
     _check_damping(out, [n for n in ("zeta1", "zeta2") if n in fit], st)
 
 
-def _check_damping(out: list, asked: list, st: Structure) -> None:
-    """Rayleigh damping sets each mode's decay from ζ1 and ζ2: fitting k of them needs k
-    modes that the traces show (below `PASSBAND` × their sampling rates; the uplifted
-    modes in the rocking, the full-contact ones with table motion or in a free trace's
-    stretches of full contact after the rocking has died out, where `multimass identify`
-    finds them too)."""
-    if not asked:
-        return
+def modes_shown(out: list, st: Structure) -> tuple[set, dict]:
+    """(the modes the traces show: {(Hz, "uplifted mode j")}, those they do not → why):
+    the uplifted modes in the rocking, the full-contact ones with table motion or in a
+    free trace's stretches of full contact, each below `PASSBAND` × the trace's rate."""
     model = analyse(st)
     shown, hidden = set(), {}
     for c in out:
@@ -337,10 +351,23 @@ def _check_damping(out: list, asked: list, st: Structure) -> None:
                     shown.add(key)
                 else:
                     hidden.setdefault(key, f"{c.trace.source}: {why}")
+    hidden = {k: w for k, w in hidden.items() if k not in shown}
+    return shown, hidden
+
+
+def _check_damping(out: list, asked: list, st: Structure) -> None:
+    """Rayleigh damping sets each mode's decay from ζ1 and ζ2: fitting k of them needs k
+    modes that the traces show (below `PASSBAND` × their sampling rates; the uplifted
+    modes in the rocking, the full-contact ones with table motion or in a free trace's
+    stretches of full contact after the rocking has died out, where `multimass identify`
+    finds them too)."""
+    if not asked:
+        return
+    shown, hidden = modes_shown(out, st)
     if len(shown) >= len(asked):
         return
     seen = ", ".join(f"{name} ({f:.4g} Hz)" for f, name in sorted(shown)) or "none"
-    rest = sorted((k, w) for k, w in hidden.items() if k not in shown)
+    rest = sorted(hidden.items())
     (_, name), why = rest[0] if rest else ((0.0, "mode"), "none: the model has no more modes")
     raise InputError(
         f"`fit` has {', '.join(asked)}: the Rayleigh damping ratios set the decay of the "

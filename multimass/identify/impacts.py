@@ -25,7 +25,11 @@ to 0.036 on single impacts on noiseless synthetic S1–S3 traces).
 anti-alias filter (`_calibration_model.Simulator`, shared with `calibrate`) — and the
 coefficients are fitted so that θ and the accelerations (the channels of the
 specimen's sensors the trace has; each weighted by its residual RMS, a sensor's bias
-taken out as its mean) match the trace (`multimass.identify._restitution_fit`):
+taken out as its mean) match the trace (`multimass.identify._restitution_fit`). The
+model's parameters the user did not give — C_p of the Dirac-delta force (paper 001
+Eq 15; not for CIM, which has none) and the Rayleigh damping ratios ζ1, ζ2 — are
+unknowns too, estimated from the same trace; neither Table 2's C_p nor the specimen
+file's damping stands in for them (they only start the search):
 
 1. *Alignment*: the release angle θ0 and the clock offset by least squares on the
    samples before the first impact (no restitution acts there), θ first, then every
@@ -39,9 +43,17 @@ taken out as its mean) match the trace (`multimass.identify._restitution_fit`):
    it; for the Dirac-delta models up to 65 ms before it, where r_{k+1}'s force acts),
    with θ0, the clock offset and the θ bias while the window starts at the release.
    A window whose fit stays above the noise is scanned again in steps of 0.002.
-3. *Everything together*: least squares on every fitted r, θ0, the clock offset and
-   the θ bias over the whole span — the windows held the earlier values, and a clock
-   0.09 ms off shifted later coefficients by up to 0.006 (S2).
+   *The model's parameters* come first with the first impact: C_p is scanned on its
+   spike (0.1 s after it, r_0 held: factors 0.5–2 of the start, then steps of 6 %),
+   then C_p, ζ1 and ζ2 are fitted with r_0 over its half-cycle; after the first 4
+   impacts, least squares of C_p, ζ, their r, θ0, the clock offset and the θ bias
+   together, and those 4 impacts are fitted once more one by one with C_p and ζ held.
+   (Held at Table 2's C_p, a trace made with 1.4 × it gave r up to 0.10 off, 200 of
+   their own std; least squares alone from there stopped at C_p 2345 for 2450 with r
+   0.03–0.13 off: each r has its own valley, which the scans find once C_p is near.)
+3. *Everything together*: least squares on every fitted r, C_p, ζ1, ζ2, θ0, the clock
+   offset and the θ bias over the whole span — the windows held the earlier values,
+   and a clock 0.09 ms off shifted later coefficients by up to 0.006 (S2).
 
 The fit goes two impacts past the last estimated one, so that the last ones are set
 by the time of the impact after them. Each r_k is the coefficient the *chosen impact
@@ -59,7 +71,8 @@ recorded through the anti-alias filter, and its clock was 4 ms off).
 
 **Standard errors (`r_std`).** From the Jacobian of the last fit
 (`_calibration_stats.covariance`: each channel whitened by its residual RMS and
-inflated by its residuals' lag-1 autocorrelation), plus 5e-4 in quadrature (the fit's
+inflated by its residuals' lag-1 autocorrelation; every unknown free, so that the
+r_std are marginal — they carry C_p's and ζ's uncertainty), plus 5e-4 in quadrature (the fit's
 error beyond the noise's — the clock and θ0 trade off with the coefficients, the runs
 are recorded at 10 × the rate where the synthetic traces are at 40 × — measured up to
 0.0013 where the noise alone gives 1e-5–5e-4), plus 0.002 where the simulation
@@ -69,16 +82,40 @@ small half-cycles, whose misfit then has valleys ±0.002 wide in r; errors up to
 
 **Measured** (`benchmarks/identify_restitution.py`: synthetic S1, S2, S3
 free-vibration traces, 0.11 rad release, 10 s, DD2 and CIM, noise 2 % of peak,
-200 Hz, seeds 1–3; the model fitted is the trace's family): for every impact whose
-half-cycles are both ≥ 0.01 rad (8–17 per trace) the model-based r is within 0.0057
-of the truth (0.0013 for the Dirac-delta traces; 0.0057 at 0.03 rad where S2's CIM
-run bounces), the corner means within 0.0009 of the mean truth of the impacts they
-average, and 207 of 208 estimated impacts within 2.5 r_std. The energy estimate is
-off by −0.007 … −0.039 on average and up to 0.23 on single impacts. Run time (wall,
-an otherwise idle 2-core machine): 4–8 s for S1, 12–24 s for S2 (up to 19 impacts
-fitted, about 500 runs), 6–13 s for S3.
-θ alone (S1 DD2, 5 s): errors up to 0.003 for half-cycles ≥ 0.025 rad and 0.026 at
-0.012 rad, with r_std 0.002–0.017 that covers them.
+200 Hz, seeds 1–3; the model fitted is the trace's family, C_p and damping those of
+the specimen file and Table 2 and given): for every impact whose half-cycles are both
+≥ 0.01 rad (8–17 per trace) the model-based r is within 0.0057 of the truth (0.0013
+for the Dirac-delta traces; 0.0057 at 0.03 rad where S2's CIM run bounces), the
+corner means within 0.0009 of the mean truth of the impacts they average, and 207 of
+208 estimated impacts within 2.5 r_std. The energy estimate is off by −0.007 … −0.039
+on average and up to 0.23 on single impacts.
+
+*Nothing given* (C_p, ζ1, ζ2 estimated; the same benchmark with ``--cp-factor``,
+``--zeta-factors``, ``--fs``, ``--t-end``, ``--theta0``: nine synthetic DD2 traces of
+S1, S2, S3 with C_p 0.6 and 1.4 × Table 2's 1750, four of them with ζ1, ζ2 0.5–1.5 ×
+the specimen's, 4–6 s, 200–1000 Hz, noise 1–5 %, release 0.06–0.15 rad): all 73
+estimated impacts within 0.0032 of the truth (within 7e-4 at noise ≤ 3 %), 72 within
+1.96 r_std, C_p within 2.5 % (0.7 % at noise ≤ 3 %). Held at Table 2's C_p the same
+fit was off by up to 0.10 on S1 at 1.4 × (14 % within 0.015, r_std covering 14 %). Run
+time (CPU of the process, 5 s traces at 200 Hz): 10.3–10.8 s with nothing given
+against 5.3–7.1 s with C_p and ζ given (the same fit, the specimen's values given); 47
+s for S2 at 1000 Hz. θ alone (S1 DD2, 5 s, C_p and ζ given): errors up to 0.003 for
+half-cycles ≥ 0.025 rad and 0.026 at 0.012 rad, with r_std 0.002–0.017 that covers
+them; nothing given (3 s), the damping is ill-posed (ζ2's relative std 6.7) and C_p
+2513 ± 356 for 2450, with every r within its r_std.
+
+**What the result says** (`RestitutionEstimate.parameters`, in the JSON, the text and
+the fragment's comments): each of C_p, ζ1, ζ2 is *given* (by the user: ``C_p=``,
+``zeta1=``, ``zeta2=``; ``--cp``, ``--zeta1``, ``--zeta2``), *estimated* (value, std,
+95 % interval; C_p's and ζ's std with `_calibration_stats.MODEL_REL_FLOOR`, 1.5 %, for
+the model's error, measured) or *ill-posed* (std beyond 25 %, correlated beyond 0.98
+with a named unknown, or a damping ratio beyond the modes the trace shows below its
+anti-alias passband: S2 at 200 Hz shows its 20.5 Hz mode alone); θ0, the clock offset,
+the θ bias and each accelerometer's bias are estimated; the column's geometry, masses
+and stiffnesses are *fixed by the specimen file*. The status is ``ill-posed`` naming
+what the trace does not fix, else ``estimated``. The written specimen takes the
+estimated damping (its ``[damping]``), and names C_p in its comment (a specimen file
+holds no C_p).
 
 Impacts between half-cycles whose peaks are both ≥ `theta_min` (0.01 rad, the
 paper's rule) and whose r the trace fixes (r_std ≤ 0.02) are *estimated*; the
@@ -107,6 +144,7 @@ import pandas as pd
 
 from multimass.impact_models import CornerRestitution
 
+from .. import validation as v
 from ..analysis.trace_metrics import channel_columns
 from ..errors import InputError
 from ..inputs.traces import Trace
@@ -115,8 +153,11 @@ from ..model.structure import Structure, from_specimen
 from ..progress import Progress
 from ..result import json_ready
 from . import _restitution_fit as fitting
+from . import _restitution_report as report
 from ._calibration_model import TrialRejected
+from ._calibration_params import PARAMETERS
 from ._calibration_stats import LIMITS
+from ._parameter_status import Z95, overall
 from ._trace_checks import check_ag, check_frozen, check_theta, no_rocking
 from .segments import THETA_MIN, Segments, require_trace, segment_trace
 
@@ -174,6 +215,19 @@ class RestitutionEstimate:
     not_estimated : dict
         ``r_mean_right``, ``r_mean_left``, ``sigma_r`` → why the trace did not estimate
         it (absent when it did).
+    parameters : dict
+        Every other parameter of the fit → ``status`` (``given`` by the user,
+        ``estimated`` from the trace, ``ill-posed`` where the trace does not fix it,
+        ``fixed by the specimen file``, ``not used`` by the model), ``value``,
+        ``std``, ``interval`` (95 %), ``what`` and the ``reason`` of an ill-posed one:
+        ``cp``, ``zeta1``, ``zeta2``, ``theta0``, ``t_offset``, ``theta_bias``,
+        ``sensor_bias`` and ``structure`` (`multimass.identify._parameter_status`).
+    status, message : str
+        ``estimated``, or ``ill-posed`` with the parameters the trace does not fix.
+    r_mean_std : dict
+        ``right``, ``left`` → ``std`` of the corner mean as the mean of the impacts it
+        averages (from the fit's covariance, C_p's and ζ's uncertainty in it),
+        ``interval`` (95 %), ``n``; None for a corner without an estimated impact.
     """
 
     impacts: pd.DataFrame
@@ -199,6 +253,19 @@ class RestitutionEstimate:
         got = {"r_mean_right": self.r_mean_right, "r_mean_left": self.r_mean_left,
                "sigma_r": self.sigma_r}  # fmt: skip
         return {k: float(own[k] if got[k] is None else got[k]) for k in own}
+
+    parameters: dict = field(default_factory=dict)
+    status: str = "estimated"
+    message: str = ""
+    r_mean_std: dict = field(default_factory=dict)
+
+    def model_values(self) -> dict:
+        """The values of C_p and the damping ratios the coefficients are for (given,
+        estimated or the specimen's), for `multimass.simulate` with them."""
+        return {
+            n: p["value"] for n, p in self.parameters.items()
+            if n in ("cp", "zeta1", "zeta2") and p["value"] is not None
+        }  # fmt: skip
 
     def per_impact(self) -> list[float]:
         """The coefficients in the simulation's impact order, for `EmpiricalRestitution`:
@@ -248,13 +315,24 @@ class RestitutionEstimate:
         )
         skip = {k for k, name in _TABLE_KEYS.items() if name in self.not_estimated}
         table = {k: v for k, v in self.table().items() if k not in skip}
-        text = format_table("restitution", table, self.comments())
+        text = self._parameter_comments() + format_table("restitution", table, self.comments())
         for key in sorted(skip):
             text += (
                 f"# {key}: not estimated ({self.not_estimated[_TABLE_KEYS[key]]}); "
                 "keep the specimen's value or give a test that estimates it\n"
             )
         return head + text
+
+    def _parameter_comments(self) -> str:
+        """Comment lines: the status, and each parameter's (`parameters`) but the
+        structure's fields."""
+        from ._parameter_status import lines
+
+        shown = {k: p for k, p in self.parameters.items() if k not in ("structure", "sensor_bias")}
+        body = [f"# status: {self.status}" + (f" ({self.message})" if self.message else "")]
+        body += [f"#   {line}" for line in lines(shown)]
+        body.append("#   structure  fixed by the specimen file (geometry, masses, stiffnesses)")
+        return "\n".join(body) + "\n"
 
     def specimen_text(self, name: str | None = None, path=None) -> str:
         """The specimen's TOML file (`path`, default the bundled one of its name) with
@@ -263,9 +341,20 @@ class RestitutionEstimate:
         from multimass.specimens.toml_text import specimen_text
 
         note = f"identified from {self.segments.trace.source} for {self.impact}"
+        vals = self.model_values()
+        if "cp" in vals and self.impact != "CIM":  # a specimen file holds no C_p
+            note += f" with C_p = {vals['cp']:.6g} kg m/rad/s ({self.parameters['cp']['status']})"
+        tables, comments = {"restitution": self.table()}, {"restitution": self.comments()}
+        zs = [self.parameters.get(n, {}).get("status") for n in ("zeta1", "zeta2")]
+        if any(z in ("estimated", "ill-posed") for z in zs):  # the damping the r are for
+            tables["damping"] = {
+                "zeta_1": float(f"{vals['zeta1']:.6g}"),
+                "zeta_2": float(f"{vals['zeta2']:.6g}"),
+            }
+            comments["damping"] = {"zeta_1": zs[0], "zeta_2": zs[1]}
         return specimen_text(
-            self.structure.specimen, {"restitution": self.table()}, note=note, name=name,
-            path=path, comments={"restitution": self.comments()},
+            self.structure.specimen, tables, note=note, comments=comments, name=name,
+            path=path,
         )  # fmt: skip
 
     def restitution_source(self):
@@ -294,10 +383,14 @@ class RestitutionEstimate:
                 "r_mean_right": self.r_mean_right,
                 "r_mean_left": self.r_mean_left,
                 "sigma_r": self.sigma_r,
+                "r_mean_std": self.r_mean_std,
                 "energy": self.energy_means,
                 "n_estimated": int(self.impacts["estimated"].sum()),
                 "not_estimated": dict(self.not_estimated),
                 "alignment": self.alignment,
+                "status": self.status,
+                "message": self.message,
+                "parameters": self.parameters,
                 "warnings": list(self.warnings),
             }
         )
@@ -346,6 +439,8 @@ def restitution(
     impact: str = IMPACT_DEFAULT,
     *,
     theta_min: float = THETA_MIN,
+    zeta1: float | None = None,
+    zeta2: float | None = None,
     progress: bool | None = None,
     **options,
 ) -> RestitutionEstimate:
@@ -366,11 +461,16 @@ def restitution(
     theta_min : float, optional
         Impacts between half-cycles both at least this large (rad) are estimated
         (paper 001, Section 4.3: 0.01), if the trace fixes their r (r_std ≤ 0.02).
+    zeta1, zeta2 : float, optional
+        The Rayleigh damping ratios of full-contact modes 1 and 2, if known; each one
+        not given is estimated from the trace (as is C_p, ``C_p=`` in `options`, for
+        a Dirac-delta model), and the coefficients' standard errors include its
+        uncertainty.
     progress : bool, optional
         Show a progress bar over the impacts (default: when more than 3 are fitted).
     **options
-        Options of `multimass.simulate` for the model runs (``C_p``, ``rtol``, …);
-        the compiled backend is used by default.
+        Options of `multimass.simulate` for the model runs (``C_p``: given, not
+        estimated; ``rtol``, …); the compiled backend is used by default.
 
     Returns
     -------
@@ -434,7 +534,9 @@ def restitution(
     )
     cols = channel_columns(trace, st)  # checks the trace's sensors against the specimen
     accel = tuple(c for c in trace.names if cols[c].startswith("a") and cols[c] != "ag")
-    track = fitting.track_of(trace, st, impact, accel, theta_min, options)
+    options = dict(options)
+    given = _given(st, impact, options.pop("C_p", None), zeta1, zeta2)
+    track = fitting.track_of(trace, st, impact, accel, theta_min, options, given)
     shown = progress if progress is not None else n_fit > 3
     try:  # a fit's first point is the trace's own reading: a model that cannot run it is
         # the trace's mistake (the checks above name the known ones)
@@ -485,11 +587,70 @@ def restitution(
     values = dict(zip(est["model_impact"].astype(int), est["r"]))
     final = track.run(values, float(track.t[-1]) - track.nuis["t_offset"], phys=phys)
     align = {k: float(track.nuis[k]) for k in ("t_offset", "theta_bias", "theta0")}
+    parameters = report.parameter_report(track, given, fitted, st.specimen)
+    status, message = overall(parameters)
+    mean_std = _mean_stds(table, means, track, st.specimen.sigma_r)
     return RestitutionEstimate(
         table, *means, energy_means=dict(zip(("r_mean_right", "r_mean_left", "sigma_r"), energy)),
         alignment=align, structure=st, impact=impact, theta_min=seg.theta_min, segments=seg,
         response=final.response, warnings=tuple(warnings), not_estimated=missing,
+        parameters=parameters,
+        status=status, message=message, r_mean_std=mean_std,
     )  # fmt: skip
+
+
+def _mean_stds(table: pd.DataFrame, means, track, sigma_r: float) -> dict:
+    """Per corner: ``std`` of its mean as the mean of its estimated impacts (their joint
+    covariance: `_restitution_report.mean_std`, with `_means`' weights, the specimen's
+    `sigma_r` where the trace did not estimate σ), ``interval`` (95 %)
+    and ``n``; None where the corner has no estimated impact. (As an estimate of the
+    corner's mean over further impacts add σ_r / √n in quadrature.)"""
+    est = table[table["estimated"]]
+    out = {}
+    for j, corner in enumerate(("right", "left")):
+        rows = est[est["corner"] == corner]
+        if rows.empty:
+            out[corner] = None
+            continue
+        sigma = sigma_r if means[2] is None else means[2]
+        w = 1.0 / (sigma**2 + rows["r_std"].to_numpy(dtype=float) ** 2 + 1e-12)
+        sd = report.mean_std(track, rows, w)
+        out[corner] = {
+            "std": sd, "interval": [means[j] - Z95 * sd, means[j] + Z95 * sd], "n": len(rows)
+        }  # fmt: skip
+    return out
+
+
+def _given(st, impact: str, cp, zeta1, zeta2) -> dict:
+    """The model parameters the user gave, checked: C_p of a Dirac-delta model, damping
+    ratios that make a Rayleigh damping (InputError naming the field otherwise)."""
+    from dataclasses import replace
+
+    from ..model.structure import column
+    from ..specimens import SpecimenError
+
+    out = {}
+    if cp is not None:
+        if impact == "CIM":
+            raise InputError(
+                f"`C_p` = {cp!r}: the classical impact model (CIM) has no C_p (paper 001 "
+                "Table 2); remove it or choose a Dirac-delta model (DD, DD1 … DD4)"
+            )
+        out["cp"] = v.positive("C_p", cp, "kg m/rad/s, of the Dirac-delta force")
+    for name, z in (("zeta1", zeta1), ("zeta2", zeta2)):
+        if z is not None:
+            out[name] = v.number(name, z, low=1e-6, high=1.0, what=PARAMETERS[name].what)
+    if "zeta1" in out or "zeta2" in out:
+        spec = st.specimen
+        z1, z2 = out.get("zeta1", spec.zeta_1), out.get("zeta2", spec.zeta_2)
+        try:
+            column(replace(spec, zeta_1=z1, zeta_2=z2))
+        except SpecimenError as err:
+            raise InputError(
+                f"`zeta1`, `zeta2` = {z1:g}, {z2:g}: not a Rayleigh damping of this column "
+                f"({err}); give other damping ratios"
+            ) from None
+    return out
 
 
 def _means(table: pd.DataFrame, column: str, st) -> tuple[list, dict]:
