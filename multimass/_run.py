@@ -310,11 +310,10 @@ class PhaseLoop:
                 f"solve_ivp ({method}) raised in the segment starting at t = {s.t:.6g} s: {exc}",
             )
         self.n_rhs += sol.nfev
-        if sol.status == -1:
+        if sol.status == -1:  # with t_eval and no sample reached, sol.t is an empty list
+            t_fail = float(np.asarray(sol.t)[-1]) if np.size(sol.t) else s.t
             return self.fail(
-                s,
-                float(sol.t[-1]) if sol.t.size else s.t,
-                f"solve_ivp failed at t = {sol.t[-1]:.6g} s: {sol.message}",
+                s, t_fail, f"solve_ivp ({method}) failed at t = {t_fail:.6g} s: {sol.message}"
             )
         if not np.all(np.isfinite(sol.y)):
             return self.fail(

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ..errors import InputError
-from ..excitations import PULSE_NAMES, FreeRelease, MPShape, pulse
+from ..excitations import PULSE_NAMES, FreeRelease, MPShape, plausible_amplitude, pulse
 from ..records import read_record
 from ..simulation import DEFAULTS
 from ..units import parse_acceleration
@@ -125,7 +125,7 @@ def excitation_from_args(args, structure):
     if kinds[0] == "--pulse":
         if args.omega is None or args.amp is None:
             raise InputError("`--pulse` needs --omega (rad/s) and --amp (e.g. 0.4g)")
-        amp = parse_acceleration(args.amp, "g", argument="--amp")
+        amp = plausible_amplitude("--amp", parse_acceleration(args.amp, "g", argument="--amp"))
         family = pulse_from_args(args)
         if isinstance(family, MPShape):
             return family(amplitude=amp, omega=args.omega)

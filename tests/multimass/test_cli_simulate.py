@@ -347,6 +347,31 @@ def test_failed_run_prints_its_reason(capsys, monkeypatch):
     assert "failed: solve_ivp failed at t = 0.1 s: step size too small" in capsys.readouterr().out
 
 
+def test_implausible_pulse_amplitude_is_one_line_naming_amp(capsys):
+    """`--amp 1e300g` is refused before the run in one line naming --amp, its value and
+    the fix (it reached the solver, which failed on a non-finite state)."""
+    argv = ["simulate", "B6M", "--impact", "CIM", "--pulse", "sine", "--omega", "10"]
+    assert main(argv + ["--amp", "1e300g"]) == 2
+    err = capsys.readouterr().err
+    assert "`--amp` = 9.81e+300 m/s² (1e+300 g)" in err and "0.4g" in err
+    assert err.count("\n") == 1
+
+
+def test_solver_failure_is_reported_in_text_mode_with_out(tmp_path, capsys):
+    """A run the solver cannot carry (a 1 g record scaled by 1e300) ends as "failed" with
+    the solver's message on the terminal, also when files go to --out, and exit 1 — not a
+    traceback, nor only "files in DIR/"."""
+    rec = tmp_path / "rec.dat"
+    rec.write_text("".join(f"{0.01 * i:.2f} {0.5 * (-1) ** i:.1f}\n" for i in range(200)))
+    argv = ["simulate", "S1", "--record", str(rec), "--units", "g", "--scale", "1e300"]
+    with pytest.warns(RuntimeWarning):  # numpy's overflow inside scipy's step control
+        code = main(argv + ["--backend", "scipy", "--t-end", "1", "--out", str(tmp_path / "o")])
+    out = capsys.readouterr().out
+    assert code == 1
+    assert "S1: failed" in out and "failed: solve_ivp (DOP853) failed at t = 0 s" in out
+    assert f"files in {tmp_path / 'o'}/" in out
+
+
 def test_output_folder_is_checked_before_computing(tmp_path, capsys):
     afile = tmp_path / "afile"
     afile.write_text("x")
