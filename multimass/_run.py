@@ -31,7 +31,7 @@ from ._events import handle_event, phase_events
 from ._phase import ActiveForce, Model, full_contact_rhs, rocking_rhs
 from ._recorder import Recorder
 from ._rigid import next_uplift
-from .checks import energy_floor
+from .checks import balance_error, scale_floor
 from .result import Event
 
 __all__ = ["PhaseLoop", "State", "QUIET_DELAY", "segment_ends"]
@@ -143,7 +143,7 @@ class PhaseLoop:
         self.n_rhs = 0
         self.recorder = Recorder(st, self.mdl, o.output_dt, self.ag)
         self.recorder.start_phase(phase, 0.0, y)
-        self.energy_floor = energy_floor(st, o.atol)
+        self.energy_floor = scale_floor(st, o.atol, o.energy_tol)
         self.e0 = self.energy(phase, y)  # the ledger starts from the given state
         self.progress = None  # a callback progress(t), see `run`
         r = self.draw(-phase, y) if phase and model.has_force else None
@@ -206,7 +206,7 @@ class PhaseLoop:
         E = self.energy(s.phase, s.y)
         D, Wg, WF = (float(x) for x in s.y[-3:])
         balance = E + D + WF + self.recorder.loss - Wg - self.e0
-        return abs(balance) / max(abs(self.e0), abs(Wg), abs(E), self.energy_floor, 1e-300)
+        return balance_error(balance, self.e0, Wg, E, self.energy_floor)
 
     def safe_peak(self, s: State) -> float | None:
         """May this rigid body's run stop now? (`stop_when_safe`) None if not, else the

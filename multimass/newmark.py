@@ -34,7 +34,7 @@ from . import _newmark_kernel as kern
 from . import equations as eq
 from . import validation as v
 from ._newmark_events import Run
-from .checks import energy_check, energy_floor
+from .checks import balance_error, energy_check, scale_floor
 from .errors import InputError
 from .result import Event, Result, status_of
 from .structure import Structure
@@ -200,8 +200,10 @@ def _judged(st: Structure, fields: dict, energy_tol: float, tol: float) -> Newma
     if fields["outcome"] != "failed":
         e, w = led["energy"], led["ground_work"]
         balance = e - e[0] - w + led["impact_loss"]
-        scale = max(abs(float(e[0])), float(np.max(np.abs(w))), energy_floor(st, tol), 1e-300)
-        err = float(np.max(np.abs(balance))) / scale
+        floor = scale_floor(st, tol, energy_tol)
+        err = balance_error(
+            float(np.max(np.abs(balance))), e[0], float(np.max(np.abs(w))), 0.0, floor
+        )
         checks["energy_balance"] = energy_check(err, energy_tol)
         if not checks["energy_balance"]["passed"]:
             warnings = (

@@ -45,7 +45,7 @@ from . import validation as v
 from ._events import overturn_message
 from ._newmark_response import check_newmark, simulate_newmark
 from ._run import QUIET_DELAY, PhaseLoop, segment_ends
-from .checks import energy_check, energy_floor, judge
+from .checks import energy_check, judge, scale_floor
 from .cost import simulation_cost
 from .errors import InputError
 from .excitations import FreeRelease
@@ -353,7 +353,7 @@ class _Plan:
             overturn_angle=o.overturn_angle,
             stop_when_safe=o.stop_when_safe,
             options=options,
-            floor=energy_floor(self.st, DEFAULTS["atol"]),
+            floor=scale_floor(self.st, DEFAULTS["atol"], o.energy_tol),
         )
         if lean:
             return Outcome(

@@ -28,6 +28,7 @@ import numpy as np
 from numba import njit
 from numba.extending import register_jitable
 
+from .. import checks
 from .. import equations as eq
 from .. import pulse_shapes as ps
 from ..impact_models import gaussian_force as gf
@@ -36,6 +37,9 @@ from ..impact_models import gaussian_force as gf
 for _mod in (eq, gf, ps):
     for _name in _mod.__all__:
         register_jitable(inline="always")(getattr(_mod, _name))
+# and the accuracy check's rule (`multimass.checks`), the same source as every engine's
+for _fn in (checks.energy_scale, checks.balance_error):
+    register_jitable(_fn)
 
 __all__ = [
     "ground_acc",
