@@ -88,7 +88,8 @@ class NewmarkResult(Result):
         "inaccurate" when the energy check failed.
     checks : dict
         ``energy_balance``: max ``|balance_error|`` over the energy scale (the initial
-        energy, the largest ground work or the floor m_t g B · tol) against `energy_tol`.
+        energy, the largest ground work or the floor m_t g B · tol / energy_tol,
+        `multimass.checks.balance_error`) against `energy_tol`.
         Empty for a failed run.
     warnings : tuple of str
         One line per failed check.

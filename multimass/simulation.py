@@ -46,7 +46,7 @@ from ._events import overturn_message
 from ._newmark_response import check_newmark, simulate_newmark
 from ._run import QUIET_DELAY, PhaseLoop, segment_ends
 from .checks import energy_check, judge, scale_floor
-from .cost import simulation_cost
+from .cost import OUTPUT_BUDGET, check_output, series_columns, simulation_cost
 from .errors import InputError
 from .excitations import FreeRelease
 from .progress import Progress
@@ -406,4 +406,13 @@ def _prepare(structure, excitation, impact, t_end, o: SimulationOptions) -> _Pla
         f"structure's stiffness and the excitation{long_pulse}",
         max_seconds=o.budget_s,
     )
+    if o.output_dt is not None and o.integrator != "newmark":
+        check_output(
+            "`output_dt` (--output-dt)",
+            o.output_dt,
+            t_end / o.output_dt,
+            series_columns(st.n),
+            f"raise output_dt (to ≥ {t_end * series_columns(st.n) * 8.0 / OUTPUT_BUDGET:.2g} s for "
+            f"t_end = {t_end:g} s), shorten t_end, or pass output_dt=None for the outcome only",
+        )
     return _Plan(st, model, excitation, t_end, o, cost, ground, start, fast)

@@ -372,6 +372,26 @@ def test_solver_failure_is_reported_in_text_mode_with_out(tmp_path, capsys):
     assert f"files in {tmp_path / 'o'}/" in out
 
 
+def test_output_step_too_fine_is_one_line_and_a_large_series_is_written_with_a_bar(
+    tmp_path, capsys
+):
+    """--output-dt 1e-7 (10⁷ rows) is refused before the run in one line; a large but
+    allowed series is written in chunks with a progress bar, to the same file as
+    pandas writes it at once."""
+    from multimass import FreeRelease, simulate
+    from multimass.cli._output import write_csv
+
+    argv = ["simulate", "B6M", "--impact", "CIM", "--release", "0.1", "--t-end", "1"]
+    assert main(argv + ["--output-dt", "1e-7"]) == 2
+    err = capsys.readouterr().err
+    assert "`output_dt` (--output-dt) = 1e-07" in err and err.count("\n") == 1
+    series = simulate("B6M", FreeRelease(0.1), "CIM", 0.3, output_dt=2e-6).series
+    write_csv(series, tmp_path / "bar.csv", progress=True)
+    series.to_csv(tmp_path / "once.csv", index=False)
+    assert (tmp_path / "bar.csv").read_text() == (tmp_path / "once.csv").read_text()
+    assert "writing bar.csv" in capsys.readouterr().err
+
+
 def test_output_folder_is_checked_before_computing(tmp_path, capsys):
     afile = tmp_path / "afile"
     afile.write_text("x")
