@@ -357,6 +357,15 @@ def test_implausible_pulse_amplitude_is_one_line_naming_amp(capsys):
     assert err.count("\n") == 1
 
 
+def test_implausible_amplitude_in_a_spectrum_range_is_named(capsys):
+    """An amplitude range reaching 1e300 g is refused before any run, naming --amp and
+    the implausible value (the range parser kept only its generic format message)."""
+    argv = ["spectrum", "S1", "--pulse", "cosine", "--omega", "15", "--executor", "serial"]
+    assert main(argv + ["--amp", "0.1g:1e300g:3"]) == 2
+    err = capsys.readouterr().err
+    assert "`--amp` = 9.81e+300 m/s² (1e+300 g)" in err and err.count("\n") == 1
+
+
 def test_solver_failure_is_reported_in_text_mode_with_out(tmp_path, capsys):
     """A run the solver cannot carry (a 1 g record scaled by 1e300) ends as "failed" with
     the solver's message on the terminal, also when files go to --out, and exit 1 — not a
