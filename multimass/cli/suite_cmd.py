@@ -91,5 +91,12 @@ def run(args) -> int:
                 f"  {row['measure']}: median {row['im_name']} = {row['theta']:.4g}, "
                 f"β = {row['beta']:.3f}"
             )
+    failed = result.runs[result.runs.status == "failed"]
+    if len(failed):  # the solver's own words, not only a count in the files
+        first = failed.iloc[0]
+        print(
+            f"  {len(failed)} run(s) failed (left out of the fits), e.g. {first['motion']} at "
+            f"{s['measure']} = {first['im']:.4g}: {first['message']}"
+        )
     print(f"files in {out}/")
     return 0
