@@ -92,7 +92,11 @@ def pulse_from_args(args):
     InputError
         For --gamma or --nu given with another pulse (they would be ignored).
     """
-    shape = MPShape(gamma=args.gamma, nu=args.nu)  # validates them
+    try:
+        shape = MPShape(gamma=args.gamma, nu=args.nu)  # validates them
+    except InputError as exc:  # named as the user typed them
+        text = str(exc).replace("`gamma`", "`--gamma`").replace("`nu`", "`--nu`")
+        raise InputError(text.replace("gamma=2.0", "--gamma 2")) from None
     if args.pulse == "mp":
         return shape
     if shape != MPShape():

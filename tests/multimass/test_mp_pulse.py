@@ -230,4 +230,5 @@ def test_gamma_is_bounded_as_in_a_suite_file_at_every_entry_point(capsys):
     argv = ["stability", "B6M", "--pulse", "mp", "--gamma", "1e6", "--executor", "serial"]
     assert main(argv + ["--omega-p", "1:2:2", "--amp", "1:2:2"]) == 2
     err = capsys.readouterr().err
-    assert "`gamma` = 1000000.0" in err and "γ ≤ 10" in err and err.count("\n") == 1
+    assert "`--gamma` = 1000000.0" in err and "γ ≤ 10" in err and err.count("\n") == 1
+    assert "give e.g. --gamma 2" in err
