@@ -77,14 +77,19 @@ def _finite_duration(cls_name: str, duration: float, fix: str) -> None:
 MAX_PULSE_ACCELERATION = 100.0 * G
 
 
-def plausible_amplitude(name: str, value: float) -> float:
+def plausible_amplitude(
+    name: str,
+    value: float,
+    what: str = "a pulse amplitude",
+    fix: str = "check the value and its unit, e.g. 0.4g or 3.5m/s2",
+) -> float:
     """`value` (m/s², finite) if its size is at most `MAX_PULSE_ACCELERATION`, else an
-    `InputError` that names `name`, the value in g and the fix."""
+    `InputError` that names `name`, the value in g and the `fix`."""
     if abs(value) > MAX_PULSE_ACCELERATION:
         raise InputError(
-            f"`{name}` = {value:.6g} m/s² ({value / G:.3g} g): a pulse amplitude beyond "
+            f"`{name}` = {value:.6g} m/s² ({value / G:.3g} g): {what} beyond "
             f"{MAX_PULSE_ACCELERATION / G:g} g, far above any earthquake (recorded peaks stay "
-            "below ~4 g); check the value and its unit, e.g. 0.4g or 3.5m/s2"
+            f"below ~4 g); {fix}"
         )
     return value
 

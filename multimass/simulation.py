@@ -48,7 +48,7 @@ from ._run import QUIET_DELAY, PhaseLoop, segment_ends
 from .checks import energy_check, judge, scale_floor
 from .cost import OUTPUT_BUDGET, check_output, series_columns, simulation_cost
 from .errors import InputError
-from .excitations import FreeRelease
+from .excitations import FreeRelease, plausible_amplitude
 from .progress import Progress
 from .response import Outcome, Response
 from .result import status_of
@@ -197,6 +197,15 @@ def _excitation(excitation, t_end: float):
     duration = float(getattr(excitation, "duration", math.inf))
     if math.isnan(duration) or duration < 0.0:
         raise InputError(f"`excitation.duration` = {duration!r}: must be ≥ 0 (s) or inf")
+    samples = getattr(excitation, "accel", None)  # a record, as scaled
+    if samples is not None and np.size(samples):
+        name = getattr(excitation, "name", "record")
+        plausible_amplitude(
+            f"{name}: peak",
+            float(np.max(np.abs(samples))),
+            "a ground motion's peak",
+            "check its units (--units) and its scale factor (--scale, Record.scaled)",
+        )
     bps = tuple(float(b) for b in getattr(excitation, "breakpoints", ()))
     start = bps[0] if bps else 0.0
     if not isinstance(excitation, FreeRelease) and duration > 0.0 and start >= t_end:

@@ -2,6 +2,7 @@
 
 import json
 
+import numpy as np
 import pytest
 
 from multimass.cli import main
@@ -366,19 +367,38 @@ def test_implausible_amplitude_in_a_spectrum_range_is_named(capsys):
     assert "`--amp` = 9.81e+300 m/s² (1e+300 g)" in err and err.count("\n") == 1
 
 
-def test_solver_failure_is_reported_in_text_mode_with_out(tmp_path, capsys):
-    """A run the solver cannot carry (a 1 g record scaled by 1e300) ends as "failed" with
-    the solver's message on the terminal, also when files go to --out, and exit 1 — not a
-    traceback, nor only "files in DIR/"."""
+def test_solver_failure_is_reported_in_text_mode_with_out(tmp_path, capsys, monkeypatch):
+    """A run the solver cannot carry ends as "failed" with the solver's message on the
+    terminal, also when files go to --out, and exit 1 — not a traceback (solve_ivp's
+    failure before its first output sample, whose ``t`` is an empty list, raised an
+    AttributeError), nor only "files in DIR/"."""
+    from scipy.integrate._ivp.ivp import OdeResult
+
+    import multimass._run
+
+    def fails_at_once(fun, t_span, y0, **kw):
+        message = "Required step size is less than spacing between numbers."
+        return OdeResult(t=[], y=np.zeros((len(y0), 0)), status=-1, message=message, nfev=7)
+
+    monkeypatch.setattr(multimass._run, "solve_ivp", fails_at_once)
+    argv = ["simulate", "S1", "--release", "0.05", "--t-end", "0.2", "--backend", "scipy"]
+    assert main(argv + ["--out", str(tmp_path / "o")]) == 1
+    out = capsys.readouterr().out
+    assert "S1: failed" in out
+    assert "failed: solve_ivp (DOP853) failed at t = 0 s: Required step size" in out
+    assert f"files in {tmp_path / 'o'}/" in out
+
+
+def test_a_record_scaled_beyond_any_earthquake_is_refused_before_the_run(tmp_path, capsys):
+    """A 0.5 g record scaled by 1e300 (the solver then stepped for minutes, or failed on a
+    non-finite state) is refused in one line naming the record's peak and the fix."""
     rec = tmp_path / "rec.dat"
     rec.write_text("".join(f"{0.01 * i:.2f} {0.5 * (-1) ** i:.1f}\n" for i in range(200)))
-    argv = ["simulate", "S1", "--record", str(rec), "--units", "g", "--scale", "1e300"]
-    with pytest.warns(RuntimeWarning):  # numpy's overflow inside scipy's step control
-        code = main(argv + ["--backend", "scipy", "--t-end", "1", "--out", str(tmp_path / "o")])
-    out = capsys.readouterr().out
-    assert code == 1
-    assert "S1: failed" in out and "failed: solve_ivp (DOP853) failed at t = 0 s" in out
-    assert f"files in {tmp_path / 'o'}/" in out
+    argv = ["simulate", "B6M", "--impact", "CIM", "--record", str(rec), "--units", "g"]
+    assert main(argv + ["--scale", "1e300", "--t-end", "1"]) == 2
+    err = capsys.readouterr().err
+    assert "`rec: peak` = 4.905e+300 m/s² (5e+299 g)" in err and "--scale" in err
+    assert err.count("\n") == 1
 
 
 def test_output_step_too_fine_is_one_line_and_a_large_series_is_written_with_a_bar(
