@@ -13,6 +13,11 @@ by ρ: S1 over 1 s took 31 631 (Radau), 9 342 (BDF) and 10 061 (LSODA) right-han
 0.6–3.2 s. Paper 004's Newmark integrator costs ~1.3 µs per Newton iteration, a few
 per step of ``dt``.
 
+Each output sample costs its recording, its accelerations (paper 001, Eq 7) and its
+ledger: 7–15 µs per row (2026-11-28; B6M and S1 released, output_dt = 1e-5 s, compiled
+and SciPy paths). An output larger than `OUTPUT_BUDGET` is refused (`check_output`): a
+run of 10⁷ rows was silent for minutes, and its CSV would take 10 more (22–77 µs per row).
+
 The constants below take the slow end of each range, so a run is never estimated
 cheaper than it is by more than the spread of the measurements.
 """
@@ -23,9 +28,21 @@ import math
 
 import numpy as np
 
-from .progress import RunCost
+from .errors import InputError
+from .progress import RunCost, format_bytes
 
-__all__ = ["spectral_radius", "simulation_cost"]
+__all__ = [
+    "spectral_radius",
+    "simulation_cost",
+    "series_columns",
+    "check_output",
+    "OUTPUT_BUDGET",
+]
+
+#: Largest output a run may produce (bytes of float64 samples): 1 GiB, some 10⁶ rows of a
+#: column's series or 7·10⁶ of a block's — minutes to write as CSV, more than any plot or
+#: comparison needs (a 10 s test sampled at 100 kHz).
+OUTPUT_BUDGET = float(2**30)
 
 # method -> (stability extent c, right-hand sides per step), see the module docstring
 _EXPLICIT = {"DOP853": (3.4, 12), "RK45": (1.7, 6), "RK23": (0.2, 3)}
@@ -39,6 +56,38 @@ _ACCURACY_STEP = 5e-3  # s, a smooth motion's step
 # (S1 released, rtol 1e-8: 2 ms; benchmarks/exponential_rocking.py)
 _EXPONENTIAL_RHS_PER_STEP = 8
 _EXPONENTIAL_STEP = 2e-3
+
+_ROW_SECONDS = 20e-6  # per output row, see the module docstring
+
+
+def series_columns(n: int) -> int:
+    """Columns of a run's series for a structure of `n` elastic nodes: the states, the
+    accelerations and the ledger, float64 (an upper bound on `Response.series`)."""
+    return 6 * int(n) + 19
+
+
+def check_output(field: str, value, rows: float, columns: int, fix: str) -> float:
+    """The output's size (bytes, rows × columns × 8); `InputError` past `OUTPUT_BUDGET`.
+
+    Parameters
+    ----------
+    field : str
+        What sets the size, as the user gave it (e.g. "`output_dt` (--output-dt)").
+    value :
+        Its value, shown in the message.
+    rows, columns :
+        The output's rows and float64 columns.
+    fix : str
+        What to change.
+    """
+    size = float(rows) * int(columns) * 8.0
+    if not size <= OUTPUT_BUDGET:
+        raise InputError(
+            f"{field} = {value:g}: the output would hold {rows:.3g} rows × {columns} "
+            f"columns ({format_bytes(size)}), more than the {format_bytes(OUTPUT_BUDGET)} an "
+            f"output may use; {fix}"
+        )
+    return size
 
 
 def spectral_radius(structure) -> float:
@@ -122,7 +171,8 @@ def simulation_cost(
         seconds = steps * (2 * n + 5) * _IMPLICIT_RHS_SECONDS * size
         basis = f"implicit steps of ~{cap / _IMPLICIT_STEPS_PER_CAP:.2g} s over t_end = {t_end:g} s"
     rows = 0.0 if output_dt is None else t_end / output_dt
-    memory = rows * 8.0 * (6 * n + 19)  # states + the series' columns, float64
+    memory = rows * 8.0 * series_columns(n)  # states + the series' columns, float64
+    seconds += rows * _ROW_SECONDS
     if rows:
         basis += f"; {rows:.3g} output samples (t_end / output_dt)"
     return RunCost(steps=steps, seconds=seconds, memory=memory, basis=basis)

@@ -42,13 +42,13 @@ import numpy as np
 from multimass.impact_models import impact_model
 
 from . import validation as v
-from .checks import energy_check, energy_floor, judge
-from .cost import simulation_cost
+from .checks import energy_check, judge, scale_floor
+from .cost import OUTPUT_BUDGET, check_output, series_columns, simulation_cost
 from .engines._events import overturn_message
 from .engines._newmark_response import check_newmark, simulate_newmark
 from .engines._run import QUIET_DELAY, PhaseLoop, segment_ends
 from .errors import InputError
-from .inputs.excitations import FreeRelease
+from .inputs.excitations import FreeRelease, plausible_amplitude
 from .model.structure import Structure, from_specimen
 from .progress import Progress
 from .response import Outcome, Response
@@ -197,6 +197,15 @@ def _excitation(excitation, t_end: float):
     duration = float(getattr(excitation, "duration", math.inf))
     if math.isnan(duration) or duration < 0.0:
         raise InputError(f"`excitation.duration` = {duration!r}: must be ≥ 0 (s) or inf")
+    samples = getattr(excitation, "accel", None)  # a record, as scaled
+    if samples is not None and np.size(samples):
+        name = getattr(excitation, "name", "record")
+        plausible_amplitude(
+            f"{name}: peak",
+            float(np.max(np.abs(samples))),
+            "a ground motion's peak",
+            "check its units (--units) and its scale factor (--scale, Record.scaled)",
+        )
     bps = tuple(float(b) for b in getattr(excitation, "breakpoints", ()))
     start = bps[0] if bps else 0.0
     if not isinstance(excitation, FreeRelease) and duration > 0.0 and start >= t_end:
@@ -365,7 +374,7 @@ class _Plan:
             overturn_angle=o.overturn_angle,
             stop_when_safe=o.stop_when_safe,
             options=options,
-            floor=energy_floor(self.st, DEFAULTS["atol"]),
+            floor=scale_floor(self.st, DEFAULTS["atol"], o.energy_tol),
         )
         if lean:
             return Outcome(
@@ -418,4 +427,13 @@ def _prepare(structure, excitation, impact, t_end, o: SimulationOptions) -> _Pla
         f"structure's stiffness and the excitation{long_pulse}",
         max_seconds=o.budget_s,
     )
+    if o.output_dt is not None and o.integrator != "newmark":
+        check_output(
+            "`output_dt` (--output-dt)",
+            o.output_dt,
+            t_end / o.output_dt,
+            series_columns(st.n),
+            f"raise output_dt (to ≥ {t_end * series_columns(st.n) * 8.0 / OUTPUT_BUDGET:.2g} s for "
+            f"t_end = {t_end:g} s), shorten t_end, or pass output_dt=None for the outcome only",
+        )
     return _Plan(st, model, excitation, t_end, o, cost, ground, start, fast)

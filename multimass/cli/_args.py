@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ..errors import InputError
-from ..inputs.excitations import PULSE_NAMES, FreeRelease, MPShape, pulse
+from ..inputs.excitations import PULSE_NAMES, FreeRelease, MPShape, plausible_amplitude, pulse
 from ..inputs.records import read_record
 from ..inputs.units import parse_acceleration
 from ..simulation import DEFAULTS
@@ -92,7 +92,11 @@ def pulse_from_args(args):
     InputError
         For --gamma or --nu given with another pulse (they would be ignored).
     """
-    shape = MPShape(gamma=args.gamma, nu=args.nu)  # validates them
+    try:
+        shape = MPShape(gamma=args.gamma, nu=args.nu)  # validates them
+    except InputError as exc:  # named as the user typed them
+        text = str(exc).replace("`gamma`", "`--gamma`").replace("`nu`", "`--nu`")
+        raise InputError(text.replace("gamma=2.0", "--gamma 2")) from None
     if args.pulse == "mp":
         return shape
     if shape != MPShape():
@@ -125,7 +129,7 @@ def excitation_from_args(args, structure):
     if kinds[0] == "--pulse":
         if args.omega is None or args.amp is None:
             raise InputError("`--pulse` needs --omega (rad/s) and --amp (e.g. 0.4g)")
-        amp = parse_acceleration(args.amp, "g", argument="--amp")
+        amp = plausible_amplitude("--amp", parse_acceleration(args.amp, "g", argument="--amp"))
         family = pulse_from_args(args)
         if isinstance(family, MPShape):
             return family(amplitude=amp, omega=args.omega)

@@ -13,7 +13,30 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["output_folder", "output_file"]
+__all__ = ["output_folder", "output_file", "write_csv"]
+
+#: Seconds to write one row of a run's series as CSV (22–77 µs measured, 2026-11-28; B6M
+#: and S1 series of 10⁵ rows): the estimate that decides whether a bar is shown.
+_CSV_ROW_SECONDS = 80e-6
+_CSV_CHUNK_ROWS = 50_000
+
+
+def write_csv(table, path, progress: bool | None = None) -> None:
+    """Write `table` (a DataFrame) to `path` as CSV without its index, in chunks, with a
+    progress bar on stderr when it is estimated to take seconds (`multimass.progress`)."""
+    from ..progress import Progress
+
+    n = len(table)
+    with Progress(
+        n, f"writing {Path(path).name}", show=progress, estimate=n * _CSV_ROW_SECONDS, unit="rows"
+    ) as bar:
+        if not bar.shown:
+            table.to_csv(path, index=False)
+            return
+        for start in range(0, max(n, 1), _CSV_CHUNK_ROWS):
+            part = table.iloc[start : start + _CSV_CHUNK_ROWS]
+            part.to_csv(path, index=False, mode="w" if start == 0 else "a", header=start == 0)
+            bar.update(start + len(part))
 
 
 def output_folder(path, flag: str = "--out") -> Path | None:

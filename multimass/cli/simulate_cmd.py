@@ -15,7 +15,7 @@ from ._args import (
     impact_kwargs,
     solver_kwargs,
 )
-from ._output import output_folder
+from ._output import output_folder, write_csv
 
 __all__ = ["register", "sensor_nodes", "default_t_end", "status_line", "exit_code"]
 
@@ -118,7 +118,7 @@ def run(args) -> int:
     info = resp.summary()
     if out is not None:
         stem = out / st.name
-        resp.series.to_csv(f"{stem}_series.csv", index=False)
+        write_csv(resp.series, f"{stem}_series.csv", args.progress)
         resp.events_frame().to_csv(f"{stem}_events.csv", index=False)
         Path(f"{stem}_summary.json").write_text(json.dumps(info, indent=2))
         if not resp.series.empty:

@@ -85,6 +85,7 @@ def register(sub) -> None:
 
 def run(args) -> int:
     import multimass
+    from multimass.inputs.excitations import plausible_amplitude
     from multimass.inputs.units import parse_acceleration
     from multimass.sweeps.plots import plot_spectrum
     from multimass.sweeps.ranges import check_values, parse_range
@@ -110,7 +111,13 @@ def run(args) -> int:
         omega = check_values("--omega", parse_range(args.omega, "--omega"), positive=True)
         amp = check_values(
             "--amp",
-            parse_range(args.amp, "--amp", lambda x: parse_acceleration(x, "g", argument="--amp")),
+            parse_range(
+                args.amp,
+                "--amp",
+                lambda x: plausible_amplitude(
+                    "--amp", parse_acceleration(x, "g", argument="--amp")
+                ),
+            ),
             nonnegative=True,
         )
         family = pulse_from_args(args)

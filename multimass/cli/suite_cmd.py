@@ -41,6 +41,12 @@ def register(sub) -> None:
         default=None,
         help="runs per stored chunk (default ~1/40 of the suite, 20–2000)",
     )
+    p.add_argument(
+        "--max-hours",
+        type=types.positive_or_inf,
+        default=None,
+        help="budget: refuse a suite estimated to take longer (default 1; inf for none)",
+    )
     add_executor_args(p)
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(func=run)
@@ -65,6 +71,7 @@ def run(args) -> int:
         workers=ex.get("workers"),
         chunk_runs=args.chunk_runs,
         progress=ex.get("progress"),
+        max_hours=args.max_hours,
     )
     info = write_report(result, out, bootstrap=args.bootstrap)
     if args.json:
@@ -84,5 +91,12 @@ def run(args) -> int:
                 f"  {row['measure']}: median {row['im_name']} = {row['theta']:.4g}, "
                 f"β = {row['beta']:.3f}"
             )
+    failed = result.runs[result.runs.status == "failed"]
+    if len(failed):  # the solver's own words, not only a count in the files
+        first = failed.iloc[0]
+        print(
+            f"  {len(failed)} run(s) failed (left out of the fits), e.g. {first['motion']} at "
+            f"{s['measure']} = {first['im']:.4g}: {first['message']}"
+        )
     print(f"files in {out}/")
     return 0

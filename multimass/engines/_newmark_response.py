@@ -10,6 +10,7 @@ import pandas as pd
 
 from multimass.impact_models import Classical, ImpactContext
 
+from ..checks import energy_scale
 from ..errors import InputError
 from ..model import equations as eq
 from ..response import Response
@@ -63,7 +64,7 @@ def simulate_newmark(
 ) -> Response:
     """Rigid block by Newmark + Newton–Raphson (paper 004, Eqs 3–8) as a `Response`.
 
-    `floor` is the smallest energy scale of the ledger (`multimass.checks.energy_floor`).
+    `floor` is the smallest energy scale of the ledger (`multimass.checks.scale_floor`).
     """
     check_newmark(st, model)
     theta0 = float(getattr(excitation, "theta0", 0.0) or 0.0)
@@ -111,7 +112,7 @@ def _to_response(st, res, wall, options, t_end, floor) -> Response:
             losses[t >= e.time] -= e.energy_change
     E = T + V
     balance = E + losses - Wg - E[0]
-    ref = max(abs(E[0]), float(np.max(np.abs(Wg))), floor, 1e-300)
+    ref = energy_scale(E[0], float(np.max(np.abs(Wg))), 0.0, floor)
     series = pd.DataFrame(
         {
             "t": t,

@@ -9,6 +9,7 @@ import pandas as pd
 
 from multimass.impact_models import gaussian_force as gf
 
+from ..checks import energy_scale
 from ..model import equations as eq
 from ..model._phase import ActiveForce, Model
 from ..model.eom import phase_rows
@@ -143,7 +144,7 @@ class Recorder:
     def response(
         self, name, status, message, events, wall, options, n_rhs, t_end, floor: float = 0.0
     ) -> Response:
-        """The `Response`; `floor` is the smallest energy scale (`multimass.checks.energy_floor`)."""
+        """The `Response`; `floor` is the smallest energy scale (`multimass.checks.scale_floor`)."""
         n = self.st.n
         sizes = [b[0].size for b in self.blocks]
         t = np.concatenate([b[0] for b in self.blocks])
@@ -171,7 +172,7 @@ class Recorder:
         impact = WF + loss
         E = T + V + U
         balance = E + D + impact - Wg - E[0]
-        ref = max(abs(E[0]), float(np.max(np.abs(Wg))), floor, 1e-300)
+        ref = energy_scale(E[0], float(np.max(np.abs(Wg))), 0.0, floor)
         data = {"t": t, "phase": phase, "theta": Y[:, n], "thetadot": Y[:, 2 * n + 1]}
         for i in range(n):
             data[f"u{i + 1}"] = Y[:, i]

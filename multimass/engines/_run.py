@@ -25,7 +25,7 @@ from scipy.integrate import solve_ivp
 from multimass.impact_models import ImpactContext
 from multimass.impact_models.models import full_contact_velocities
 
-from ..checks import energy_floor
+from ..checks import balance_error, scale_floor
 from ..model import equations as eq
 from ..model import kinematics as kin
 from ..model._phase import ActiveForce, Model, full_contact_rhs, rocking_rhs
@@ -143,7 +143,7 @@ class PhaseLoop:
         self.n_rhs = 0
         self.recorder = Recorder(st, self.mdl, o.output_dt, self.ag)
         self.recorder.start_phase(phase, 0.0, y)
-        self.energy_floor = energy_floor(st, o.atol)
+        self.energy_floor = scale_floor(st, o.atol, o.energy_tol)
         self.e0 = self.energy(phase, y)  # the ledger starts from the given state
         self.progress = None  # a callback progress(t), see `run`
         r = self.draw(-phase, y) if phase and model.has_force else None
@@ -206,7 +206,7 @@ class PhaseLoop:
         E = self.energy(s.phase, s.y)
         D, Wg, WF = (float(x) for x in s.y[-3:])
         balance = E + D + WF + self.recorder.loss - Wg - self.e0
-        return abs(balance) / max(abs(self.e0), abs(Wg), abs(E), self.energy_floor, 1e-300)
+        return balance_error(balance, self.e0, Wg, E, self.energy_floor)
 
     def safe_peak(self, s: State) -> float | None:
         """May this rigid body's run stop now? (`stop_when_safe`) None if not, else the
@@ -310,11 +310,10 @@ class PhaseLoop:
                 f"solve_ivp ({method}) raised in the segment starting at t = {s.t:.6g} s: {exc}",
             )
         self.n_rhs += sol.nfev
-        if sol.status == -1:
+        if sol.status == -1:  # with t_eval and no sample reached, sol.t is an empty list
+            t_fail = float(np.asarray(sol.t)[-1]) if np.size(sol.t) else s.t
             return self.fail(
-                s,
-                float(sol.t[-1]) if sol.t.size else s.t,
-                f"solve_ivp failed at t = {sol.t[-1]:.6g} s: {sol.message}",
+                s, t_fail, f"solve_ivp ({method}) failed at t = {t_fail:.6g} s: {sol.message}"
             )
         if not np.all(np.isfinite(sol.y)):
             return self.fail(

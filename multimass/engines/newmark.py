@@ -31,7 +31,7 @@ import numpy as np
 import pandas as pd
 
 from .. import validation as v
-from ..checks import energy_check, energy_floor
+from ..checks import balance_error, energy_check, scale_floor
 from ..errors import InputError
 from ..model import equations as eq
 from ..model.structure import Structure
@@ -88,7 +88,8 @@ class NewmarkResult(Result):
         "inaccurate" when the energy check failed.
     checks : dict
         ``energy_balance``: max ``|balance_error|`` over the energy scale (the initial
-        energy, the largest ground work or the floor m_t g B · tol) against `energy_tol`.
+        energy, the largest ground work or the floor m_t g B · tol / energy_tol,
+        `multimass.checks.balance_error`) against `energy_tol`.
         Empty for a failed run.
     warnings : tuple of str
         One line per failed check.
@@ -200,8 +201,10 @@ def _judged(st: Structure, fields: dict, energy_tol: float, tol: float) -> Newma
     if fields["outcome"] != "failed":
         e, w = led["energy"], led["ground_work"]
         balance = e - e[0] - w + led["impact_loss"]
-        scale = max(abs(float(e[0])), float(np.max(np.abs(w))), energy_floor(st, tol), 1e-300)
-        err = float(np.max(np.abs(balance))) / scale
+        floor = scale_floor(st, tol, energy_tol)
+        err = balance_error(
+            float(np.max(np.abs(balance))), e[0], float(np.max(np.abs(w))), 0.0, floor
+        )
         checks["energy_balance"] = energy_check(err, energy_tol)
         if not checks["energy_balance"]["passed"]:
             warnings = (

@@ -87,7 +87,7 @@ def run(st, excitation, model, means, spread, stream, grid, cfg, options):
 
 def _simulate(st, excitation, model, t_end: float, cfg, options: dict):
     """`simulate` at the high rate, compiled where the kernels know the model and motion."""
-    kw = {"progress": False} | options
+    kw = {"progress": None} | options  # a bar only for a run estimated at seconds or more
     kw.setdefault("backend", _backend(model, excitation, kw))
     response = simulate(
         st, excitation, model, t_end, output_dt=1.0 / cfg.fs_in, seed=cfg.seed, **kw

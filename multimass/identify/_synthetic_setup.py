@@ -9,6 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import validation as v
+from ..cost import check_output, series_columns
 from ..errors import InputError
 from ..inputs.excitations import FreeRelease
 
@@ -69,6 +70,18 @@ def settings(st, excitation, t_end, seed, fs, noise, bias, t_offset, sensors, pa
     columns = {"theta": "theta", **_sensor_columns(st, sensors)}
     if not free:
         columns["ag"] = "ag"
+    # the response is simulated and kept at fs × oversample before the filter: its size
+    # is known now, before the run (`multimass.cost.check_output`)
+    width = series_columns(st.n) + len(columns)
+    check_output(
+        "`fs`",
+        fs,
+        (t_end + abs(t_offset)) * fs_in,
+        width,
+        f"the response is simulated at `fs` × oversample = {fs_in:.3g} Hz over {t_end:g} s; "
+        "lower `fs` (a data logger's rate is 100–1000 Hz) or oversample (at least "
+        f"{max(4, math.ceil(_ABOVE_MODES * f_max / fs))}), or shorten t_end",
+    )
     return Settings(
         seed, t_end, fs, oversample, fs_in, noise, _bias(bias, columns), t_offset, passband,
         columns, free,

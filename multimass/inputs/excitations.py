@@ -37,6 +37,7 @@ import numpy as np
 from ..errors import InputError
 from ..validation import number, positive
 from . import pulse_shapes as ps
+from .units import G
 
 __all__ = [
     "Excitation",
@@ -49,6 +50,9 @@ __all__ = [
     "MPShape",
     "PULSE_NAMES",
     "pulse",
+    "MP_MAX_GAMMA",
+    "MAX_PULSE_ACCELERATION",
+    "plausible_amplitude",
 ]
 
 TWO_PI = 2.0 * math.pi
@@ -65,8 +69,33 @@ def _finite_duration(cls_name: str, duration: float, fix: str) -> None:
         raise InputError(f"{cls_name}: the pulse would last {duration!r} s; {fix}")
 
 
+#: Largest pulse amplitude accepted (m/s²): 100 g. The largest ground accelerations ever
+#: recorded are about 4 g (2008 Iwate–Miyagi, 2016 Kaikōura near the fault), and an
+#: overturning map of a squat block (α ≈ 0.8) at a0/(α g) = 10 asks for 8 g; 100 g leaves
+#: room for every study of rocking under earthquakes, while 1e300 g (a unit slip or a
+#: typo) overflows the solver.
+MAX_PULSE_ACCELERATION = 100.0 * G
+
+
+def plausible_amplitude(
+    name: str,
+    value: float,
+    what: str = "a pulse amplitude",
+    fix: str = "check the value and its unit, e.g. 0.4g or 3.5m/s2",
+) -> float:
+    """`value` (m/s², finite) if its size is at most `MAX_PULSE_ACCELERATION`, else an
+    `InputError` that names `name`, the value in g and the `fix`."""
+    if abs(value) > MAX_PULSE_ACCELERATION:
+        raise InputError(
+            f"`{name}` = {value:.6g} m/s² ({value / G:.3g} g): {what} beyond "
+            f"{MAX_PULSE_ACCELERATION / G:g} g, far above any earthquake (recorded peaks stay "
+            f"below ~4 g); {fix}"
+        )
+    return value
+
+
 def _amplitude(name: str, value) -> float:
-    """A finite amplitude ≥ 0 (m/s²)."""
+    """A finite amplitude ≥ 0 (m/s²), at most `MAX_PULSE_ACCELERATION`."""
     x = _finite(name, value, "an amplitude in m/s²")
     if x < 0.0:
         raise InputError(
@@ -74,7 +103,7 @@ def _amplitude(name: str, value) -> float:
             f"pass {-x:g} and mirror the response (θ → −θ, u → −u): for a symmetric "
             f"structure the response to −ü_g is the mirror image of the response to +ü_g"
         )
-    return x
+    return plausible_amplitude(name, x)
 
 
 def _positive(name: str, value, what: str) -> float:
@@ -500,6 +529,10 @@ MP_MAX_AMPLITUDE = 20.0
 #: Highest plausible pulse frequency f_p (Hz): near-fault pulses last 0.5–10 s; a value
 #: above this is almost surely ω in rad/s.
 MP_MAX_FP = 50.0
+#: Largest γ of an M&P pulse: M&P 2003 fitted γ of 1.5–3 to recorded near-fault pulses; the
+#: window holds about γ half-cycles, and past 10 it is a harmonic wave, not a pulse (its
+#: peak search and the run's samples grow with γ: 1e6 runs out of memory).
+MP_MAX_GAMMA = 10.0
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -577,10 +610,11 @@ class MPPulse(Excitation):
                 f"(ω_p / 2π = {fp / TWO_PI:.6g} Hz if this was ω_p in rad/s)"
             )
         gamma = _finite("gamma", self.gamma, "the oscillatory character γ")
-        if not gamma > 1.0:
+        if not 1.0 < gamma <= MP_MAX_GAMMA:
             raise InputError(
-                f"`gamma` = {self.gamma!r}: the M&P pulse needs γ > 1 (M&P 2003; recorded "
-                "pulses fit 1.5–3); give e.g. gamma=2.0"
+                f"`gamma` = {self.gamma!r}: the M&P pulse needs 1 < γ ≤ {MP_MAX_GAMMA:g} "
+                "(M&P 2003; recorded pulses fit 1.5–3; a larger γ is a harmonic wave, not a "
+                "pulse); give e.g. gamma=2.0"
             )
         nu = _finite("nu", self.nu, "a phase in rad")
         if abs(nu) > TWO_PI:

@@ -34,13 +34,15 @@ from ..analysis import intensity as im
 from ..engines._rigid import uplift_threshold
 from ..errors import InputError
 from ..inputs.excitations import TWO_PI, MPShape
+from ..progress import RunCost, budget_seconds, format_duration
 from ..simulation import estimate, outcome_summary
+from ..sweeps.base import available_workers, validate_workers
 from ..sweeps.engine import _Bar, run_jobs
 from ..sweeps.maps import default_backend, executor_session
-from ..sweeps.seeding import job_seeds
+from ..sweeps.seeding import job_seed
 from .spec import Distribution, Suite
 
-__all__ = ["run_suite", "SuiteRuns", "SuiteMismatch", "RUN_COLUMNS", "motions"]
+__all__ = ["run_suite", "suite_cost", "SuiteRuns", "SuiteMismatch", "RUN_COLUMNS", "motions"]
 
 #: Columns of the runs table, in order (``sa_<T>s`` columns follow for the suite's periods).
 RUN_COLUMNS = [
@@ -273,6 +275,52 @@ def suite_batch(jobs: list) -> list[tuple]:
     ]
 
 
+#: Memory of one row of the runs table (bytes): 27 columns, the strings as Python objects
+#: (measured 2026-11-28 with pandas' deep memory usage: 0.26 kB per row of a pulse suite,
+#: 0.33 kB of a record suite), twice over for the copy made while the chunks are joined.
+ROW_BYTES = 700.0
+
+
+def _parallel_workers(executor, workers) -> int:
+    """Workers the suite's runs are spread over: known for "serial" and a local process
+    pool; 1 for an executor object or a cluster, whose size is not known beforehand."""
+    if not isinstance(executor, str) or executor.lower() == "dask":
+        return 1
+    if executor.lower() == "serial":
+        return 1
+    return validate_workers(workers) or available_workers()
+
+
+def suite_cost(suite: Suite, n: int, one: RunCost, executor="process", workers=None) -> RunCost:
+    """The estimated cost of a whole suite: its `n` runs × the cost of its longest run.
+
+    Parameters
+    ----------
+    suite : Suite
+    n : int
+        Runs of the suite (motions × levels × draws).
+    one : RunCost
+        `multimass.simulation.estimate` of the suite's longest run (longest motion,
+        highest level), so the estimate errs long.
+    executor, workers :
+        As `run_suite`: the wall time is divided among a local pool's workers.
+
+    Returns
+    -------
+    RunCost
+        Steps and seconds of all runs, and the memory of the runs table.
+    """
+    k = _parallel_workers(executor, workers)
+    basis = (
+        f"{n:,} runs ({suite.n_motions} motions × {len(suite.levels)} levels × "
+        f"{int(suite.draws):,} draws) × {format_duration(one.seconds)} for the longest run"
+        + (f", on {k} workers" if k > 1 else "")
+    )
+    return RunCost(
+        steps=n * one.steps, seconds=n * one.seconds / k, memory=n * ROW_BYTES, basis=basis
+    )
+
+
 #: Rigid-block suites run in compiled batches (`suite_batch`); False: one job per run.
 BATCHED = True
 #: A chunk of a batched suite is cut into this many jobs (strided, so they cost alike).
@@ -358,6 +406,7 @@ def run_suite(
     workers: int | None = None,
     chunk_runs: int | None = None,
     progress: bool | None = None,
+    max_hours: float | None = None,
 ) -> SuiteRuns:
     """Run every run of `suite`; resume from `out` if it holds finished chunks.
 
@@ -372,6 +421,10 @@ def run_suite(
         Runs per stored chunk (default: about 1/40 of the suite, 20 to 2000).
     progress : bool, optional
         A progress bar over the runs (default: on a terminal).
+    max_hours : float, optional
+        The budget: a suite whose estimated time (`suite_cost`) is longer is refused
+        before its first run (default one hour, `multimass.progress.DEFAULT_BUDGET_S`;
+        ``math.inf`` for none).
 
     Returns
     -------
@@ -381,7 +434,8 @@ def run_suite(
     ------
     InputError
         For a level a record reaches only with a factor above ``suite.max_scale``, Sa
-        at a period a record cannot resolve, or an output folder of another suite.
+        at a period a record cannot resolve, an output folder of another suite, or a
+        suite over the budget or beyond the memory (`suite_cost`).
     """
     st = suite.structure
     wall = time.perf_counter()
@@ -399,7 +453,6 @@ def run_suite(
             )
     n_l, n_d = len(levels), int(suite.draws)
     n = len(ms) * n_l * n_d
-    seeds = job_seeds(suite.seed, n)
     options = default_backend(dict(suite.options))
     p = float(getattr(st, "p", math.nan) or math.nan)
 
@@ -407,16 +460,23 @@ def run_suite(
         mi, rest = divmod(i, n_l * n_d)
         j = rest // n_d
         m = ms[mi]
-        exc = m.excitation(float(factors[mi, j]), int(seeds[i]))
-        opts, drawn = _draw_options(suite, seeds[i])
+        seed = job_seed(suite.seed, i)  # derived per run: never a list of the suite's seeds
+        exc = m.excitation(float(factors[mi, j]), seed)
+        opts, drawn = _draw_options(suite, seed)
         ims = _ImSpec.of(suite) if m.drawn else None
         t_end = exc.duration + suite.t_free
-        return _Job(st, exc, t_end, int(seeds[i]), options | opts, ims, drawn)
+        return _Job(st, exc, t_end, seed, options | opts, ims, drawn)
 
-    # the options and the longest run checked here, before any worker starts
+    # the options and the longest run checked here, and the whole suite's cost, before any
+    # worker starts
     longest = max(range(len(ms)), key=lambda mi: ms[mi].excitation(1.0, 0).duration)
     probe = job(longest * n_l * n_d + (n_l - 1) * n_d)
-    estimate(st, probe.excitation, t_end=probe.t_end, seed=probe.seed, **probe.options)
+    one = estimate(st, probe.excitation, t_end=probe.t_end, seed=probe.seed, **probe.options)
+    suite_cost(suite, n, one, executor, workers).check(
+        f"{suite.source}: suite {suite.name!r} of {n:,} runs",
+        "lower [monte_carlo] draws, the number of [intensity] levels or of motions",
+        max_seconds=budget_seconds(max_hours),
+    )
 
     def rows(index: np.ndarray, jobs: list, results: list) -> pd.DataFrame:
         mi, rest = np.divmod(index, n_l * n_d)
@@ -432,7 +492,7 @@ def run_suite(
             "im": levels[j],
             "level": j,
             "draw": d,
-            "seed": [int(seeds[i]) for i in index],
+            "seed": [jb.seed for jb in jobs],
             "scale": f,
             "restitution_draw": [j.draw for j in jobs],
         }

@@ -47,7 +47,7 @@ import numpy as np
 
 from .. import validation as v
 from ..errors import InputError
-from ..inputs.excitations import MPShape
+from ..inputs.excitations import MP_MAX_GAMMA, MPShape
 from ..inputs.records import Record, read_record
 from ..inputs.units import G
 from ..model.structure import Structure, from_specimen
@@ -527,7 +527,7 @@ def _pulses(w: str, data) -> PulseSet:
         vals = _values(w, f"pulses.{key}", value)
         return tuple(map(float, vals))
 
-    gamma = shape_values("gamma", 2.0, 1.0 + 1e-9, 10.0, "γ of the M&P pulse, > 1")
+    gamma = shape_values("gamma", 2.0, 1.0 + 1e-9, MP_MAX_GAMMA, "γ of the M&P pulse, > 1")
     nu = shape_values("nu_rad", 0.0, -2 * math.pi, 2 * math.pi, "the phase ν in rad")
     for g in gamma if isinstance(gamma, tuple) else ():
         for n in nu if isinstance(nu, tuple) else (0.0,):

@@ -21,11 +21,12 @@ from .base import Executor, available_workers
 from .dask_executor import DaskExecutor
 from .engine import ExecutorError, JobError, batch_plan, run_jobs
 from .executors import EXECUTORS, ProcessExecutor, SerialExecutor, get_executor
-from .seeding import job_seeds
+from .seeding import job_seed, job_seeds
 
 __all__ = [
     "run_jobs",
     "job_seeds",
+    "job_seed",
     "get_executor",
     "batch_plan",
     "available_workers",

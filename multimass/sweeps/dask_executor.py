@@ -13,6 +13,7 @@ rerun gives the same cells).
 
 from __future__ import annotations
 
+import socket
 import sys
 import time
 import weakref
@@ -37,6 +38,32 @@ def _import_distributed():
             f"the `dask` executor needs dask.distributed, which is not installed; {_DASK_HINT}"
         ) from exc
     return distributed
+
+
+def _check_address(d, address: str, timeout: float) -> None:
+    """Refuse an address that cannot be parsed, or a TCP/TLS one where nothing listens.
+
+    Both are checked before a ``distributed.Client`` is made: a Client that failed to
+    connect is closed when it is collected, and its clean-up printed a traceback up to
+    20 s after the one-line error.
+    """
+    scheme, loc = d.comm.parse_address(address)
+    if scheme in ("tcp", "tls"):
+        try:
+            host, port = d.comm.parse_host_port(loc)
+        except ValueError as exc:
+            raise InputError(
+                f"`address` (--dask-address) = {address!r} is not a scheduler address ({exc}); "
+                "give it as tcp://HOST:PORT, e.g. tcp://10.0.0.5:8786 (printed by `dask scheduler`)"
+            ) from None
+        try:
+            socket.create_connection((host, port), timeout=timeout).close()
+        except OSError as exc:
+            raise InputError(
+                f"no Dask scheduler answered at `address` (--dask-address) = {address!r} "
+                f"within {timeout:g} s ({type(exc).__name__}: {exc}); start one with "
+                "`dask scheduler` and workers with `dask worker ADDRESS`, or check the address"
+            ) from None
 
 
 def _close_owned(client, cluster) -> None:
@@ -154,6 +181,7 @@ class DaskExecutor(Executor):
                 except ValueError:  # no default client in this process
                     pass
         if address is not None:
+            _check_address(d, address, self._timeout)
             try:
                 client = d.Client(address, set_as_default=False, timeout=self._timeout)
             except (OSError, TimeoutError, ValueError) as exc:

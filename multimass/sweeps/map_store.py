@@ -124,6 +124,26 @@ def _write_chunk(path: Path, table) -> None:
     os.replace(tmp, path)
 
 
+def _corrupted(path: Path, folder: Path, exc: Exception) -> InputError:
+    """The one-line error for a stored file pyarrow cannot read."""
+    what = "a chunk of cells" if path.name.startswith("chunk-") else "a file of the map"
+    return InputError(
+        f"{path}: {what} is corrupted (pyarrow: {exc}); delete that file and run the same "
+        f"command again to recompute it, or delete the folder {folder} to start afresh"
+    )
+
+
+def _check_readable(path: Path, folder: Path) -> None:
+    """Raise `_corrupted` if `path`'s Parquet footer cannot be read (a cheap check)."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    try:
+        pq.read_metadata(path)
+    except (pa.ArrowException, OSError) as exc:
+        raise _corrupted(path, folder, exc) from None
+
+
 def run_stored(
     folder, st, pulse, omega_p, amp, options, simulate, *, refine, bisect, progress, chunk_cells
 ):
@@ -138,6 +158,8 @@ def run_stored(
     n_w, n = len(omega_p), len(omega_p) * len(amp)
     n_chunks = -(-n // chunk_cells)
     todo = [c for c in range(n_chunks) if not _chunk_path(folder, c).exists()]
+    for f in sorted((folder / "cells").glob("*.parquet")):  # before any new work
+        _check_readable(f, folder)
     wall = time.perf_counter()
     show = progress if progress is not None else bool(getattr(sys.stderr, "isatty", bool)())
     done_cells = n - sum(min(chunk_cells, n - c * chunk_cells) for c in todo)
@@ -198,11 +220,15 @@ def grid_segments(codes: np.ndarray, omega_p, amp) -> list:
 
 
 def _read_columns(files, columns) -> dict:
+    import pyarrow as pa
     import pyarrow.parquet as pq
 
     parts = {c: [] for c in columns}
     for f in files:
-        t = pq.read_table(f, columns=columns)
+        try:
+            t = pq.read_table(f, columns=columns)
+        except (pa.ArrowException, OSError) as exc:
+            raise _corrupted(Path(f), Path(f).parent.parent, exc) from None
         for c in columns:
             col = t.column(c)
             if c == "outcome":  # dictionary-encoded names → codes (positions in _OUTCOMES)
@@ -281,9 +307,10 @@ class StoredMap:
             extra = _read_columns([refined], ["omega_p", "amp", "outcome", "accurate"])
             inaccurate += int((~extra["accurate"]).sum())
         bpath = folder / "boundaries.parquet"
-        boundaries = (
-            pd.read_parquet(bpath) if bpath.exists() else pd.DataFrame(columns=_SEGMENT_COLUMNS)
-        )
+        boundaries = pd.DataFrame(columns=_SEGMENT_COLUMNS)
+        if bpath.exists():
+            _check_readable(bpath, folder)
+            boundaries = pd.read_parquet(bpath)
         return cls(
             folder=folder,
             block=man["block"],

@@ -47,6 +47,8 @@ def parse_range(text: str, name: str, convert=float) -> np.ndarray:
         if len(parts) != 3:
             raise ValueError
         start, stop, count = convert(parts[0]), convert(parts[1]), int(parts[2])
+    except InputError:  # the converter's own message names the value and the fix
+        raise
     except (ValueError, TypeError):
         raise InputError(
             f"`{name}` = {text!r}: write START:STOP:COUNT (an inclusive range of "

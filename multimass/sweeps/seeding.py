@@ -14,7 +14,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["job_seeds"]
+__all__ = ["job_seeds", "job_seed"]
 
 _INT63 = (1 << 63) - 1
 
@@ -35,6 +35,40 @@ def _base_sequence(base_seed: Any) -> np.random.SeedSequence:
         f"`base_seed` = {base_seed!r}: expected a non-negative integer, a "
         "numpy SeedSequence, or None (fresh entropy, not reproducible)"
     )
+
+
+def _child_seed(base: np.random.SeedSequence, i: int) -> int:
+    """64 bits of child `i`'s state, top bit dropped so the seed fits int64."""
+    child = np.random.SeedSequence(
+        base.entropy, spawn_key=(*base.spawn_key, i), pool_size=base.pool_size
+    )
+    return int(child.generate_state(1, np.uint64)[0]) & _INT63
+
+
+def job_seed(base_seed: int | np.random.SeedSequence, i: int) -> int:
+    """The seed of job `i` alone: ``job_seeds(base_seed, n)[i]`` for any n > i.
+
+    It builds only child `i` of ``SeedSequence(base_seed)`` (spawn key ``(i,)``), so a
+    sweep of billions of jobs derives each seed when its job is made, never a list of all.
+
+    Parameters
+    ----------
+    base_seed : int or numpy.random.SeedSequence
+        Seed of the whole sweep (None is refused: fresh entropy per call would give every
+        job unrelated, unreproducible seeds).
+    i : int
+        The job's index, ≥ 0.
+
+    Examples
+    --------
+    >>> job_seed(2024, 2) == job_seeds(2024, 3)[2]
+    True
+    """
+    if base_seed is None:
+        raise InputError("`base_seed` = None: give a seed (an integer ≥ 0) to derive job seeds")
+    if isinstance(i, bool) or not hasattr(i, "__index__") or i.__index__() < 0:
+        raise InputError(f"`i` = {i!r}: expected a job index, an integer ≥ 0")
+    return _child_seed(_base_sequence(base_seed), i.__index__())
 
 
 def job_seeds(
@@ -69,8 +103,7 @@ def job_seeds(
     """
     if isinstance(n, bool) or not hasattr(n, "__index__") or n.__index__() < 0:
         raise InputError(f"`n` = {n!r}: expected a non-negative integer number of jobs")
-    children = _base_sequence(base_seed).spawn(n.__index__())
+    base = _base_sequence(base_seed)
     if not as_int:
-        return children
-    # 64 bits of each child's state, top bit dropped so the seed fits int64
-    return [int(c.generate_state(1, np.uint64)[0]) & _INT63 for c in children]
+        return base.spawn(n.__index__())
+    return [_child_seed(base, i) for i in range(n.__index__())]

@@ -66,7 +66,8 @@ def test_a_pulse_the_structure_cannot_follow_is_not_judged_on_round_off():
     assert floor == pytest.approx(1e-10 * st.m_t * st.g * st.B)
     assert np.abs(r.series.balance_error).max() < 1e-6 * floor
     assert r.status == "completed" and r.theta_max == 0.0
-    assert r.energy_reference == pytest.approx(floor)
+    # the smallest energy scale: an error of `floor` is energy_tol (1e-3) of it
+    assert r.energy_reference == pytest.approx(floor / 1e-3)
 
 
 def test_outcome_checks_the_ledger_at_the_end():
@@ -104,3 +105,22 @@ def test_newmark_runs_are_checked_too():
 def test_a_failed_run_stays_failed():
     r = simulate("S1", RaisingExcitation(), "CIM", 1.0, output_dt=None)
     assert r.status == "failed" and r.outcome == "failed" and "energy_balance" not in r.checks
+
+
+def test_a_balance_error_below_what_the_solver_resolves_passes_any_scale():
+    """The ledger's rule: an error of at most m g B · atol (the work of the restoring
+    moment over the absolute tolerance on θ) passes however small the run's energies;
+    a larger one is judged against energy_tol of the scale, both ways."""
+    from multimass.checks import balance_error, energy_check, scale_floor
+
+    st = multimass.rigid_block("B6M")
+    atol, tol = 1e-10, 1e-3
+    resolved = atol * st.m_t * st.g * st.B  # J, by hand
+    floor = scale_floor(st, atol, tol)
+    assert floor == pytest.approx(resolved / tol, rel=1e-14)
+    tiny = 1e-3 * resolved  # the energies of a block that barely lifts
+    assert energy_check(balance_error(0.99 * resolved, 0.0, tiny, tiny, floor), tol)["passed"]
+    assert not energy_check(balance_error(1.01 * resolved, 0.0, tiny, tiny, floor), tol)["passed"]
+    big = 1e6 * resolved  # a run that rocks: judged on its own scale
+    assert energy_check(balance_error(0.99e-3 * big, big, 0.0, 0.0, floor), tol)["passed"]
+    assert not energy_check(balance_error(1.01e-3 * big, 0.0, -big, 0.0, floor), tol)["passed"]

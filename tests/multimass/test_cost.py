@@ -132,3 +132,30 @@ def test_estimate_of_a_long_record_run_shows_progress():
     from multimass.progress import PROGRESS_AFTER_S
 
     assert cost.seconds > PROGRESS_AFTER_S
+
+
+def test_an_output_beyond_the_budget_is_refused_before_the_run():
+    """output_dt = 1e-7 s over 1 s (10⁷ rows × 19 columns of a block's series, 1.42 GiB)
+    ran silent for minutes; the output's size is estimated from the arguments and
+    refused, naming output_dt, its value and the step that fits. 1e-6 s is allowed."""
+    from multimass.cost import OUTPUT_BUDGET
+
+    with pytest.raises(InputError) as err:
+        estimate("B6M", FreeRelease(0.1), "CIM", 1.0, output_dt=1e-7)
+    msg = str(err.value)
+    assert msg.startswith("`output_dt` (--output-dt) = 1e-07: the output would hold 1e+07 rows")
+    assert "19 columns (1.42 GiB), more than the 1 GiB" in msg
+    assert f"to ≥ {19 * 8 / OUTPUT_BUDGET:.2g} s" in msg and "output_dt=None" in msg
+    assert estimate("B6M", FreeRelease(0.1), "CIM", 1.0, output_dt=1e-6).memory < OUTPUT_BUDGET
+
+
+def test_a_large_allowed_output_shows_progress():
+    """Each output row costs time (recording, Eq 7's accelerations, the ledger): 10⁶ rows
+    of a one-second block run are estimated above the progress threshold, so the run
+    shows a bar instead of going silent."""
+    from multimass.progress import PROGRESS_AFTER_S
+
+    quiet = estimate("B6M", FreeRelease(0.1), "CIM", 1.0, output_dt=1e-3)
+    large = estimate("B6M", FreeRelease(0.1), "CIM", 1.0, output_dt=1e-6)
+    assert quiet.seconds < PROGRESS_AFTER_S <= large.seconds
+    assert large.seconds - quiet.seconds >= (1e6 - 1e3) * 7e-6  # ≥ the fastest rate measured

@@ -43,6 +43,7 @@ import numpy as np
 from numba import njit
 from numba.extending import register_jitable
 
+from ...checks import balance_error
 from ...impact_models.models import classical_rebound, next_phase_is_rocking
 from ...model import equations as eq
 from ._block_uplift import next_uplift
@@ -65,7 +66,7 @@ NO_ROCKING, REST, OVERTURNED, UNDECIDED, FAILED = 0, 1, 2, 3, -1
     CFG_A_TH,  # uplift threshold g B m_t / h (multimass.engines._rigid.uplift_threshold)
     CFG_ALPHA,  # α_cg
     CFG_SAFE,  # m g R (1 − cos α): below it the block cannot overturn
-    CFG_FLOOR,  # multimass.checks.energy_floor
+    CFG_FLOOR,  # multimass.checks.scale_floor
     CFG_TDMIN,  # θ̇_min
     CFG_WINDOW,  # chatter_window
     CFG_R_RIGHT,  # restitution of an impact on the right corner (rocking on θ > 0 follows);
@@ -262,7 +263,7 @@ def _run(t_end, start, duration, ctx, ring):
         top = max(top, abs(y[0]))
     E = _energy(phase, y, none, mp)
     balance = E + y[2] + y[4] + loss - y[3] - 0.0  # PhaseLoop.end_balance_error, e0 = 0
-    err = abs(balance) / max(abs(y[3]), abs(E), cfg[CFG_FLOOR], 1e-300)
+    err = balance_error(balance, 0.0, y[3], E, cfg[CFG_FLOOR])
     if status == _OVER:
         return OVERTURNED, t_over, top, n_impacts, n_rhs, err
     if not uplifted:

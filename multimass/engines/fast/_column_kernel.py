@@ -27,6 +27,7 @@ import numpy as np
 from numba import njit
 from numba.extending import register_jitable
 
+from ...checks import balance_error
 from ...impact_models import gaussian_force as gf
 from ...impact_models import models as im
 from ._contact_kernel import contact_phase
@@ -347,5 +348,5 @@ def column_run(
     E = _total_energy(float(phase), y, m, H, K, mp)
     D, Wg, WF = y[2 * n + 2], y[2 * n + 3], y[2 * n + 4]
     balance = E + D + WF + loss - Wg - e0  # PhaseLoop.end_balance_error
-    err = abs(balance) / max(abs(e0), abs(Wg), abs(E), cfg[CF_FLOOR_E], 1e-300)
+    err = balance_error(balance, e0, Wg, E, cfg[CF_FLOOR_E])
     return (OVERTURNED if code == OVERTURNED else COMPLETED), t_over, top, n_impacts, n_rhs, err

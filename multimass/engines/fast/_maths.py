@@ -28,6 +28,7 @@ import numpy as np
 from numba import njit
 from numba.extending import register_jitable
 
+from ... import checks
 from ...impact_models import gaussian_force as gf
 from ...inputs import pulse_shapes as ps
 from ...model import equations as eq
@@ -36,6 +37,9 @@ from ...model import equations as eq
 for _mod in (eq, gf, ps):
     for _name in _mod.__all__:
         register_jitable(inline="always")(getattr(_mod, _name))
+# and the accuracy check's rule (`multimass.checks`), the same source as every engine's
+for _fn in (checks.energy_scale, checks.balance_error):
+    register_jitable(_fn)
 
 __all__ = [
     "ground_acc",

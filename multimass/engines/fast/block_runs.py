@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...checks import energy_floor
+from ...checks import scale_floor
 from ...errors import InputError
 from ...impact_models import (
     AngularMomentumRestitution,
@@ -195,7 +195,7 @@ class BlockRuns:
         cfg[bk.CFG_A_TH] = uplift_threshold(st)
         cfg[bk.CFG_ALPHA] = st.alpha_cg
         cfg[bk.CFG_SAFE] = kin.gravitational_energy(st, 1, np.zeros(0), st.alpha_cg)
-        cfg[bk.CFG_FLOOR] = energy_floor(st, o.atol)
+        cfg[bk.CFG_FLOOR] = scale_floor(st, o.atol, o.energy_tol)
         cfg[bk.CFG_TDMIN], cfg[bk.CFG_WINDOW] = o.thetadot_min, o.chatter_window
         cfg[bk.CFG_R_RIGHT], cfg[bk.CFG_R_LEFT] = r
         cfg[bk.CFG_DELAY] = delay
@@ -554,12 +554,13 @@ _STAMP = "multimass_fast_blocks.sources"
 
 def _sources() -> list[Path]:
     """Every source the batch compiles (numba keys a cache on one file only)."""
+    from multimass import checks
     from multimass.impact_models import gaussian_force, models
     from multimass.inputs import pulse_shapes
     from multimass.model import equations
 
     own = [Path(__file__).parent / f"{mod}.py" for mod in _MODULES]
-    physics = (equations, gaussian_force, models, pulse_shapes)
+    physics = (equations, gaussian_force, models, pulse_shapes, checks)
     return own + [Path(mod.__file__) for mod in physics]
 
 

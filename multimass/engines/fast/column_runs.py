@@ -34,6 +34,7 @@ from multimass.impact_models.sources import (
     RandomRestitution,
 )
 
+from ...checks import scale_floor
 from . import _column_kernel as ck
 from .path import _EVENTS, _RTOL_MIN, event_params
 
@@ -126,7 +127,7 @@ class ColumnRun:
             cfg[ck.CF_RELEASE] = model.release
         cfg[ck.CF_R_KIND], cfg[ck.CF_R_RIGHT], cfg[ck.CF_R_LEFT] = r_kind, right, left
         cfg[ck.CF_SIGMA], cfg[ck.CF_FLOOR] = sigma, floor
-        cfg[ck.CF_FLOOR_E] = float(o.atol) * st.m_t * st.g * st.B  # checks.energy_floor
+        cfg[ck.CF_FLOOR_E] = scale_floor(st, o.atol, o.energy_tol)
         cm = fast.contact
         if cm is not None:
             cfg[ck.CF_EXACT] = 1.0

@@ -42,8 +42,8 @@ on the files of the functions it calls: after an edit of `._maths` or `._rk`
 (or an upgrade) the cached `._kernel.integrate_phase` would be stale.
 `compile_once` therefore keeps a fingerprint of the kernel sources, of the
 equations they compile (`multimass.model.equations`,
-`multimass.impact_models.gaussian_force`) and of numba's version beside the
-cache, and drops the cached kernels when it changes.
+`multimass.impact_models.gaussian_force`, the accuracy rule of `multimass.checks`) and
+of numba's version beside the cache, and drops the cached kernels when it changes.
 """
 
 from __future__ import annotations
@@ -575,13 +575,14 @@ def _sources(contact: bool = False, columns: bool = False, exponential: bool = F
     """The kernel modules and the equations they compile (of the contact group's kernel,
     of the exponential integrator's, or of the whole column runs', which compile all
     groups' code)."""
+    from ...checks import __file__ as checks
     from ...impact_models.gaussian_force import __file__ as gaussian_force
     from ...impact_models.models import __file__ as impact_models
     from ...inputs.pulse_shapes import __file__ as pulse_shapes
     from ...model._nigam_jennings import __file__ as nigam_jennings
     from ...model.equations import __file__ as equations
 
-    physics = [Path(equations), Path(gaussian_force), Path(pulse_shapes)]
+    physics = [Path(equations), Path(gaussian_force), Path(pulse_shapes), Path(checks)]
     if columns:
         own = [_HERE / f"{_COLUMNS}.py", _HERE / f"{_EXPONENTIAL}.py", Path(impact_models)]
         return _sources(contact=True) + own

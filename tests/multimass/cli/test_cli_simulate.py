@@ -2,6 +2,7 @@
 
 import json
 
+import numpy as np
 import pytest
 
 from multimass.cli import main
@@ -362,6 +363,79 @@ def test_failed_run_prints_its_reason(capsys, monkeypatch):
     monkeypatch.setattr(multimass, "simulate", failing)
     assert main(["simulate", "S1", "--release", "0.05", "--t-end", "0.2"]) == 1
     assert "failed: solve_ivp failed at t = 0.1 s: step size too small" in capsys.readouterr().out
+
+
+def test_implausible_pulse_amplitude_is_one_line_naming_amp(capsys):
+    """`--amp 1e300g` is refused before the run in one line naming --amp, its value and
+    the fix (it reached the solver, which failed on a non-finite state)."""
+    argv = ["simulate", "B6M", "--impact", "CIM", "--pulse", "sine", "--omega", "10"]
+    assert main(argv + ["--amp", "1e300g"]) == 2
+    err = capsys.readouterr().err
+    assert "`--amp` = 9.81e+300 m/s² (1e+300 g)" in err and "0.4g" in err
+    assert err.count("\n") == 1
+
+
+def test_implausible_amplitude_in_a_spectrum_range_is_named(capsys):
+    """An amplitude range reaching 1e300 g is refused before any run, naming --amp and
+    the implausible value (the range parser kept only its generic format message)."""
+    argv = ["spectrum", "S1", "--pulse", "cosine", "--omega", "15", "--executor", "serial"]
+    assert main(argv + ["--amp", "0.1g:1e300g:3"]) == 2
+    err = capsys.readouterr().err
+    assert "`--amp` = 9.81e+300 m/s² (1e+300 g)" in err and err.count("\n") == 1
+
+
+def test_solver_failure_is_reported_in_text_mode_with_out(tmp_path, capsys, monkeypatch):
+    """A run the solver cannot carry ends as "failed" with the solver's message on the
+    terminal, also when files go to --out, and exit 1 — not a traceback (solve_ivp's
+    failure before its first output sample, whose ``t`` is an empty list, raised an
+    AttributeError), nor only "files in DIR/"."""
+    from scipy.integrate._ivp.ivp import OdeResult
+
+    import multimass.engines._run
+
+    def fails_at_once(fun, t_span, y0, **kw):
+        message = "Required step size is less than spacing between numbers."
+        return OdeResult(t=[], y=np.zeros((len(y0), 0)), status=-1, message=message, nfev=7)
+
+    monkeypatch.setattr(multimass.engines._run, "solve_ivp", fails_at_once)
+    argv = ["simulate", "S1", "--release", "0.05", "--t-end", "0.2", "--backend", "scipy"]
+    assert main(argv + ["--out", str(tmp_path / "o")]) == 1
+    out = capsys.readouterr().out
+    assert "S1: failed" in out
+    assert "failed: solve_ivp (DOP853) failed at t = 0 s: Required step size" in out
+    assert f"files in {tmp_path / 'o'}/" in out
+
+
+def test_a_record_scaled_beyond_any_earthquake_is_refused_before_the_run(tmp_path, capsys):
+    """A 0.5 g record scaled by 1e300 (the solver then stepped for minutes, or failed on a
+    non-finite state) is refused in one line naming the record's peak and the fix."""
+    rec = tmp_path / "rec.dat"
+    rec.write_text("".join(f"{0.01 * i:.2f} {0.5 * (-1) ** i:.1f}\n" for i in range(200)))
+    argv = ["simulate", "B6M", "--impact", "CIM", "--record", str(rec), "--units", "g"]
+    assert main(argv + ["--scale", "1e300", "--t-end", "1"]) == 2
+    err = capsys.readouterr().err
+    assert "`rec: peak` = 4.905e+300 m/s² (5e+299 g)" in err and "--scale" in err
+    assert err.count("\n") == 1
+
+
+def test_output_step_too_fine_is_one_line_and_a_large_series_is_written_with_a_bar(
+    tmp_path, capsys
+):
+    """--output-dt 1e-7 (10⁷ rows) is refused before the run in one line; a large but
+    allowed series is written in chunks with a progress bar, to the same file as
+    pandas writes it at once."""
+    from multimass import FreeRelease, simulate
+    from multimass.cli._output import write_csv
+
+    argv = ["simulate", "B6M", "--impact", "CIM", "--release", "0.1", "--t-end", "1"]
+    assert main(argv + ["--output-dt", "1e-7"]) == 2
+    err = capsys.readouterr().err
+    assert "`output_dt` (--output-dt) = 1e-07" in err and err.count("\n") == 1
+    series = simulate("B6M", FreeRelease(0.1), "CIM", 0.3, output_dt=2e-6).series
+    write_csv(series, tmp_path / "bar.csv", progress=True)
+    series.to_csv(tmp_path / "once.csv", index=False)
+    assert (tmp_path / "bar.csv").read_text() == (tmp_path / "once.csv").read_text()
+    assert "writing bar.csv" in capsys.readouterr().err
 
 
 def test_output_folder_is_checked_before_computing(tmp_path, capsys):

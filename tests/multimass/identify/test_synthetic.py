@@ -326,6 +326,25 @@ BAD = [
 ]
 
 
+def test_a_sampling_rate_whose_output_cannot_be_held_is_refused_before_the_run():
+    """fs = 1e7 Hz (× oversample 40: a response of 4e9 rows) ran silent until memory ran
+    out; its size is estimated from the arguments (rows × columns × 8 bytes) and refused
+    at once, naming fs, its value and the fix. 100 kHz over 1 s (4e6 rows × 54 columns of
+    S1 would be 1.6 GiB) is refused too, 2 kHz is accepted."""
+    release = FreeRelease(theta0=THETA0)
+    with pytest.raises(InputError) as err:
+        synthetic_trace("S1", release, "DD2", 10.0, seed=1, fs=1e7)
+    msg = str(err.value)
+    assert msg.startswith("`fs` = 1e+07: the output would hold 4e+09 rows × 54 columns")
+    assert "1.57 TiB" in msg and "lower `fs`" in msg and "oversample (at least 4)" in msg
+    with pytest.raises(InputError, match=r"`fs` = 100000: .* 4e\+06 rows"):
+        synthetic_trace("S1", release, "DD2", 1.0, seed=1, fs=1e5, t_offset=0.0)
+    from multimass.identify._synthetic_setup import settings
+
+    ok = settings(multimass.column("S1"), release, 1.0, 1, 2e3, 0.02, 0.0, 0.0, None, 0.4, 40)
+    assert ok.fs_in == 8e4
+
+
 @pytest.mark.parametrize("kwargs, message", BAD)
 def test_bad_arguments_are_named(kwargs, message):
     args = dict(seed=1, t_end=1.0) | kwargs

@@ -188,6 +188,18 @@ def test_negative_amplitude_says_how_to_reverse():
         SineWave(amplitude=-1.0, omega=W)
 
 
+@pytest.mark.parametrize("cls", [SineWave, CosineWave, CosinePulse, Ricker])
+def test_amplitudes_beyond_any_earthquake_are_refused_before_a_run(cls):
+    """An amplitude above 100 g (1e300 g made the solver fail on a non-finite state) is
+    refused by the constructor, naming the argument, the value in g and the fix; 8 g (a
+    squat block's map at a0/(α g) = 10) is accepted."""
+    assert cls(amplitude=8.0 * multimass.G, omega=W).amplitude == 8.0 * multimass.G
+    with pytest.raises(InputError, match=r"`amplitude` = 9.81e\+300 m/s² \(1e\+300 g\).*100 g"):
+        cls(amplitude=1e300 * multimass.G, omega=W)
+    with pytest.raises(InputError, match=r"`amplitude`.*unit"):
+        multimass.MPShape()(amplitude=101.0 * multimass.G, omega=W)
+
+
 def test_zero_amplitude_is_allowed():
     assert SineWave(amplitude=0.0, omega=W)(T / 4) == 0.0
 

@@ -122,7 +122,8 @@ def test_describe_and_pickle():
         (dict(amplitude=60.0, fp=1.0), ["amplitude", "60", "m/s", "cm/s"]),
         (dict(amplitude=0.5, fp=6.28e2), ["fp", "628", "Hz", "rad/s"]),
         (dict(amplitude=0.5, fp=0.0), ["fp"]),
-        (dict(amplitude=0.5, fp=1.0, gamma=1.0), ["gamma", "γ > 1"]),
+        (dict(amplitude=0.5, fp=1.0, gamma=1.0), ["gamma", "1 < γ ≤ 10"]),
+        (dict(amplitude=0.5, fp=1.0, gamma=1e6), ["gamma", "1000000.0", "1 < γ ≤ 10", "gamma=2"]),
         (dict(amplitude=0.5, fp=1.0, nu=90.0), ["nu", "90", "rad", "1.5708"]),
         (dict(amplitude=0.5, fp=1.0, t0=0.2), ["t0", "0.2", ">= 1"]),
         (dict(amplitude=float("nan"), fp=1.0), ["amplitude"]),
@@ -214,3 +215,22 @@ def test_spectrum_sweeps_an_mp_pulse_on_both_paths(capsys):
         main(["spectrum", "S1", "--pulse", "sine", "--nu", "1", "--omega", "8", "--amp", "1g"]) == 2
     )
     assert "--pulse mp" in capsys.readouterr().err
+
+
+def test_gamma_is_bounded_as_in_a_suite_file_at_every_entry_point(capsys):
+    """γ above 10 (a harmonic wave, not a pulse; 1e6 ran until memory ran out) is refused
+    by the pulse itself, so the shape, the pulse by name and the stability command refuse
+    it at once with the same bound a suite file applies to a drawn γ."""
+    from multimass.cli import main
+    from multimass.inputs.excitations import MP_MAX_GAMMA
+
+    assert MPPulse(amplitude=0.5, fp=1.0, gamma=MP_MAX_GAMMA).gamma == MP_MAX_GAMMA
+    with pytest.raises(InputError, match="γ ≤ 10"):
+        MPShape(gamma=1e6)
+    with pytest.raises(InputError, match="γ ≤ 10"):
+        multimass.inputs.excitations.pulse("mp", amplitude=3.0, omega=4.0, gamma=10.5)
+    argv = ["stability", "B6M", "--pulse", "mp", "--gamma", "1e6", "--executor", "serial"]
+    assert main(argv + ["--omega-p", "1:2:2", "--amp", "1:2:2"]) == 2
+    err = capsys.readouterr().err
+    assert "`--gamma` = 1000000.0" in err and "γ ≤ 10" in err and err.count("\n") == 1
+    assert "give e.g. --gamma 2" in err

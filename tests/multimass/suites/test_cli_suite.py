@@ -72,3 +72,27 @@ def test_suite_bad_input_is_one_line_exit_2(tmp_path, capsys):
     capsys.readouterr()
     assert main(["suite", str(other), "--out", str(tmp_path / "o2"), "--executor", "serial"]) == 2
     assert "another suite" in capsys.readouterr().err
+
+
+def test_failed_runs_are_reported_in_text_mode_with_their_message(tmp_path, capsys, monkeypatch):
+    """A run the solver could not carry is named on the terminal with its message, not
+    only as a status in the files ("files in DIR/" alone said nothing of it)."""
+    from multimass.suites import runs
+
+    real = runs.suite_batch
+
+    def one_fails(jobs):
+        out = real(jobs)
+        theta, over, impacts, _, t_over, _, ims = out[0]
+        out[0] = (theta, over, impacts, "failed", t_over, "solve_ivp failed at t = 0.1 s", ims)
+        return out
+
+    monkeypatch.setattr(runs, "suite_batch", one_fails)
+    suite = tmp_path / "small.toml"
+    suite.write_text(SMALL.replace("draws = 4", "draws = 1"))
+    out = tmp_path / "out"
+    args = ["suite", str(suite), "--out", str(out), "--executor", "serial", "--bootstrap", "0"]
+    assert main(args) == 0
+    text = capsys.readouterr().out
+    assert "run(s) failed (left out of the fits), e.g. mp_wp1.5" in text
+    assert ": solve_ivp failed at t = 0.1 s" in text and f"files in {out}/" in text

@@ -264,3 +264,65 @@ def test_sa_columns_are_the_listed_periods_and_the_measure_s(tmp_path):
     assert Suite.from_toml(_toml(tmp_path, S1_HEAD + body + rec)).sa_periods == (0.2, 1.0)
     body = "[intensity]\nmeasure = 'pga'\nlevels = [0.5]\nunit = 'g'\n"
     assert Suite.from_toml(_toml(tmp_path, S1_HEAD + body + rec)).sa_periods == ()
+
+
+def test_per_run_seeds_are_the_children_of_the_suite_seed():
+    """Each run's seed is child i of SeedSequence(suite seed) (its first 64 state bits,
+    top bit dropped), derived when the run is made: the seeds of existing suites are
+    unchanged, whatever the chunking."""
+    s = _block_suite(draws=2)
+    r = run_suite(s, executor="serial", progress=False, chunk_runs=5).runs
+    children = np.random.SeedSequence(s.seed).spawn(len(r))  # numpy, independently
+    expected = [int(c.generate_state(1, np.uint64)[0]) & (2**63 - 1) for c in children]
+    assert r.seed.tolist() == expected
+
+
+def test_a_suite_over_the_budget_is_refused_before_its_seeds_or_runs(monkeypatch):
+    """draws = 1e9 (8e9 runs) is refused at once with the estimate (runs × the cost of
+    the longest run), the memory of its table and the fix — it went silent while a list
+    of 8e9 seeds was made. No seed list of the whole suite is ever built."""
+    import multimass.sweeps.seeding as seeding
+
+    def no_list(base, n, **kw):
+        raise AssertionError(f"a list of {n} seeds was made")
+
+    monkeypatch.setattr(seeding, "job_seeds", no_list)
+    monkeypatch.setattr("multimass.suites.runs.job_seeds", no_list, raising=False)
+    s = _block_suite(draws=10**9)
+    with pytest.raises(InputError) as err:
+        run_suite(s, executor="serial", progress=False)
+    msg = str(err.value)
+    for words in (
+        "of 8,000,000,000 runs",
+        "over the budget of 1 h",
+        "(2 motions × 4 levels × 1,000,000,000 draws)",
+        "lower [monte_carlo] draws",
+        "--max-hours",
+        "TiB",
+    ):
+        assert words in msg, (words, msg)
+
+
+def test_the_suite_budget_is_max_hours_and_counts_every_run(tmp_path, capsys):
+    """The whole suite's estimate is n × the longest run's cost, shared among a local
+    pool's workers: a budget below it refuses the suite (Python and CLI), the default
+    budget runs it."""
+    from multimass.cli import main
+    from multimass.progress import RunCost
+    from multimass.suites.runs import ROW_BYTES, suite_cost
+
+    s = _block_suite(draws=1, levels=_block_suite().levels[:1])
+    one = RunCost(steps=10.0, seconds=2.0, memory=0.0, basis="")
+    assert suite_cost(s, 5, one, "serial").seconds == 10.0
+    assert suite_cost(s, 5, one, "process", workers=2).seconds == 5.0
+    assert suite_cost(s, 5, one, "serial").memory == 5 * ROW_BYTES
+    with pytest.raises(InputError, match="of 2 runs: estimated .* over the budget of 3.6e-06 s"):
+        run_suite(s, executor="serial", progress=False, max_hours=1e-9)
+    assert len(run_suite(s, executor="serial", progress=False).runs) == 2
+    text = (
+        (SUITES / "B6M_mp_pulses.toml").read_text().replace("draws = 50 ", "draws = 1_000_000_000")
+    )
+    path = _toml(tmp_path, text)
+    assert main(["suite", str(path), "--out", str(tmp_path / "o"), "--executor", "serial"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "of 120,000,000,000 runs" in err, err

@@ -457,6 +457,34 @@ def test_an_unreachable_scheduler_is_one_line_and_exit_2_before_any_run(monkeypa
     assert "'tcp://127.0.0.1:1' within 1 s" in err and "`dask scheduler`" in err
 
 
+@pytest.mark.parametrize(
+    "address, words",
+    [
+        ("garbage", ["'garbage' is not a scheduler address", "tcp://HOST:PORT"]),
+        ("tcp://127.0.0.1:1", ["no Dask scheduler answered", "ConnectionRefusedError"]),
+    ],
+)
+def test_a_bad_or_refused_address_is_one_line_and_nothing_follows(address, words):
+    """An address that cannot be parsed fails at once, and a closed port is refused
+    without creating a Dask client: the process ends with exit 2 and a single line on
+    stderr — no traceback from a failed client's clean-up (which came ~30 s later)."""
+    start = time.perf_counter()
+    done = subprocess.run(
+        [*_multimass_command(), *MAP_ARGS, "--executor", "dask", "--dask-address", address]
+        + ["--dask-timeout", "2", "--no-progress"],
+        capture_output=True,
+        text=True,
+        env=_environment(),
+        timeout=60,
+    )
+    elapsed = time.perf_counter() - start
+    assert done.returncode == 2, done.stderr
+    assert done.stderr.count("\n") == 1, done.stderr
+    assert done.stderr.startswith("multimass stability: error: ")
+    assert all(w in done.stderr for w in words), done.stderr
+    assert elapsed < 15.0
+
+
 def test_dask_timeout_needs_a_dask_address(capsys):
     assert main([*MAP_ARGS, "--executor", "dask", "--dask-timeout", "1"]) == 2
     assert "`--dask-timeout` = 1 needs `--dask-address`" in capsys.readouterr().err

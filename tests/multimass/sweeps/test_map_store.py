@@ -137,3 +137,26 @@ def test_cli_threshold_is_the_store_threshold():
     from multimass.cli import stability_cmd
 
     assert stability_cmd.STORE_MIN_CELLS == map_store.STORE_MIN_CELLS
+
+
+def test_resuming_over_a_corrupted_chunk_names_it_and_the_fix(tmp_path, small_chunks, capsys):
+    """A chunk whose bytes are not Parquet (a disk full, a copy cut short) is reported
+    before any new work, in one line naming the file, that it is corrupted and the fix
+    (delete it to recompute it, or start afresh) — not pyarrow's "magic bytes not found"
+    in a traceback. Deleting it, as the message says, recomputes it."""
+    argv = ["stability", "B6M", "--executor", "serial", "--omega-p", "0.5:10:12"]
+    argv += ["--amp", "0.25:8:10", "--store", "--json", "--out", str(tmp_path)]
+    assert main(argv) == 0
+    capsys.readouterr()
+    bad = tmp_path / "cells" / "chunk-00001.parquet"
+    bad.write_bytes(b"not a parquet file")
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1, err
+    assert f"{bad}: a chunk of cells is corrupted" in err
+    assert "delete that file and run the same command again" in err and "start afresh" in err
+    with pytest.raises(map_store.InputError, match="chunk-00001.parquet: a chunk of cells is"):
+        StoredMap.read(tmp_path)
+    bad.unlink()
+    assert main(argv) == 0
+    assert json.loads(capsys.readouterr().out)["store"]["chunks_computed"] == 1

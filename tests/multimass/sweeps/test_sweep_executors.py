@@ -27,6 +27,7 @@ from multimass.sweeps import (
     SerialExecutor,
     batch_plan,
     get_executor,
+    job_seed,
     job_seeds,
     run_jobs,
 )
@@ -173,6 +174,19 @@ def test_job_seeds_from_a_seedsequence_repeat_and_differ_by_base():
 def test_job_seeds_reject_bad_input(base, n):
     with pytest.raises(InputError, match="`(base_seed|n)`"):
         job_seeds(base, n)
+
+
+def test_job_seed_is_one_child_without_the_list():
+    """`job_seed(s, i)` is seed i of `job_seeds(s, n)` (also from a SeedSequence with a
+    spawn key), made alone, so a sweep of 1e10 jobs needs no list of its seeds."""
+    ss = np.random.SeedSequence(7, spawn_key=(3,))
+    for base in (12345, ss):
+        assert [job_seed(base, i) for i in range(6)] == job_seeds(base, 6)
+    expected = np.random.SeedSequence(12345, spawn_key=(10**10,)).generate_state(1, np.uint64)
+    assert job_seed(12345, 10**10) == int(expected[0]) & (2**63 - 1)
+    for base, i in ((None, 0), (1, -1), (1, 2.0), (-1, 0)):
+        with pytest.raises(InputError, match="`(base_seed|i)`"):
+            job_seed(base, i)
 
 
 # --- determinism across executors, worker counts and batch sizes ---------------------
