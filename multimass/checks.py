@@ -59,7 +59,7 @@ def scale_floor(structure, atol: float, energy_tol: float) -> float:
 
 
 def energy_scale(e0, ground_work, energy, floor):
-    """The energy scale of a ledger: max(|E(0)|, |W_g|, |E|, `floor`) (J, > 0).
+    """The energy scale of a ledger: ``max(|E(0)|, |W_g|, |E|, floor)`` (J, > 0).
 
     Plain arithmetic, so the compiled kernels run this source (`multimass.engines.fast._maths`).
     """

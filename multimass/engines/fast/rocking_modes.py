@@ -34,7 +34,7 @@ __all__ = ["RockingModes", "MAX_CONDITION", "JACOBIAN_STEP"]
 MAX_CONDITION = 1e9
 #: Perturbation of the central differences that form L, per unit of each coordinate
 #: (m, rad, m/s, rad/s): f is linear in u and u̇ up to terms of relative size 1e-5, and
-#: the rounding of f (|f| ~ 10 at rest) adds ~1e-10 to entries of order 1 … 1e7.
+#: the rounding of f (``|f|`` ~ 10 at rest) adds ~1e-10 to entries of order 1 … 1e7.
 JACOBIAN_STEP = 1e-5
 
 
