@@ -173,3 +173,27 @@ def test_the_report_writes_its_tables_and_figures(tmp_path):
     assert res["facts"]["cases"] == 2 and res["facts"]["cases whose generation or run failed"] == 1
     text = (tmp_path / "coverage.md").read_text()
     assert "| all | per-impact r | 4 |" in text and "| 67 % |" in text
+
+
+def test_bench_coverage_runs_the_cases_and_reports(tmp_path, monkeypatch, capsys):
+    """``multimass bench --coverage --smoke``: one S1 case (the estimators replaced by the
+    hand-made rows, so only the wiring is tested), its tables and figures."""
+    from multimass.bench import coverage
+    from multimass.cli import main
+
+    seen = []
+
+    def fake(draw, records, with_cal):
+        seen.append((draw.case, records, with_cal))
+        rows = _hand_table().assign(case=draw.case, kind=draw.kind).to_dict(orient="records")
+        return {"case": draw.to_dict() | {"restitution_s": 1.0, "restitution_status": "ok"},
+                "rows": rows}  # fmt: skip
+
+    monkeypatch.setattr(coverage, "run_case", fake)
+    assert main(["bench", "--coverage", "--smoke", "--out", str(tmp_path)]) == 0
+    assert seen == [("S1-000", None, False)]
+    assert "per-impact r" in capsys.readouterr().out
+    assert (tmp_path / "coverage_per_quantity.png").is_file()
+    assert main(["bench", "--coverage", "--smoke", "--out", str(tmp_path / "b"),
+                 "--records", str(tmp_path / "none")]) != 0  # fmt: skip
+    assert "`records`" in capsys.readouterr().err
