@@ -123,7 +123,11 @@ def restitution_rows(est, truth: dict) -> list[dict]:
         rows.append(_row(q, value, tr, nominal=nom, **uncert.get(q, {})))
     for q, value in _extra_parameters(est).items():
         rows.append(_row(q, value["value"], _truth_of(q, truth), **_interval(value)))
-    align = est.alignment
+    align = dict(est.alignment)
+    for q, p in _reported(est).items():  # the nuisance parameters' std and interval
+        if q in ("theta0", "t_offset", "theta_bias"):
+            uncert[q] = _interval(p)
+            align[q] = p["value"]
     rows += _nuisance_rows(align, truth, uncert)
     return rows
 
@@ -142,22 +146,37 @@ def _uncertainties(est) -> dict:
 
 
 def _extra_parameters(est) -> dict:
-    """Model parameters the restitution estimate reports as estimated (C_p, ζ1, ζ2):
-    quantity → {value, std, (lo, hi)}; none for an estimate that assumes them."""
-    params = _getter(est, "parameters", "estimated")
+    """Model parameters the estimate reports as estimated or ill-posed (C_p, ζ1, ζ2):
+    quantity → {value, std, interval, status}; none for an estimate that assumes them
+    (or was given them)."""
+    return {
+        q: p for q, p in _reported(est).items() if q in ("cp", "zeta1", "zeta2")
+    }  # fmt: skip
+
+
+def _reported(est) -> dict:
+    """quantity → the parameter entry of ``est.parameters`` (value, std, interval,
+    status) of every parameter it estimated (status "estimated" or "ill-posed")."""
+    params = getattr(est, "parameters", None)
     out = {}
     if isinstance(params, dict):
         for name, p in params.items():
             q = _CAL_NAMES.get(name, name)
-            if q in ("cp", "zeta1", "zeta2") and isinstance(p, dict) and "value" in p:
-                out[q] = p
+            if isinstance(p, dict) and p.get("status", "estimated") in ("estimated", "ill-posed"):
+                if isinstance(p.get("value"), (int, float)):
+                    out[q] = p
     return out
 
 
 def _interval(p: dict) -> dict:
-    lo = _getter(p, "lo", "low95", "ci_low")
-    hi = _getter(p, "hi", "high95", "ci_high")
-    return {"std": p.get("std"), "lo": lo, "hi": hi}
+    """std, lo, hi (and the status) of a parameter entry."""
+    lo = hi = None
+    if isinstance(p.get("interval"), (list, tuple)) and len(p["interval"]) == 2:
+        lo, hi = p["interval"]
+    out = {"std": p.get("std"), "lo": lo, "hi": hi}
+    if "status" in p:
+        out["status"] = p["status"]
+    return out
 
 
 def _truth_of(q: str, truth: dict) -> float:
@@ -210,9 +229,10 @@ def calibration_rows(cal, truth: dict) -> list[dict]:
     for name, p in cal.parameters.items():
         q = _CAL_NAMES.get(name, name)
         tr, nom = sample[q] if q in sample else (_truth_of(q, truth), _NAN)
-        rows.append(
-            _row(q, p["value"], tr, nominal=nom, constrained=bool(p["constrained"]), **_interval(p))
-        )
+        unc = _interval(p)
+        if "status" not in unc:
+            unc["status"] = "estimated" if p.get("constrained", True) else "ill-posed"
+        rows.append(_row(q, p["value"], tr, nominal=nom, **unc))
     align = {"t_offset": nuis["t_offset"], "theta0": nuis.get("theta0"),
              "theta_bias": nuis.get("theta_bias")}  # fmt: skip
     for key in ("t_offset_std", "theta0_std", "theta_bias_std"):

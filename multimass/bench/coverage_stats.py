@@ -95,7 +95,8 @@ def summarise(df: pd.DataFrame, by_specimen: bool = True) -> pd.DataFrame:
     """Per estimator, specimen (and "all") and quantity: ``n`` (estimates with a truth),
     ``median``, ``p95``, ``max`` of |err|, ``within`` (share within the threshold; NaN
     without one), ``n_interval`` (estimates with an interval), ``coverage`` (share of
-    those whose interval holds the truth) and ``coverage_nominal``.
+    those whose interval holds the truth), ``coverage_nominal`` and ``n_ill_posed``
+    (estimates whose result says the traces do not fix them: status "ill-posed").
 
     `df` is a table from `add_errors`. Percentiles interpolate linearly
     (`numpy.percentile`'s default).
@@ -124,6 +125,7 @@ def summarise(df: pd.DataFrame, by_specimen: bool = True) -> pd.DataFrame:
                 "n_interval": int(cov.size),
                 "coverage": float(cov.mean()) if cov.size else np.nan,
                 "coverage_nominal": float(nom.mean()) if nom.size else np.nan,
+                "n_ill_posed": int((g["status"] == "ill-posed").sum()) if "status" in g else 0,
                 "_order": order.get(q, len(order)),
             }
         )

@@ -197,3 +197,31 @@ def test_bench_coverage_runs_the_cases_and_reports(tmp_path, monkeypatch, capsys
     assert main(["bench", "--coverage", "--smoke", "--out", str(tmp_path / "b"),
                  "--records", str(tmp_path / "none")]) != 0  # fmt: skip
     assert "`records`" in capsys.readouterr().err
+
+
+def test_parameters_the_estimate_reports_are_compared_with_their_truth():
+    """An estimate's ``parameters`` (status, value, std, 95 % interval): the estimated
+    and ill-posed ones are rows with their interval; given, fixed and unused ones not."""
+    est = _estimate()
+    est.parameters = {
+        "cp": {"status": "ill-posed", "value": 2100.0, "std": 300.0, "interval": [1500.0, 2900.0]},
+        "zeta1": {"status": "fixed by the specimen file", "value": 0.005, "std": None},
+        "zeta2": {"status": "given", "value": 0.015, "std": None},
+        "theta0": {
+            "status": "estimated",
+            "value": 0.0995,
+            "std": 1e-4,
+            "interval": [0.0993, 0.0997],
+        },  # fmt: skip
+    }
+    truth = _truth() | {"impact": {"C_p": 2000.0}, "damping": {"zeta_1": 0.004, "zeta_2": 0.01}}
+    rows = pd.DataFrame(restitution_rows(est, truth)).set_index("quantity")
+    assert "zeta1" not in rows.index and "zeta2" not in rows.index
+    cp = rows.loc["cp"]
+    assert (cp["value"], cp["truth"], cp["lo"], cp["hi"]) == (2100.0, 2000.0, 1500.0, 2900.0)
+    assert cp["status"] == "ill-posed"
+    assert rows.loc["theta0", "value"] == 0.0995 and rows.loc["theta0", "hi"] == 0.0997
+    s = summarise(add_errors(rows.reset_index().assign(specimen="S1", estimator="restitution")))
+    s = s.set_index(["specimen", "quantity"])
+    assert s.loc[("S1", "cp"), "n_ill_posed"] == 1 and s.loc[("S1", "cp"), "coverage"] == 1.0
+    assert s.loc[("S1", "theta0"), "coverage"] == 0.0  # 0.1 is outside [0.0993, 0.0997]
