@@ -181,22 +181,26 @@ def _fig_error_vs_std(est, plt):
     fig, axes = plt.subplots(1, len(ests), figsize=(6.2 * len(ests), 5.0), squeeze=False)
     for ax, name in zip(axes[0], ests):
         d = est[(est["estimator"] == name) & np.isfinite(est["abs_err"])]
-        d = d[np.isfinite(d["std_in_units"]) & (d["std_in_units"] > 0)]
+        huge = d["std_in_units"] > 1e3  # an infinite std, or one beyond any meaning
+        n_inf = int(huge.sum())
+        d = d[~huge & (d["std_in_units"] > 0)]
         for i, (q, g) in enumerate(d.groupby("quantity", sort=False)):
             ax.scatter(g["std_in_units"], g["abs_err"].clip(lower=1e-7), s=10, alpha=0.6,
                        label=QUANTITIES[q].label if q in QUANTITIES else q, color=f"C{i}")  # fmt: skip
         if not d.empty:
-            lo = max(min(d["std_in_units"].min(), d["abs_err"].clip(lower=1e-7).min()), 1e-7)
-            hi = max(d["std_in_units"].max(), d["abs_err"].max())
+            both = np.concatenate([d["std_in_units"], d["abs_err"].clip(lower=1e-7)])
+            lo, hi = max(both.min(), 1e-7) / 2.0, both.max() * 2.0
             x = np.array([lo, hi])
             ax.plot(x, 1.96 * x, "k--", lw=1, label="|err| = 1.96 std (edge of the 95 % interval)")
             ax.set_xscale("log")
             ax.set_yscale("log")
+            ax.set_xlim(lo, hi)
+            ax.set_ylim(lo, hi)
         ax.set_xlabel("reported std (relative for C_p, ζ)")
         ax.set_ylabel("|error| (relative for C_p, ζ)")
         n_none = int((est[(est["estimator"] == name)]["std"].isna()).sum())
-        ax.set_title(f"{name}: error against reported std\n({n_none} estimates without a std not shown)",
-                     fontsize=10)  # fmt: skip
+        ax.set_title(f"{name}: error against reported std\n(not shown: {n_none} estimates without "
+                     f"a std, {n_inf} with one > 1000)", fontsize=10)  # fmt: skip
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7, loc="upper left")
     fig.tight_layout()
@@ -212,19 +216,18 @@ def _fig_coverage(est, plt):
         s = summ[summ["estimator"] == name]
         qs = [q for q in QUANTITIES if q in set(s["quantity"])]
         width = 0.8 / max(len(specs), 1)
-        for j, spec in enumerate(specs):
-            for i, q in enumerate(qs):
+        for i, q in enumerate(qs):
+            if s[s["quantity"] == q]["coverage"].isna().all():
+                ax.text(i, 2, "no interval\nreported", ha="center", va="bottom", fontsize=7,
+                        color="0.4")  # fmt: skip
+                continue
+            for j, spec in enumerate(specs):
                 r = s[(s["specimen"] == spec) & (s["quantity"] == q)]
                 x = i + (j - (len(specs) - 1) / 2) * width
-                if r.empty:
+                if r.empty or math.isnan(float(r["coverage"].iloc[0])):
                     continue
                 cov = float(r["coverage"].iloc[0])
-                if math.isnan(cov):
-                    ax.text(
-                        x, 0.02, "no\ninterval", ha="center", va="bottom", fontsize=6, rotation=90
-                    )
-                    continue
-                ax.bar(x, 100 * cov, width, color=f"C{j}", label=spec if i == 0 else None)
+                ax.bar(x, 100 * cov, width, color=f"C{j}", label=spec)
                 ax.text(
                     x, 100 * cov + 1, f"{int(r['n_interval'].iloc[0])}", ha="center", fontsize=6
                 )
@@ -232,12 +235,14 @@ def _fig_coverage(est, plt):
         ax.axhline(90, color="r", ls=":", lw=1, label="90 % (asked)")
         ax.set_xticks(range(len(qs)))
         ax.set_xticklabels([QUANTITIES[q].label for q in qs], fontsize=8)
-        ax.set_ylim(0, 108)
+        ax.set_ylim(0, 118)
         ax.set_ylabel("truth inside the 95 % interval (%)")
         ax.set_title(
             f"{name}: coverage per quantity (numbers: estimates with an interval)", fontsize=10
         )
-        ax.legend(fontsize=7, ncol=len(specs) + 2, loc="lower right")
+        handles, labels = ax.get_legend_handles_labels()
+        keep = dict(zip(labels, handles))  # one entry per specimen
+        ax.legend(keep.values(), keep.keys(), fontsize=7, ncol=len(keep), loc="upper right")
     fig.tight_layout()
     return fig
 
@@ -257,10 +262,13 @@ def _fig_error_vs_cp(est, plt):
                 ax.scatter(gs["cp_ratio"], gs["err"], s=10, alpha=0.6, color=f"C{j}", label=spec)
             ax.axhspan(-thr, thr, color="g", alpha=0.12, label=f"±{thr:g} (asked)")
             ax.axvline(1.0, color="k", lw=0.8)
+            ax.set_yscale("symlog", linthresh=thr)  # linear within the threshold, log beyond
+            top = max(float(g["err"].abs().max()) if not g.empty else 0.0, thr) * 1.6
+            ax.set_ylim(-top, top)
             ax.set_xlabel("drawn C_p / Table 2's C_p")
-            ax.set_ylabel(f"error of {label}")
+            ax.set_ylabel(f"error of {label} (symlog)")
             ax.set_title(f"{name}: {label}", fontsize=10)
             ax.grid(True, alpha=0.3)
-            ax.legend(fontsize=7)
+            ax.legend(fontsize=7, loc="best")
     fig.tight_layout()
     return fig
