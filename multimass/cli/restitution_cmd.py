@@ -25,7 +25,10 @@ def register(sub) -> None:
         description="Find the impacts of a recorded trace (CSV with units in the header), "
         "estimate each impact's coefficient of restitution from the peaks around it "
         "(the paper's energy estimate) and by fitting the chosen impact model, half-cycle "
-        "by half-cycle, to θ (the best estimate), and report the corner means and σ_r. "
+        "by half-cycle, to θ and the accelerations (the best estimate), and report the "
+        "corner means and σ_r. C_p and the damping ratios not given (--cp, --zeta1, "
+        "--zeta2) are estimated from the trace too, and the result says which were given, "
+        "estimated or fixed by the specimen file. "
         "--out writes a table, a figure, the [restitution] fragment and a specimen file "
         "with it.",
     )
@@ -49,13 +52,25 @@ def register(sub) -> None:
         help="impacts between half-cycles of at least this peak (rad) are estimated "
         "(default 0.01, paper 001); smaller ones take the corner means",
     )
-    p.add_argument("--cp", type=types.positive, default=None, help="C_p of a Dirac-delta model")
+    p.add_argument(
+        "--cp", type=types.positive, default=None,
+        help="C_p of the Dirac-delta force, if known (default: estimated from the trace)",
+    )  # fmt: skip
+    p.add_argument(
+        "--zeta1", type=types.positive, default=None,
+        help="damping ratio of full-contact mode 1, if known (default: estimated)",
+    )  # fmt: skip
+    p.add_argument(
+        "--zeta2", type=types.positive, default=None,
+        help="damping ratio of full-contact mode 2, if known (default: estimated)",
+    )  # fmt: skip
     p.add_argument("--out", type=Path, default=None, help="folder for table, figure, specimen")
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
+    from multimass.identify._parameter_status import lines
     from multimass.identify.impacts import restitution
     from multimass.identify.impacts_plots import plot_restitution
     from multimass.structure import from_specimen
@@ -68,7 +83,10 @@ def run(args) -> int:
     if st is not None and abs(st.g - trace.g) > 0.0:
         trace = read_trace(args.trace, g=st.g)
     kw = {"C_p": args.cp} if args.cp is not None else {}
-    est = restitution(trace, st, args.impact, theta_min=args.theta_min, **kw)
+    est = restitution(
+        trace, st, args.impact, theta_min=args.theta_min, zeta1=args.zeta1, zeta2=args.zeta2,
+        **kw,
+    )  # fmt: skip
     info = est.summary()
     if out is not None:
         stem = f"{est.structure.name}_restitution"
@@ -98,6 +116,11 @@ def run(args) -> int:
         f"r̄_er = {est.r_mean_right:.4f}, r̄_el = {est.r_mean_left:.4f}, σ_r = {est.sigma_r:.4f} "
         f"(energy estimate: {e['r_mean_right']:.4f}, {e['r_mean_left']:.4f}, {e['sigma_r']:.4f})"
     )
+    print(f"status: {est.status} — {est.message}")
+    shown = {k: p for k, p in est.parameters.items() if k not in ("structure", "sensor_bias")}
+    for line in lines(shown):
+        print(f"  {line}")
+    print("  structure  fixed by the specimen file (geometry, masses, stiffnesses, sensors)")
     for w in est.warnings:
         print(f"warning: {w}")
     if out is not None:

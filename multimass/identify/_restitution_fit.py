@@ -17,13 +17,22 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import _parameter_status as ps
 from ._calibration_fit import _T_MARGIN, Problem, Unknown, solve
-from ._calibration_model import Simulator
-from ._calibration_params import parameter_set
+from ._calibration_model import Simulator, TrialRejected
+from ._calibration_params import PARAMETERS, parameter_set
 from ._calibration_setup import Case, cases
-from ._calibration_stats import covariance
+from ._calibration_stats import LIMITS, covariance
 
-__all__ = ["Track", "ImpactFit", "track_of", "align", "fit_impacts"]
+__all__ = [
+    "Track",
+    "ImpactFit",
+    "track_of",
+    "align",
+    "fit_impacts",
+    "MODEL_PARAMETERS",
+    "parameter_report",
+]
 
 R_LOW = 0.05  # lowest coefficient tried (PerImpact's clip)
 #: Trace samples: 99 % of the anti-alias filter's weight lies within ±12.6 of a jump, so
@@ -45,6 +54,15 @@ _PAIR_NFEV = 4  # evaluations of a window's least squares …
 #: and θ0 trade off with every r, a longer valley)
 _GLOBAL_NFEV = {True: 5, False: 15}
 _OVERSAMPLE = 10  # the recording rate of the runs, × the trace's (calibrate's default)
+#: The model parameters a trace can show besides the coefficients: the Dirac-delta
+#: force's C_p (paper 001 Eq 15) and the Rayleigh damping ratios.
+MODEL_PARAMETERS = ("cp", "zeta1", "zeta2")
+#: Impacts fitted one by one before the model parameters are first estimated with them …
+MODEL_IMPACTS = 4
+#: The scan of C_p on the first impact (`_scan_cp`): factors of its start, 19 % apart
+_CP_FACTORS = tuple(np.geomspace(0.5, 2.0, 9))
+#: … in passes of least squares (each re-weighting the channels) of this many evaluations
+_MODEL_NFEV = (6, 6)
 _MEAN = {"right": "r_er", "left": "r_el"}
 
 
@@ -69,6 +87,17 @@ class Track:
         Simulated impact index → r fitted (the others take the corner means).
     corners : dict
         Simulated impact index → "right" or "left".
+    estimate : tuple
+        The model parameters estimated from the trace (some of "cp", "zeta1",
+        "zeta2": those not given), fitted as their logarithms.
+    std : dict
+        After `fit_impacts`: each unknown of the last fit (``r[k]``, the model
+        parameters, θ0, ``t_offset``, ``theta_bias``) → its standard error (marginal:
+        from the covariance of every unknown together), in fitted units (log for the
+        model parameters).
+    correlation : dict
+        After `fit_impacts`: (label, label) → correlation of the pairs of unknowns
+        correlated beyond `LIMITS["correlation"]`.
     """
 
     sim: Simulator
@@ -78,6 +107,9 @@ class Track:
     scales: dict
     values: dict = field(default_factory=dict)
     corners: dict = field(default_factory=dict)
+    estimate: tuple = ()
+    std: dict = field(default_factory=dict)
+    correlation: dict = field(default_factory=dict)
 
     @property
     def t(self) -> np.ndarray:
@@ -122,7 +154,9 @@ class Track:
 @dataclass(eq=False)
 class _Window(Problem):
     """Least squares of some unknowns over the trace samples `idx`: ``r[k]`` (the k-th
-    simulated impact's coefficient), ``theta_bias``, ``theta0``, ``t_offset``."""
+    simulated impact's coefficient), the model parameters ``cp``, ``zeta1``, ``zeta2``
+    (as logarithms, with calibration's bounds and steps), ``theta_bias``, ``theta0``,
+    ``t_offset``."""
 
     track: Track | None = None
     free: tuple = ()
@@ -137,6 +171,11 @@ class _Window(Problem):
                 x0 = tr.values[int(lab[2:-1])]
                 # calibration's step and scale of a restitution (`_calibration_params`)
                 out.append(Unknown(lab, x0, R_LOW, 1.0, 2e-4, 5e-3, kind="restitution"))
+            elif lab in PARAMETERS:  # C_p, ζ: calibration's log units, bounds and steps
+                p = PARAMETERS[lab]
+                lo, hi = p.to_x(p.low), p.to_x(p.high)
+                x0 = float(np.clip(p.to_x(tr.phys[lab]), lo, hi))
+                out.append(Unknown(lab, x0, lo, hi, p.step, p.scale, kind="model"))
             elif lab == "theta0":  # the bounds, steps and scales of calibration's nuisance
                 span = 0.3 * abs(th0)
                 out.append(Unknown(lab, th0, th0 - span, th0 + span, 2e-5, 1e-3, kind=lab))
@@ -146,26 +185,30 @@ class _Window(Problem):
                 out.append(Unknown(lab, tr.nuis[lab], -0.05, 0.05, 1e-5, 1e-3, kind=lab))
         return out
 
-    def state(self, x: np.ndarray) -> tuple[dict, dict]:
-        """(values per impact, nuisance parameters) at `x`."""
+    def state(self, x: np.ndarray) -> tuple[dict, dict, dict]:
+        """(values per impact, nuisance parameters, model parameters) at `x`."""
         values, nuis = dict(self.track.values), dict(self.track.nuis)
+        phys = dict(self.track.phys)
         for un, v in zip(self.unknowns, x):
             if un.kind == "restitution":
                 values[int(un.label[2:-1])] = float(v)
+            elif un.kind == "model":
+                phys[un.label] = PARAMETERS[un.label].to_value(float(v))
             else:
                 nuis[un.label] = float(v)
-        return values, nuis
+        return values, nuis, phys
 
     def blocks(self, x: np.ndarray) -> dict:
-        values, nuis = self.state(x)
-        rec = self.track.run(values, self.t_stop, nuis["theta0"])
+        values, nuis, phys = self.state(x)
+        rec = self.track.run(values, self.t_stop, nuis["theta0"], phys=phys)
         res = self.track.residuals(rec, self.idx, nuis)
         return {(self.track.case.label, ch): e for ch, e in res.items()}
 
     def accept(self, x: np.ndarray) -> None:
-        values, nuis = self.state(x)
+        values, nuis, phys = self.state(x)
         self.track.values.update(values)
         self.track.nuis.update(nuis)
+        self.track.phys.update(phys)
 
 
 def _window(track: Track, free, t0: float, t1: float) -> _Window:
@@ -178,19 +221,26 @@ def _window(track: Track, free, t0: float, t1: float) -> _Window:
     )  # fmt: skip
 
 
-def track_of(trace, st, impact: str, accelerations: tuple, theta_min: float, options) -> Track:
+def track_of(
+    trace, st, impact: str, accelerations: tuple, theta_min: float, options, given=None
+) -> Track:
     """The fit's start: the trace read as calibration reads it (`cases`: θ and the
     `accelerations` channels, segments, first guesses of θ0 and the clock offset), the
-    specimen's corner means and damping, the model's C_p (``options["C_p"]`` if given)."""
-    options = dict(options)
-    cp = options.pop("C_p", None)
-    start = {"cp": cp} if (cp is not None and impact != "CIM") else None
-    phys = parameter_set(("r_er", "r_el"), impact, st.specimen, start).start
+    specimen's corner means, the model parameters `given` (name → value: some of
+    "cp", "zeta1", "zeta2") and, for the others, the specimen's damping and Table 2's
+    C_p as starts: those are estimated (`Track.estimate`; C_p not for CIM, which has
+    none)."""
+    given = dict(given or {})
+    start = {k: float(x) for k, x in given.items() if not (k == "cp" and impact == "CIM")}
+    phys = parameter_set(("r_er", "r_el"), impact, st.specimen, start or None).start
+    estimate = tuple(
+        n for n in MODEL_PARAMETERS if n not in given and not (n == "cp" and impact == "CIM")
+    )
     case = cases([trace], st, (), tuple(accelerations), theta_min)[0]
-    sim = Simulator(st, impact, _OVERSAMPLE, options)
+    sim = Simulator(st, impact, _OVERSAMPLE, dict(options))
     scales = {ch: (case.segments.noise if ch == "theta" else math.inf) for ch in case.channels}
     nuis = {"theta0": case.theta0, "t_offset": case.tau, "theta_bias": case.bias}
-    return Track(sim, case, phys, nuis, scales)
+    return Track(sim, case, phys, nuis, scales, estimate=estimate)
 
 
 def align(track: Track, t_first: float) -> None:
@@ -290,6 +340,129 @@ def _scan(
             return best
 
 
+@dataclass(eq=False)
+class _Sequence:
+    """The impact-by-impact pass so far: the impacts fitted, the last one, the window's end."""
+
+    fitted: dict = field(default_factory=dict)  # trace impact index → ImpactFit
+    prev: int | None = None  # the trace index of the impact fitted last
+    t_end: float = 0.0  # the end of the last window (trace time)
+    broken: bool = False  # an impact the simulation did not reproduce: stop
+
+
+def _fit_one(track: Track, i: int, seq: _Sequence, warnings: list) -> None:
+    """Trace impact `i` matched, scanned and fitted with the one before (`fit_impacts`)."""
+    seg = track.case.segments
+    half, impacts, t = seg.half_cycles, seg.impacts, track.t
+    edge = EDGE / seg.fs
+    fitted, prev, m = seq.fitted, seq.prev, impacts[i]
+    before = half[m.before]
+    tol = 0.5 * max(before.t_stop - before.t_start, 0.02)
+    k = _match(track, m, tol)
+    if k is None:  # e.g. full contact and uplift at the corner mean: the next index
+        k = fitted[prev].model_impact + 1 if prev is not None else 0
+    track.corners[k] = m.corner
+    t_next = impacts[i + 1].t if i + 1 < len(impacts) else half[m.after].t_stop
+    # a window ends before the next impact's force (Dirac-delta), or takes its step
+    # (CIM: its r acts at θ = 0 only)
+    t_end = t_next + (_PAST / seg.fs if track.sim.impact == "CIM" else -edge)
+    own = track.span(m.t - edge, t_next + _PAST / seg.fs)  # the next impact's step too
+    t_own = t[own.stop - 1] - track.nuis["t_offset"] + _T_MARGIN
+    track.values[k] = coarse = _scan(track, k, own, t_own)
+    if not fitted and "cp" in track.estimate:  # C_p's valley first, then r_k's again
+        _scan_cp(track, k, own, t_own)
+        track.values[k] = coarse = _scan(track, k, own, t_own)
+    ks = [k] if prev is None else [fitted[prev].model_impact, k]
+    start = t[0] if len(fitted) < 2 else impacts[prev].t - edge
+    free = [f"r[{j}]" for j in ks]
+    if start == t[0]:  # the release in the window: the nuisance parameters too
+        free += ["theta_bias", "theta0", "t_offset"]
+    p = _window(track, free, start, t_end)
+    sol = solve(p, _PAIR_NFEV)
+    if 2.0 * sol.cost > _MISFIT * sol.fun.size:  # a narrow valley the scan stepped over
+        held = dict(track.values)
+        track.values[k] = _scan(track, k, own, t_own, coarse, _FINE_SPAN, _FINE_STEP)
+        q = _window(track, free, start, t_end)
+        again = solve(q, _PAIR_NFEV)
+        track.values.clear()
+        track.values.update(held)
+        if again.cost < sol.cost:
+            p, sol = q, again
+    p.accept(sol.x)
+    if _match(track, m, tol, p.t_stop) != k:  # in the fit's last run (cached)
+        warnings.append(
+            f"impact at t = {m.t:.4g} s: the simulation has no impact near it on the "
+            f"{m.corner} corner; it and the later ones keep their energy estimates"
+        )
+        del track.values[k]
+        seq.broken = True
+        return
+    fitted[i] = ImpactFit(k, track.values[k])
+    seq.prev, seq.t_end = i, t_end
+
+
+def _free(track: Track, seq: _Sequence) -> list:
+    """Every unknown of a fit over the whole span: the coefficients fitted so far, the
+    model parameters estimated, the θ bias, θ0 and the clock offset."""
+    rs = [f"r[{f.model_impact}]" for f in seq.fitted.values()]
+    return rs + list(track.estimate) + ["theta_bias", "theta0", "t_offset"]
+
+
+def _model_stage(track: Track, seq: _Sequence) -> None:
+    """The model parameters (`Track.estimate`) with every unknown fitted so far, by least
+    squares over the span from the release to the last window's end, in passes that
+    re-weight the channels by their residual RMS (at the start values the model's
+    misfit, not the noise, sets it)."""
+    t = track.t
+    for nfev in _MODEL_NFEV:
+        track.rescale(track.span(t[0], seq.t_end))
+        p = _window(track, _free(track, seq), t[0], seq.t_end)
+        p.accept(solve(p, nfev).x)
+
+
+def _scan_cp(track: Track, k: int, idx: slice, t_stop: float) -> None:
+    """C_p (`Track.phys`) the best of a scan over the first impact's half-cycle `idx` on
+    every channel, with r_k held: factors `_CP_FACTORS` of its start, widened while the
+    best is at an end (within calibration's bounds).
+
+    The Dirac-delta force's width sets the accelerations' spike at the impact (paper
+    001 Eq 14–15): on S1 (C_p 2450, 2 % noise, 200 Hz) the first impact's misfit, r_k
+    scanned at each C_p, is one valley in log C_p — 4987 at 2475, 1.3e4 at 2081 and
+    2943, 2.4e4 at 1750, 5.7e4 at 3500 — where least squares from Table 2's 1750 with
+    r_k and the damping free stopped at 2345 with r 0.03–0.13 off on the next
+    impacts (each r's own valley; the scan of `_fit_one` finds them once C_p is near).
+    """
+    bounds = PARAMETERS["cp"].low, PARAMETERS["cp"].high
+    start = track.phys["cp"]
+    costs: dict[float, float] = {}
+
+    def cost(f: float) -> float:
+        if f not in costs:
+            phys = track.phys | {"cp": float(np.clip(start * f, *bounds))}
+            try:
+                rec = track.run(track.values, t_stop, phys=phys)
+            except TrialRejected:
+                costs[f] = math.inf
+                return costs[f]
+            e = np.concatenate(list(track.residuals(rec, idx, track.nuis).values()))
+            costs[f] = float(e @ e)
+        return costs[f]
+
+    for f in _CP_FACTORS:
+        cost(f)
+    step = _CP_FACTORS[1] / _CP_FACTORS[0]
+    while True:  # widened while the best is at an end
+        grid = sorted(costs)
+        best = min(grid, key=costs.get)
+        if best == grid[0] and start * best > bounds[0]:
+            cost(best / step)
+        elif best == grid[-1] and start * best < bounds[1]:
+            cost(best * step)
+        else:
+            break
+    track.phys["cp"] = float(np.clip(start * best, *bounds))
+
+
 def fit_impacts(track: Track, n_fit: int, bar, warnings: list) -> dict:
     """Fit the first `n_fit` impacts of the trace, impact by impact, then all at once.
 
@@ -299,80 +472,144 @@ def fit_impacts(track: Track, n_fit: int, bar, warnings: list) -> dict:
     fitted by least squares with impact i − 1 from impact i − 1 up to the next impact —
     whose time is what r_{i−1} sets most precisely — on every channel (with the θ bias,
     θ0 and the clock offset while the window starts at the release). A window whose fit
-    stays above the noise (`_MISFIT`) is scanned again in fine steps and refitted. Last,
-    everything is refined together over the whole span, and the standard errors come
-    from that fit's Jacobian (`covariance`), with `R_STD_FLOOR` (and `R_STD_BOUNCE`
-    where the run bounces). Returns trace impact index → `ImpactFit`.
+    stays above the noise (`_MISFIT`) is scanned again in fine steps and refitted.
+
+    The model parameters not given (`Track.estimate`: C_p, ζ1, ζ2) start at the
+    specimen's and Table 2's values; after the first `MODEL_IMPACTS` impacts they are
+    fitted with those impacts' coefficients and the nuisance parameters
+    (`_model_stage`), and held while the later impacts are fitted one by one. Last,
+    everything — every coefficient, the model parameters, θ0, the clock offset, the θ
+    bias — is refined together over the whole span, and the standard errors come from
+    that fit's Jacobian (`covariance`: marginal, every unknown free), with
+    `R_STD_FLOOR` (and `R_STD_BOUNCE` where the run bounces). Returns trace impact
+    index → `ImpactFit`; `Track.std` and `Track.correlation` hold the last fit's.
     """
     seg = track.case.segments
     half, impacts, t = seg.half_cycles, seg.impacts, track.t
-    edge = EDGE / seg.fs
-    fitted: dict[int, ImpactFit] = {}
-    prev = None  # the trace index of the impact fitted last
-    t_end = t[0]
-    for i, m in enumerate(impacts[:n_fit]):
-        before = half[m.before]
-        tol = 0.5 * max(before.t_stop - before.t_start, 0.02)
-        k = _match(track, m, tol)
-        if k is None:  # e.g. full contact and uplift at the corner mean: the next index
-            k = fitted[prev].model_impact + 1 if prev is not None else 0
-        track.corners[k] = m.corner
-        t_next = impacts[i + 1].t if i + 1 < len(impacts) else half[m.after].t_stop
-        # a window ends before the next impact's force (Dirac-delta), or takes its step
-        # (CIM: its r acts at θ = 0 only)
-        t_end = t_next + (_PAST / seg.fs if track.sim.impact == "CIM" else -edge)
-        own = track.span(m.t - edge, t_next + _PAST / seg.fs)  # the next impact's step too
-        t_own = t[own.stop - 1] - track.nuis["t_offset"] + _T_MARGIN
-        track.values[k] = coarse = _scan(track, k, own, t_own)
-        ks = [k] if prev is None else [fitted[prev].model_impact, k]
-        start = t[0] if len(fitted) < 2 else impacts[prev].t - edge
-        free = [f"r[{j}]" for j in ks]
-        if start == t[0]:  # the release in the window: the nuisance parameters too
-            free += ["theta_bias", "theta0", "t_offset"]
-        p = _window(track, free, start, t_end)
-        sol = solve(p, _PAIR_NFEV)
-        if 2.0 * sol.cost > _MISFIT * sol.fun.size:  # a narrow valley the scan stepped over
-            held = dict(track.values)
-            track.values[k] = _scan(track, k, own, t_own, coarse, _FINE_SPAN, _FINE_STEP)
-            q = _window(track, free, start, t_end)
-            again = solve(q, _PAIR_NFEV)
-            track.values.clear()
-            track.values.update(held)
-            if again.cost < sol.cost:
-                p, sol = q, again
-        p.accept(sol.x)
-        if _match(track, m, tol, p.t_stop) != k:  # in the fit's last run (cached)
-            warnings.append(
-                f"impact at t = {m.t:.4g} s: the simulation has no impact near it on the "
-                f"{m.corner} corner; it and the later ones keep their energy estimates"
-            )
-            del track.values[k]
+    seq = _Sequence(t_end=t[0])
+    n_first = min(n_fit, MODEL_IMPACTS) if track.estimate else n_fit
+    for i in range(n_fit):
+        if i == n_first and seq.fitted:
+            _model_stage(track, seq)
+        _fit_one(track, i, seq, warnings)
+        if seq.broken:
             break
-        fitted[i] = ImpactFit(k, track.values[k])
-        prev = i
         bar.update(i + 1)
+    fitted = seq.fitted
     if not fitted:
         return fitted
+    if n_first == n_fit and track.estimate and not seq.broken:
+        _model_stage(track, seq)  # every impact fitted before the model parameters
     # everything together over the whole span: the sequential windows held the earlier
-    # coefficients and the nuisance parameters
-    whole = track.span(t[0], t_end)
-    track.rescale(whole)
-    free = [f"r[{f.model_impact}]" for f in fitted.values()] + ["theta_bias", "theta0", "t_offset"]
-    p = _window(track, free, t[0], t_end)
+    # coefficients, the model and the nuisance parameters
+    track.rescale(track.span(t[0], seq.t_end))
+    p = _window(track, _free(track, seq), t[0], seq.t_end)
     sol = solve(p, _GLOBAL_NFEV[len(track.case.channels) > 1])
     p.accept(sol.x)
     rows = p.blocks(sol.x)
     cov, _ = covariance(sol.jac, rows, np.array([un.scale for un in p.unknowns]))
-    std = dict(zip((un.label for un in p.unknowns), np.sqrt(np.diag(cov))))
+    labels = [un.label for un in p.unknowns]
+    sd = np.sqrt(np.clip(np.diag(cov), 0.0, np.inf))
+    track.std = {lab: float(x) for lab, x in zip(labels, sd)}
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(sd, sd)
+    track.correlation = {
+        (a, b): float(corr[i, j])
+        for i, a in enumerate(labels)
+        for j, b in enumerate(labels)
+        if i < j and math.isfinite(corr[i, j]) and abs(corr[i, j]) > LIMITS["correlation"]
+    }
     rec = track.run(track.values, p.t_stop)
     for i, f in fitted.items():
         m = impacts[i]
         f.r = track.values[f.model_impact]
         f.bounce = _bounces(rec, f.model_impact)
         floor = math.hypot(R_STD_FLOOR, R_STD_BOUNCE) if f.bounce else R_STD_FLOOR
-        f.r_std = math.hypot(float(std[f"r[{f.model_impact}]"]), floor)
+        f.r_std = math.hypot(track.std[f"r[{f.model_impact}]"], floor)
         t_next = impacts[i + 1].t if i + 1 < len(impacts) else half[m.after].t_stop
         idx = track.span(m.t, t_next)
         e = track.residuals(rec, idx, track.nuis, weighted=False)["theta"]
         f.rms = float(np.sqrt(np.mean(e * e)))
     return fitted
+
+
+def _label_name(label: str, times: dict) -> str:
+    """An unknown's name for the user: ``r[k]`` as the trace impact it is."""
+    if label.startswith("r["):
+        t = times.get(int(label[2:-1]))
+        return f"r of the impact at t = {t:.4g} s" if t is not None else label
+    return label
+
+
+def parameter_report(track: Track, given: dict, fitted: dict, spec) -> dict:
+    """Every parameter of the fit with where its value came from (`_parameter_status`):
+    the model parameters (``cp``, ``zeta1``, ``zeta2``: given, estimated or ill-posed;
+    C_p not used by CIM), the trace's nuisance parameters (``theta0``, ``t_offset``,
+    ``theta_bias``, ``sensor_bias``: estimated) and the specimen's structure (fixed)."""
+    seg = track.case.segments
+    times = {f.model_impact: seg.impacts[i].t for i, f in fitted.items()}
+    partners: dict = {}
+    for (a, b), c in track.correlation.items():
+        partners.setdefault(a, {})[_label_name(b, times)] = c
+        partners.setdefault(b, {})[_label_name(a, times)] = c
+    out = {}
+    for name in MODEL_PARAMETERS:
+        what = PARAMETERS[name].what
+        if name == "cp" and track.sim.impact == "CIM":
+            out[name] = ps.not_used(
+                "the classical impact model has no C_p (paper 001 Table 2)", what
+            )
+        elif name in given:
+            out[name] = ps.given(given[name], what)
+        elif name in track.std:
+            out[name] = _entry(track, name, True, LIMITS["rel_std"], partners, what)
+        else:  # no impact fitted: the start
+            out[name] = ps.fixed(track.phys[name], what, "no impact fitted to estimate it")
+    nuisance = {
+        "theta0": "release angle (rad)",
+        "t_offset": "trace time of the model's t = 0: the clock offset (s)",
+        "theta_bias": "bias of the θ sensor (rad)",
+    }
+    for name, what in nuisance.items():
+        if name in track.std:
+            out[name] = _entry(track, name, False, None, partners, what)
+        elif name == "theta0" and not track.case.free:
+            out[name] = ps.not_used("table motion: the test starts at rest", what)
+        else:
+            out[name] = ps.fixed(track.nuis[name], what, "not fitted")
+    out["sensor_bias"] = _sensor_biases(track)
+    out["structure"] = ps.fixed(
+        ps.structure_fixed(spec), "the column's geometry, masses, stiffnesses and sensors"
+    )
+    return out
+
+
+def _entry(track: Track, name: str, log: bool, limit, partners: dict, what: str) -> dict:
+    value = track.phys[name] if log else track.nuis[name]
+    std = track.std[name]
+    entry = ps.estimated(value, std, log=log, what=what)
+    why = ps.ill_posed_reasons(std, limit, partners.get(name, {}), log=log)
+    if why:
+        entry["status"] = ps.ILL_POSED
+        entry["reason"] = "; ".join(why)
+    return entry
+
+
+def _sensor_biases(track: Track) -> dict:
+    """Each accelerometer's bias: the mean of trace minus model over the span fitted (the
+    closed form of least squares), with its standard error from the residual RMS."""
+    t = track.t
+    idx = track.span(t[0], t[-1])
+    rec = track.run(track.values, float(t[idx.stop - 1] - track.nuis["t_offset"]) + _T_MARGIN)
+    values, stds = {}, {}
+    for ch in track.case.channels:
+        if ch == "theta":
+            continue
+        e = np.asarray(track.case.trace.channels[ch])[idx] - rec.at(
+            track.case.columns[ch], t[idx] - track.nuis["t_offset"]
+        )
+        values[ch] = float(np.mean(e))
+        stds[ch] = float(np.std(e) / math.sqrt(max(e.size, 1)))
+    entry = {"status": ps.ESTIMATED, "value": values, "std": stds, "interval": None,
+             "what": "each accelerometer's bias (m/s²): its mean residual"}  # fmt: skip
+    return entry

@@ -105,6 +105,7 @@ import pandas as pd
 from multimass.impact_models import CornerRestitution
 
 from .. import kinematics
+from .. import validation as v
 from ..errors import InputError
 from ..progress import Progress
 from ..result import json_ready
@@ -112,7 +113,9 @@ from ..structure import Structure, from_specimen
 from ..trace_metrics import channel_columns
 from ..traces import Trace
 from . import _restitution_fit as fitting
+from ._calibration_params import PARAMETERS
 from ._calibration_stats import LIMITS
+from ._parameter_status import overall
 from ._trace_checks import check_ag, no_rocking
 from .segments import THETA_MIN, Segments, require_trace, segment_trace
 
@@ -157,6 +160,15 @@ class RestitutionEstimate:
         The simulation with the estimated impacts' r and the corner means for the
         others, as the specimen fragment has them (on the model's clock).
     warnings : tuple of str
+    parameters : dict
+        Every other parameter of the fit → ``status`` (``given`` by the user,
+        ``estimated`` from the trace, ``ill-posed`` where the trace does not fix it,
+        ``fixed by the specimen file``, ``not used`` by the model), ``value``,
+        ``std``, ``interval`` (95 %), ``what`` and the ``reason`` of an ill-posed one:
+        ``cp``, ``zeta1``, ``zeta2``, ``theta0``, ``t_offset``, ``theta_bias``,
+        ``sensor_bias`` and ``structure`` (`multimass.identify._parameter_status`).
+    status, message : str
+        ``estimated``, or ``ill-posed`` with the parameters the trace does not fix.
     """
 
     impacts: pd.DataFrame
@@ -171,6 +183,17 @@ class RestitutionEstimate:
     segments: Segments
     response: object
     warnings: tuple = field(default=())
+    parameters: dict = field(default_factory=dict)
+    status: str = "estimated"
+    message: str = ""
+
+    def model_values(self) -> dict:
+        """The values of C_p and the damping ratios the coefficients are for (given,
+        estimated or the specimen's), for `multimass.simulate` with them."""
+        return {
+            n: p["value"] for n, p in self.parameters.items()
+            if n in ("cp", "zeta1", "zeta2") and p["value"] is not None
+        }  # fmt: skip
 
     def per_impact(self) -> list[float]:
         """The coefficients in the simulation's impact order, for `EmpiricalRestitution`:
@@ -206,7 +229,18 @@ class RestitutionEstimate:
             f"{self.impact}\n# (multimass.identify.restitution; `empirical` in impact order, "
             "then the corner means)\n"
         )
-        return head + format_table("restitution", self.table())
+        return head + self._parameter_comments() + format_table("restitution", self.table())
+
+    def _parameter_comments(self) -> str:
+        """Comment lines: the status, and each parameter's (`parameters`) but the
+        structure's fields."""
+        from ._parameter_status import lines
+
+        shown = {k: p for k, p in self.parameters.items() if k not in ("structure", "sensor_bias")}
+        body = [f"# status: {self.status}" + (f" ({self.message})" if self.message else "")]
+        body += [f"#   {line}" for line in lines(shown)]
+        body.append("#   structure  fixed by the specimen file (geometry, masses, stiffnesses)")
+        return "\n".join(body) + "\n"
 
     def specimen_text(self, name: str | None = None, path=None) -> str:
         """The specimen's TOML file (`path`, default the bundled one of its name) with
@@ -214,8 +248,19 @@ class RestitutionEstimate:
         from multimass.specimens.toml_text import specimen_text
 
         note = f"identified from {self.segments.trace.source} for {self.impact}"
+        vals = self.model_values()
+        if "cp" in vals and self.impact != "CIM":  # a specimen file holds no C_p
+            note += f" with C_p = {vals['cp']:.6g} kg m/rad/s ({self.parameters['cp']['status']})"
+        tables, comments = {"restitution": self.table()}, {}
+        zs = [self.parameters.get(n, {}).get("status") for n in ("zeta1", "zeta2")]
+        if any(z in ("estimated", "ill-posed") for z in zs):  # the damping the r are for
+            tables["damping"] = {
+                "zeta_1": float(f"{vals['zeta1']:.6g}"),
+                "zeta_2": float(f"{vals['zeta2']:.6g}"),
+            }
+            comments["damping"] = {"zeta_1": zs[0], "zeta_2": zs[1]}
         return specimen_text(
-            self.structure.specimen, {"restitution": self.table()}, note=note, name=name,
+            self.structure.specimen, tables, note=note, comments=comments, name=name,
             path=path,
         )  # fmt: skip
 
@@ -246,6 +291,9 @@ class RestitutionEstimate:
                 "energy": self.energy_means,
                 "n_estimated": int(self.impacts["estimated"].sum()),
                 "alignment": self.alignment,
+                "status": self.status,
+                "message": self.message,
+                "parameters": self.parameters,
                 "warnings": list(self.warnings),
             }
         )
@@ -294,6 +342,8 @@ def restitution(
     impact: str = IMPACT_DEFAULT,
     *,
     theta_min: float = THETA_MIN,
+    zeta1: float | None = None,
+    zeta2: float | None = None,
     progress: bool | None = None,
     **options,
 ) -> RestitutionEstimate:
@@ -314,11 +364,16 @@ def restitution(
     theta_min : float, optional
         Impacts between half-cycles both at least this large (rad) are estimated
         (paper 001, Section 4.3: 0.01), if the trace fixes their r (r_std ≤ 0.02).
+    zeta1, zeta2 : float, optional
+        The Rayleigh damping ratios of full-contact modes 1 and 2, if known; each one
+        not given is estimated from the trace (as is C_p, ``C_p=`` in `options`, for
+        a Dirac-delta model), and the coefficients' standard errors include its
+        uncertainty.
     progress : bool, optional
         Show a progress bar over the impacts (default: when more than 3 are fitted).
     **options
-        Options of `multimass.simulate` for the model runs (``C_p``, ``rtol``, …);
-        the compiled backend is used by default.
+        Options of `multimass.simulate` for the model runs (``C_p``: given, not
+        estimated; ``rtol``, …); the compiled backend is used by default.
 
     Returns
     -------
@@ -380,7 +435,9 @@ def restitution(
     )
     cols = channel_columns(trace, st)  # checks the trace's sensors against the specimen
     accel = tuple(c for c in trace.names if cols[c].startswith("a") and cols[c] != "ag")
-    track = fitting.track_of(trace, st, impact, accel, theta_min, options)
+    options = dict(options)
+    given = _given(st, impact, options.pop("C_p", None), zeta1, zeta2)
+    track = fitting.track_of(trace, st, impact, accel, theta_min, options, given)
     fitting.align(track, seg.impacts[0].t)
     shown = progress if progress is not None else n_fit > 3
     with Progress(n_fit + 1, f"restitution {st.name}", show=shown, unit="impacts") as bar:
@@ -419,11 +476,46 @@ def restitution(
     values = dict(zip(est["model_impact"].astype(int), est["r"]))
     final = track.run(values, float(track.t[-1]) - track.nuis["t_offset"], phys=phys)
     align = {k: float(track.nuis[k]) for k in ("t_offset", "theta_bias", "theta0")}
+    parameters = fitting.parameter_report(track, given, fitted, st.specimen)
+    status, message = overall(parameters)
     return RestitutionEstimate(
         table, *means, energy_means=dict(zip(("r_mean_right", "r_mean_left", "sigma_r"), energy)),
         alignment=align, structure=st, impact=impact, theta_min=seg.theta_min, segments=seg,
-        response=final.response, warnings=tuple(warnings),
+        response=final.response, warnings=tuple(warnings), parameters=parameters,
+        status=status, message=message,
     )  # fmt: skip
+
+
+def _given(st, impact: str, cp, zeta1, zeta2) -> dict:
+    """The model parameters the user gave, checked: C_p of a Dirac-delta model, damping
+    ratios that make a Rayleigh damping (InputError naming the field otherwise)."""
+    from dataclasses import replace
+
+    from ..specimens import SpecimenError
+    from ..structure import column
+
+    out = {}
+    if cp is not None:
+        if impact == "CIM":
+            raise InputError(
+                f"`C_p` = {cp!r}: the classical impact model (CIM) has no C_p (paper 001 "
+                "Table 2); remove it or choose a Dirac-delta model (DD, DD1 … DD4)"
+            )
+        out["cp"] = v.positive("C_p", cp, "kg m/rad/s, of the Dirac-delta force")
+    for name, z in (("zeta1", zeta1), ("zeta2", zeta2)):
+        if z is not None:
+            out[name] = v.number(name, z, low=1e-6, high=1.0, what=PARAMETERS[name].what)
+    if "zeta1" in out or "zeta2" in out:
+        spec = st.specimen
+        z1, z2 = out.get("zeta1", spec.zeta_1), out.get("zeta2", spec.zeta_2)
+        try:
+            column(replace(spec, zeta_1=z1, zeta_2=z2))
+        except SpecimenError as err:
+            raise InputError(
+                f"`zeta1`, `zeta2` = {z1:g}, {z2:g}: not a Rayleigh damping of this column "
+                f"({err}); give other damping ratios"
+            ) from None
+    return out
 
 
 def _means(table: pd.DataFrame, column: str, st) -> tuple[float, float, float]:

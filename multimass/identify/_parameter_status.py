@@ -1,0 +1,135 @@
+"""Which model parameters an identification was given, estimated or took from the file.
+
+Every result of `multimass.identify.restitution` and `multimass.identify.calibrate`
+says, for each parameter of the model it fitted, where its value came from:
+
+* ``given`` — by the user (a keyword, a CLI flag): used as it is;
+* ``estimated`` — from the traces, with its standard deviation (marginal: from the
+  covariance of every unknown fitted together) and 95 % interval (± 1.96 std; for the
+  parameters fitted as logarithms, C_p and ζ, exp(log value ± 1.96 std of the log));
+* ``ill-posed`` — fitted, but the traces do not fix it: its std is beyond
+  `LIMITS` (restitution 0.02, C_p and ζ 25 %), it is not finite, or it is correlated
+  beyond `LIMITS["correlation"]` (0.98) with another unknown, which is named; its
+  value is then not an estimate;
+* ``fixed by the specimen file`` — the column's geometry, masses and stiffnesses
+  (and, where the user fixed the fit list, the parameters left out of it);
+* ``not used`` — a parameter the chosen model does not have (C_p of CIM).
+"""
+
+from __future__ import annotations
+
+import math
+
+__all__ = [
+    "GIVEN", "ESTIMATED", "ILL_POSED", "FIXED", "NOT_USED", "STRUCTURE_FIELDS", "Z95",
+    "given", "estimated", "fixed", "not_used", "structure_fixed", "ill_posed_reasons",
+    "lines", "overall",
+]  # fmt: skip
+
+GIVEN = "given"
+ESTIMATED = "estimated"
+ILL_POSED = "ill-posed"
+FIXED = "fixed by the specimen file"
+NOT_USED = "not used"
+#: The two-sided 95 % quantile of the normal distribution.
+Z95 = 1.959963984540054
+#: The specimen's fields that every identification takes as they are (its geometry,
+#: masses, stiffnesses, gravity and sensor positions).
+STRUCTURE_FIELDS = ("heights", "masses", "m0", "J0", "B", "E_s", "I_s", "K_rot", "K_fp", "g",
+                    "sensors")  # fmt: skip
+
+
+def given(value: float, what: str = "") -> dict:
+    """A parameter the user gave."""
+    return {"status": GIVEN, "value": float(value), "std": None, "interval": None, "what": what}
+
+
+def fixed(value, what: str = "", note: str = "") -> dict:
+    """A parameter taken from the specimen file."""
+    out = {"status": FIXED, "value": value, "std": None, "interval": None, "what": what}
+    return out | ({"note": note} if note else {})
+
+
+def not_used(why: str, what: str = "") -> dict:
+    """A parameter the model does not have."""
+    return {"status": NOT_USED, "value": None, "std": None, "interval": None, "what": what,
+            "note": why}  # fmt: skip
+
+
+def estimated(value: float, std: float, log: bool = False, what: str = "") -> dict:
+    """A parameter estimated from the traces: `std` is that of the value, or of its
+    logarithm if `log`; the interval is the 95 % one."""
+    s = float(std)
+    if not math.isfinite(s):
+        interval, s_value = None, math.inf
+    elif log:
+        interval = [value * math.exp(-Z95 * s), value * math.exp(Z95 * s)]
+        s_value = value * s
+    else:
+        interval = [value - Z95 * s, value + Z95 * s]
+        s_value = s
+    return {"status": ESTIMATED, "value": float(value), "std": s_value, "interval": interval,
+            "what": what}  # fmt: skip
+
+
+def structure_fixed(spec) -> dict:
+    """The specimen's fields every identification takes from the file, with their values."""
+    out = {}
+    for name in STRUCTURE_FIELDS:
+        value = getattr(spec, name, None)
+        if value is None:
+            continue
+        if isinstance(value, tuple):
+            value = [list(v) if isinstance(v, tuple) else v for v in value]
+        out[name] = value
+    return out
+
+
+def ill_posed_reasons(std: float, limit, correlated: dict, log: bool = False) -> list[str]:
+    """Why a fitted parameter is not fixed by the traces (empty: it is): its std (of the
+    log for `log` parameters) beyond `limit` (None: no limit), not finite, or its
+    correlations beyond `LIMITS["correlation"]` (`correlated`: the other unknown's name →
+    correlation)."""
+    out = []
+    if not math.isfinite(std):
+        out.append("the traces do not constrain it (singular Jacobian)")
+    elif limit is not None and std > limit:
+        what = "relative std" if log else "std"
+        out.append(f"{what} {std:.2g} above {limit:g}")
+    for other, c in correlated.items():
+        out.append(f"cannot be separated from {other} (correlation {c:+.3f})")
+    return out
+
+
+def overall(parameters: dict) -> tuple[str, str]:
+    """(status, message): ``ill-posed`` naming the parameters the traces do not fix and
+    why, else ``estimated``."""
+    bad = {n: p for n, p in parameters.items() if p.get("status") == ILL_POSED}
+    if bad:
+        why = "; ".join(f"{n}: {p.get('reason', '')}" for n, p in bad.items())
+        return ILL_POSED, f"not fixed by the trace(s): {why}"
+    return ESTIMATED, "every parameter not given was estimated from the trace(s)"
+
+
+def _fmt(p: dict) -> str:
+    v, s = p.get("value"), p.get("std")
+    if isinstance(v, float):
+        text = f"{v:.5g}"
+        if s is not None:
+            text += f" ± {s:.2g}" if math.isfinite(s) else " ± ∞"
+        if p.get("interval"):
+            lo, hi = p["interval"]
+            text += f" (95 %: {lo:.5g} … {hi:.5g})"
+        return text
+    return "" if v is None else str(v)
+
+
+def lines(parameters: dict, width: int = 10) -> list[str]:
+    """One text line per parameter: ``name  status  value ± std (95 %: lo … hi)``, with the
+    reason of an ill-posed one and the note of a fixed or unused one."""
+    out = []
+    for name, p in parameters.items():
+        extra = p.get("reason") or p.get("note") or ""
+        text = f"{name:<{width}} {p['status']}: {_fmt(p)}".rstrip(": ")
+        out.append(text + (f" — {extra}" if extra else ""))
+    return out
