@@ -65,8 +65,8 @@ def markdown(summary: pd.DataFrame, meta: pd.DataFrame, facts: dict) -> str:
             "",
             "| specimen | quantity | n | median \\|err\\| | 95th pct | max | within "
             "threshold | n with interval | coverage of the 95 % interval | coverage "
-            "(nominal truth) | ill-posed |",
-            "|---|---|---|---|---|---|---|---|---|---|---|",
+            "(nominal truth) | ill-posed | coverage, not ill-posed |",
+            "|---|---|---|---|---|---|---|---|---|---|---|---|",
         ]
         for _, r in part.iterrows():
             q = r["quantity"]
@@ -79,7 +79,8 @@ def markdown(summary: pd.DataFrame, meta: pd.DataFrame, facts: dict) -> str:
                 f"| {_fmt(r['p95'], q)} | {_fmt(r['max'], q)} | {_fmt(r['within'], kind='share')}"
                 f"{thr if not math.isnan(r['within']) else ''} | {r['n_interval']} "
                 f"| {_fmt(r['coverage'], kind='share')} "
-                f"| {_fmt(r['coverage_nominal'], kind='share')} | {r.get('n_ill_posed', 0)} |"
+                f"| {_fmt(r['coverage_nominal'], kind='share')} | {r.get('n_ill_posed', 0)} "
+                f"| {_fmt(r.get('coverage_not_ill_posed', math.nan), kind='share')} |"
             )
         lines.append("")
     lines += ["### Cases", ""]

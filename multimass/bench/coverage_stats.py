@@ -61,6 +61,9 @@ def add_errors(rows: pd.DataFrame) -> pd.DataFrame:
     for col in ("std", "lo", "hi", "truth_nominal"):
         if col not in df:
             df[col] = np.nan
+    if "constrained" in df:  # calibrate's flag where no status was recorded
+        flag = df["constrained"].map({True: "estimated", False: "ill-posed"})
+        df["status"] = df["status"].fillna(flag) if "status" in df else flag
     rel = df["quantity"].map(lambda q: QUANTITIES[q].relative if q in QUANTITIES else False)
     rel = rel.to_numpy(dtype=bool)
     value, truth = df["value"].to_numpy(float), df["truth"].to_numpy(float)
@@ -95,8 +98,9 @@ def summarise(df: pd.DataFrame, by_specimen: bool = True) -> pd.DataFrame:
     """Per estimator, specimen (and "all") and quantity: ``n`` (estimates with a truth),
     ``median``, ``p95``, ``max`` of |err|, ``within`` (share within the threshold; NaN
     without one), ``n_interval`` (estimates with an interval), ``coverage`` (share of
-    those whose interval holds the truth), ``coverage_nominal`` and ``n_ill_posed``
-    (estimates whose result says the traces do not fix them: status "ill-posed").
+    those whose interval holds the truth), ``coverage_nominal``, ``n_ill_posed``
+    (estimates whose result says the traces do not fix them: status "ill-posed") and
+    ``coverage_not_ill_posed`` (the coverage of the others).
 
     `df` is a table from `add_errors`. Percentiles interpolate linearly
     (`numpy.percentile`'s default).
@@ -112,6 +116,8 @@ def summarise(df: pd.DataFrame, by_specimen: bool = True) -> pd.DataFrame:
         e = g["abs_err"].to_numpy(float)
         cov = g["covered"].dropna()
         nom = g["covered_nominal"].dropna()
+        ill = (g["status"] == "ill-posed") if "status" in g else pd.Series(False, index=g.index)
+        ok = g.loc[~ill, "covered"].dropna()
         rows.append(
             {
                 "estimator": est,
@@ -125,7 +131,8 @@ def summarise(df: pd.DataFrame, by_specimen: bool = True) -> pd.DataFrame:
                 "n_interval": int(cov.size),
                 "coverage": float(cov.mean()) if cov.size else np.nan,
                 "coverage_nominal": float(nom.mean()) if nom.size else np.nan,
-                "n_ill_posed": int((g["status"] == "ill-posed").sum()) if "status" in g else 0,
+                "n_ill_posed": int(ill.sum()),
+                "coverage_not_ill_posed": float(ok.mean()) if ok.size else np.nan,
                 "_order": order.get(q, len(order)),
             }
         )
