@@ -43,10 +43,21 @@ def register(sub) -> None:
         help="impact model of paper 001 Table 2: CIM, DD1..DD5, DD (default DD2)",
     )  # fmt: skip
     p.add_argument(
-        "--fit", default="r_er,r_el,cp", metavar="LIST",
-        help="parameters to fit, comma list of r_er, r_el, cp, zeta1, zeta2 "
-        "(default r_er,r_el,cp)",
+        "--fit", default=None, metavar="LIST",
+        help="parameters to fit, comma list of r_er, r_el, cp, zeta1, zeta2 (default: "
+        "every one not given; named, the others keep the specimen's values)",
     )  # fmt: skip
+    p.add_argument(
+        "--given", default=None, metavar="NAME=VALUE,...",
+        help="parameters known, used as they are and not fitted, e.g. cp=2300,zeta1=0.005",
+    )  # fmt: skip
+    for flag, what in (("cp", "C_p of the Dirac-delta force"),
+                       ("zeta1", "damping ratio of full-contact mode 1"),
+                       ("zeta2", "damping ratio of full-contact mode 2")):  # fmt: skip
+        p.add_argument(
+            f"--{flag}", type=types.positive, default=None,
+            help=f"{what}, if known (as --given {flag}=VALUE; default: fitted)",
+        )  # fmt: skip
     p.add_argument(
         "--start", default=None, metavar="NAME=VALUE,...",
         help="start values, e.g. r_er=0.9,cp=1500 (default: the specimen's, Table 2's C_p)",
@@ -119,11 +130,21 @@ def run(args) -> int:
     out = output_folder(
         args.out if args.out is not None or args.json else Path("calibration_report")
     )
+    given = parse_pairs(args.given, "--given")
+    for flag in ("cp", "zeta1", "zeta2"):
+        value = getattr(args, flag)
+        if value is not None:
+            if flag in given and given[flag] != value:
+                raise InputError(
+                    f"`--{flag}` = {value:g} and `--given {flag}={given[flag]:g}` differ; give it once"
+                )
+            given[flag] = value
     cal = calibrate(
         list(args.traces),
         args.specimen,
         args.impact,
         fit=args.fit,
+        given=given or None,
         start=parse_pairs(args.start, "--start") or None,
         bounds=parse_pairs(args.bounds, "--bounds", ranged=True) or None,
         channels=channels,
@@ -135,8 +156,9 @@ def run(args) -> int:
     files = [str(f) for f in write_report(cal, out, figures=not args.no_figures)] if out else []
     if args.json:
         summary = cal.summary()
-        keep = ("specimen", "impact", "status", "message", "parameters", "fixed", "nuisance",
-                "residuals", "stages", "n_simulations", "wall_time_s", "warnings")  # fmt: skip
+        keep = ("specimen", "impact", "status", "message", "parameters", "fixed", "provenance",
+                "nuisance", "residuals", "stages", "n_simulations", "wall_time_s",
+                "warnings")  # fmt: skip
         data = {k: summary[k] for k in keep}
         data["features"] = {
             which: {
@@ -155,9 +177,12 @@ def run(args) -> int:
 
 def _print(cal, files) -> None:
     print(f"{cal.structure.name} ({cal.impact}): {cal.status} — {cal.message}")
-    for name, p in cal.parameters.items():
-        flag = "" if p["constrained"] else f"  [not constrained: {p['reason']}]"
-        print(f"  {name:<6} {p['value']:.5g} ± {p['std']:.2g} (start {p['start']:.5g}){flag}")
+    from multimass.identify._parameter_status import lines
+
+    shown = {k: p for k, p in cal.provenance.items() if k != "structure"}
+    for line in lines(shown):
+        print(f"  {line}")
+    print("  structure  fixed by the specimen file (geometry, masses, stiffnesses, sensors)")
     for label, n in cal.nuisance.items():
         t0 = "" if n["theta0"] is None else f", θ0 {n['theta0']:.5g} rad"
         print(f"  {label}: t_offset {n['t_offset']:.4f} s{t0}, θ bias {n['theta_bias']:.2g} rad")

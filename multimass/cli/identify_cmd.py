@@ -139,6 +139,11 @@ def run(args) -> int:
     )
     for pm in result.phases():
         print("\n".join(_line(pm)))
+    print(
+        "estimated from the accelerations alone (no model fitted): frequencies, damping, "
+        "shapes; not used: C_p, restitution; fixed by the specimen file: the model's modes "
+        "compared with (geometry, masses, stiffnesses) and its damping shown beside"
+    )
     for w in result.warnings:
         print(f"warning: {w}")
     if out is not None:

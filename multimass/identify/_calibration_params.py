@@ -18,7 +18,10 @@ from multimass.impact_models.table2 import IMPACT_MODELS, TABLE_2
 from .. import validation as v
 from ..errors import InputError
 
-__all__ = ["Parameter", "PARAMETERS", "ParameterSet", "parameter_set", "model_of"]
+__all__ = [
+    "Parameter", "PARAMETERS", "ParameterSet", "parameter_set", "model_of", "default_fit",
+    "checked_given",
+]  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -149,19 +152,58 @@ def _checked_value(name: str, value, lo: float, hi: float, label: str) -> float:
     return v.number(label, value, low=lo, high=hi, what=PARAMETERS[name].what)
 
 
-def parameter_set(fit, impact: str, spec, start=None, bounds=None) -> ParameterSet:
-    """The checked fit list, start values (the specimen's and Table 2's unless given)
-    and bounds (the defaults of `PARAMETERS` unless given)."""
-    names = _fit_names(fit, impact)
+def default_fit(impact: str, given=None) -> tuple:
+    """Every parameter of the model that is not `given`: the restitution means, C_p
+    (not for CIM, which has none) and the damping ratios."""
+    given = given or {}
+    return tuple(n for n in PARAMETERS if n not in given and not (n == "cp" and impact == "CIM"))
+
+
+def checked_given(given, impact: str, spec) -> dict:
+    """The parameters the user gave (name → value), each checked against its hard range;
+    InputError naming the field otherwise (C_p with CIM, an unknown name)."""
+    if given is None:
+        return {}
+    if not isinstance(given, Mapping):
+        raise InputError(f"`given` = {given!r:.60}: give a mapping of parameter name to value")
+    out = {}
+    for key, value in given.items():
+        name = key.strip().lower().replace("-", "_") if isinstance(key, str) else key
+        name = {"c_p": "cp", "zeta_1": "zeta1", "zeta_2": "zeta2"}.get(name, name)
+        if name not in PARAMETERS:
+            raise InputError(
+                f"`given` names {key!r}, not a parameter; use some of {', '.join(PARAMETERS)}"
+            )
+        if name == "cp" and impact == "CIM":
+            raise InputError(
+                "`given` has 'cp', but the classical impact model (CIM) has no C_p (paper "
+                "001 Table 2); remove it or choose a Dirac-delta model"
+            )
+        out[name] = _checked_value(name, value, *PARAMETERS[name].hard, f"given[{key!r}]")
+    return out
+
+
+def parameter_set(fit, impact: str, spec, start=None, bounds=None, given=None) -> ParameterSet:
+    """The checked fit list, start values (the `given` ones, else the specimen's and
+    Table 2's unless `start` gives them) and bounds (the defaults of `PARAMETERS` unless
+    given)."""
+    given = checked_given(given, impact, spec)
+    names = _fit_names(default_fit(impact, given) if fit is None else fit, impact)
+    both = [n for n in names if n in given]
+    if both:
+        raise InputError(
+            f"`fit` has {', '.join(both)}, which `given` also gives; a parameter is either "
+            "given (used as it is) or fitted: drop it from one of them"
+        )
     values = {n: float(getattr(spec, f)) for n, f in _SPEC_FIELD.items()}
     cp = TABLE_2.get(impact, (None, None, 1750.0))[2]
     values["cp"] = float(cp) if cp is not None else float("nan")
-    for label, given in (("start", start), ("bounds", bounds)):
-        if given is not None and not isinstance(given, Mapping):
+    for label, mapping in (("start", start), ("bounds", bounds)):
+        if mapping is not None and not isinstance(mapping, Mapping):
             raise InputError(
-                f"`{label}` = {given!r:.60}: give a mapping of parameter name to value"
+                f"`{label}` = {mapping!r:.60}: give a mapping of parameter name to value"
             )
-        for key in given or {}:
+        for key in mapping or {}:
             if key not in PARAMETERS:
                 raise InputError(
                     f"`{label}` names {key!r}, not a parameter; use some of {', '.join(PARAMETERS)}"
@@ -186,6 +228,7 @@ def parameter_set(fit, impact: str, spec, start=None, bounds=None) -> ParameterS
             raise InputError("`start` gives 'cp', but the classical impact model (CIM) has no C_p")
         lo, hi = box.get(n, PARAMETERS[n].hard)
         values[n] = _checked_value(n, value, lo, hi, f"start[{n!r}]")
+    values.update(given)
     for n in names:
         lo, hi = box[n]
         if not lo <= values[n] <= hi:

@@ -9,12 +9,13 @@ import time
 import numpy as np
 import pandas as pd
 
+from . import _parameter_status as ps
 from ._calibration_fit import Problem
 from ._calibration_params import PARAMETERS
-from ._calibration_stats import covariance, flags, status_of
+from ._calibration_stats import CP_REL_FLOOR, covariance, flags, status_of
 from ._calibration_views import channel_metrics, feature_errors, view
 
-__all__ = ["assemble", "failed", "views"]
+__all__ = ["assemble", "failed", "views", "provenance"]
 
 
 def views(sim, p: Problem, x, cases, st, full: bool) -> dict:
@@ -275,3 +276,41 @@ def failed(st, impact, pset, cs, before, message, sim, wall) -> dict:
         n_simulations=sim.n_runs,
         wall_time_s=time.perf_counter() - wall,
     )
+
+
+def provenance(fields: dict, impact: str, given: dict, dropped: dict, st) -> dict:
+    """Where each parameter's value came from (`_parameter_status`): the fitted ones
+    estimated (their std, 95 % interval) or ill-posed (the reason), the `given` ones, those
+    the traces could not show (`dropped`: fixed by the specimen file, with why), those
+    left out of an explicit fit list, C_p of CIM (not used), the traces' nuisance
+    parameters (estimated, per trace in `Calibration.nuisance`) and the structure."""
+    out = {}
+    fitted = fields["parameters"]
+    for name, par in PARAMETERS.items():
+        if name == "cp" and impact == "CIM":
+            out[name] = ps.not_used("the classical impact model has no C_p (paper 001 Table 2)",
+                                    par.what)  # fmt: skip
+        elif name in given:
+            out[name] = ps.given(given[name], par.what)
+        elif name in fitted:
+            f = fitted[name]
+            std = f["std"] / f["value"] if par.log and f["value"] > 0 else f["std"]
+            if name == "cp":  # the model's error, beyond the noise's (`CP_REL_FLOOR`)
+                std = math.hypot(std, CP_REL_FLOOR)
+            entry = ps.estimated(f["value"], std, log=par.log, what=par.what)
+            if not f["constrained"]:
+                entry["status"] = ps.ILL_POSED
+                entry["reason"] = f["reason"]
+            out[name] = entry
+        else:
+            note = dropped.get(name, "not in the fit list")
+            out[name] = ps.fixed(fields["fixed"].get(name), par.what, note)
+    out["nuisance"] = {
+        "status": ps.ESTIMATED, "value": None, "std": None, "interval": None,
+        "what": "each trace's clock offset, θ bias, release angle and accelerometer biases",
+        "note": "per trace in `nuisance`",
+    }  # fmt: skip
+    out["structure"] = ps.fixed(
+        ps.structure_fixed(st.specimen), "the column's geometry, masses, stiffnesses and sensors"
+    )
+    return out

@@ -26,7 +26,7 @@ from ..traces import Trace, read_trace
 from ._trace_checks import above_passband, check_ag, no_rocking, require_sensors
 from .segments import segment_trace
 
-__all__ = ["Case", "cases", "structure_of"]
+__all__ = ["Case", "cases", "structure_of", "check_fit", "showable"]
 
 
 # ---------------------------------------------------------------------------- the traces
@@ -222,7 +222,8 @@ def _large_run(seg, free: bool = True) -> tuple[list, int]:
 
 
 def cases(loaded: list, st: Structure, fit: tuple, channels, theta_min: float) -> list[Case]:
-    """Every trace checked against the specimen and made ready (`Case`)."""
+    """Every trace checked against the specimen and made ready (`Case`), and against what
+    `fit` asks for (`check_fit`)."""
     seen: set = set()
     out = []
     for trace in loaded:
@@ -265,7 +266,7 @@ def cases(loaded: list, st: Structure, fit: tuple, channels, theta_min: float) -
         else:
             case = replace(case, tau=float(t[0]))
         out.append(case)
-    _check_fit(out, fit, st, theta_min)
+    check_fit(out, fit, st, theta_min)
     return out
 
 
@@ -278,7 +279,24 @@ def _corner_impacts(case: Case) -> dict:
     return seen
 
 
-def _check_fit(out: list, fit, st: Structure, theta_min: float) -> None:
+def showable(out: list, fit, st: Structure, theta_min: float) -> tuple[tuple, dict]:
+    """(the names of `fit` the traces can show, name → why not for the others): the
+    default fit's check — a corner mean without an impact on its corner, C_p without an
+    impact are left out (the specimen's value, said so); the damping ratios are kept
+    and judged by the covariance (ill-posed where the traces do not fix them)."""
+    keep, dropped = [], {}
+    for name in fit:
+        try:
+            if name not in ("zeta1", "zeta2"):
+                check_fit(out, (name,), st, theta_min)
+        except InputError as err:
+            dropped[name] = str(err).split("; give")[0]
+            continue
+        keep.append(name)
+    return tuple(keep), dropped
+
+
+def check_fit(out: list, fit, st: Structure, theta_min: float) -> None:
     """InputError if the traces cannot show what `fit` asks for: a corner mean without an
     impact on its corner between two large half-cycles, C_p without an impact, more
     damping ratios than the modes below the traces' anti-alias passbands."""

@@ -22,7 +22,7 @@ import math
 
 __all__ = [
     "GIVEN", "ESTIMATED", "ILL_POSED", "FIXED", "NOT_USED", "STRUCTURE_FIELDS", "Z95",
-    "given", "estimated", "fixed", "not_used", "structure_fixed", "ill_posed_reasons",
+    "given", "estimated", "estimated_note", "fixed", "not_used", "structure_fixed", "ill_posed_reasons",
     "lines", "overall",
 ]  # fmt: skip
 
@@ -54,6 +54,11 @@ def not_used(why: str, what: str = "") -> dict:
     """A parameter the model does not have."""
     return {"status": NOT_USED, "value": None, "std": None, "interval": None, "what": what,
             "note": why}  # fmt: skip
+
+
+def estimated_note(what: str) -> dict:
+    """Quantities estimated from the traces whose values are elsewhere in the result."""
+    return {"status": ESTIMATED, "value": None, "std": None, "interval": None, "what": what}
 
 
 def estimated(value: float, std: float, log: bool = False, what: str = "") -> dict:
@@ -95,7 +100,7 @@ def ill_posed_reasons(std: float, limit, correlated: dict, log: bool = False) ->
         out.append("the traces do not constrain it (singular Jacobian)")
     elif limit is not None and std > limit:
         what = "relative std" if log else "std"
-        out.append(f"{what} {std:.2g} above {limit:g}")
+        out.append(f"{what} {std:.3g} above {limit:g}")
     for other, c in correlated.items():
         out.append(f"cannot be separated from {other} (correlation {c:+.3f})")
     return out

@@ -109,8 +109,14 @@ from ..structure import Structure
 from . import _calibration_result as result
 from ._calibration_fit import Problem
 from ._calibration_model import Simulator, TrialRejected
-from ._calibration_params import PARAMETERS, model_of, parameter_set
-from ._calibration_setup import cases, structure_of
+from ._calibration_params import (
+    PARAMETERS,
+    checked_given,
+    default_fit,
+    model_of,
+    parameter_set,
+)
+from ._calibration_setup import cases, showable, structure_of
 from ._calibration_stages import HISTORY, stage1, stage2
 from ._calibration_stats import LIMITS, STATUSES
 from .segments import THETA_MIN
@@ -176,6 +182,14 @@ class Calibration:
     warnings : tuple of str
     specimen_file : str or None
         The specimen's TOML file when it was given as one (None: a bundled specimen).
+    provenance : dict
+        Every model parameter (``r_er``, ``r_el``, ``cp``, ``zeta1``, ``zeta2``), the
+        traces' nuisance parameters and the structure → ``status``: ``given`` (by the
+        user), ``estimated`` (``value``, ``std``, 95 % ``interval``), ``ill-posed``
+        (with the ``reason``: its std beyond `LIMITS`, on a bound, correlated beyond
+        0.98 with the named parameter), ``fixed by the specimen file`` (with a
+        ``note`` why) or ``not used`` (C_p of CIM); see
+        `multimass.identify._parameter_status`.
     """
 
     parameters: dict
@@ -196,6 +210,7 @@ class Calibration:
     wall_time_s: float = 0.0
     warnings: tuple = ()
     specimen_file: str | None = None
+    provenance: dict = field(default_factory=dict)
 
     @property
     def values(self) -> dict:
@@ -240,6 +255,7 @@ class Calibration:
                 "stages": self.stages,
                 "n_simulations": self.n_simulations,
                 "wall_time_s": self.wall_time_s,
+                "provenance": self.provenance,
                 "warnings": list(self.warnings),
             }
         )
@@ -267,6 +283,15 @@ class Calibration:
         sources = ", ".join(n["source"] for n in self.nuisance.values())
         cp = f"; C_p = {vals['cp']:.6g} kg m/rad/s" if self.impact != "CIM" else ""
         note = f"calibrated ({self.impact}{cp}; status {self.status}) against {sources}"
+        given = [n for n, p in self.provenance.items() if p["status"] == "given"]
+        est = [n for n, p in self.provenance.items() if p["status"] in ("estimated", "ill-posed")]
+        spec_fixed = [
+            n for n, p in self.provenance.items()
+            if p["status"] == "fixed by the specimen file" and n != "structure"
+        ]  # fmt: skip
+        for label, names in (("given", given), ("estimated", est), ("fixed", spec_fixed)):
+            if names:
+                note += f"; {label}: {', '.join(names)}"
         tables, comments = {}, {}
         if {"r_er", "r_el"} & set(self.parameters):
             n = sum(len(v["impacts"]) for v in self.nuisance.values())
@@ -335,8 +360,9 @@ def calibrate(
     traces,
     structure=None,
     impact: str = "DD2",
-    fit=("r_er", "r_el", "cp"),
+    fit=None,
     *,
+    given=None,
     start=None,
     bounds=None,
     channels=None,
@@ -362,7 +388,13 @@ def calibrate(
         deviations in the window, see `per_impact`).
     fit : sequence of str or str, optional
         Some of `FITTABLE`: "r_er", "r_el", "cp", "zeta1", "zeta2" (or a comma list).
-        "cp" needs a Dirac-delta model.
+        "cp" needs a Dirac-delta model. Default: every parameter not `given` (C_p not
+        for CIM), less those the traces cannot show (a corner mean without an impact on
+        its corner, C_p without an impact: the specimen's value, said so in
+        `provenance`); named explicitly, the others are fixed at the specimen's values.
+    given : mapping, optional
+        Parameters the user knows (name → value): used as they are, not fitted, and
+        reported as given.
     start : mapping, optional
         Start values (default: the specimen's means and damping, Table 2's C_p).
     bounds : mapping, optional
@@ -407,7 +439,13 @@ def calibrate(
     wall = time.perf_counter()
     st, loaded = structure_of(traces, structure)
     impact = model_of(impact)
-    pset = parameter_set(fit, impact, st.specimen, start, bounds)
+    given = checked_given(given, impact, st.specimen)
+    if fit is None and not default_fit(impact, given):
+        raise InputError(
+            f"`given` gives every parameter ({', '.join(given)}): nothing is left to "
+            "calibrate; give fewer"
+        )
+    pset = parameter_set(fit, impact, st.specimen, start, bounds, given)
     options = _options(dict(options))
     oversample = v.integer("oversample", oversample, low=4, high=200)
     theta_min = v.positive("theta_min", theta_min, "rad")
@@ -416,7 +454,19 @@ def calibrate(
         raise InputError(f"`per_impact` = {per_impact!r}: expected True or False")
     if progress is not None and not isinstance(progress, bool):
         raise InputError(f"`progress` = {progress!r}: expected True, False or None")
-    cs = cases(loaded, st, pset.fit, channels, theta_min)
+    dropped = {}
+    if fit is None:  # every parameter not given that the traces can show
+        cs = cases(loaded, st, (), channels, theta_min)
+        names, dropped = showable(cs, pset.fit, st, theta_min)
+        if not names:
+            raise InputError(
+                "the traces show none of the parameters not given ("
+                + "; ".join(f"{n}: {why}" for n, why in dropped.items())
+                + "); give a test that rocks longer or lower theta_min (--theta-min)"
+            )
+        pset = parameter_set(names, impact, st.specimen, start, bounds, given)
+    else:
+        cs = cases(loaded, st, pset.fit, channels, theta_min)
     sim = Simulator(st, impact, oversample, options)
     sigma_r = float(st.specimen.sigma_r) if st.specimen.sigma_r > 0 else 0.025
     p0 = Problem(sim, pset, [c.upto(history) for c in cs], 2, False, sigma_r)
@@ -434,9 +484,11 @@ def calibrate(
             s2 = stage2(sim, pset, cs, per_impact, sigma_r, s1.values, _MAX_NFEV[2], history)
         except (SolverError, TrialRejected) as err:
             fields = result.failed(st, impact, pset, cs, before, str(err), sim, wall)
+            fields["provenance"] = result.provenance(fields, impact, given, dropped, st)
             return Calibration(**fields, specimen_file=_specimen_file(structure, loaded))
         bar.update(n_est)
     fields = result.assemble(st, impact, pset, cs, before, (s1, s2), sim, wall)
+    fields["provenance"] = result.provenance(fields, impact, given, dropped, st)
     return Calibration(**fields, specimen_file=_specimen_file(structure, loaded))
 
 

@@ -251,6 +251,35 @@ class OperationalModes:
     source: str
     warnings: tuple = ()
 
+    def parameters(self) -> dict:
+        """Where each quantity of the result comes from (`_parameter_status`): the
+        frequencies, damping ratios and shapes are *estimated* from the accelerations
+        alone (no model is fitted: operational modes do not depend on C_p, the
+        restitution or the model's damping, which are *not used*); the model's modes
+        they are paired and compared with (MAC) come from the specimen's geometry,
+        masses and stiffnesses (*fixed by the specimen file*), as do its damping ratios
+        shown beside them."""
+        from ._parameter_status import estimated_note, fixed, not_used, structure_fixed
+
+        spec = self.structure.specimen
+        unused = "operational modes are identified from the accelerations without a model run"
+        return {
+            "modes": estimated_note(
+                "frequencies, damping ratios and shapes of each phase, with their spread "
+                "over the segments"
+            ),
+            "sensor_bias": estimated_note("removed with each segment's polynomial"),
+            "cp": not_used(unused, "C_p of the Dirac-delta impact force"),
+            "restitution": not_used(unused, "coefficients of restitution"),
+            "model_damping": fixed(
+                [float(spec.zeta_1), float(spec.zeta_2)],
+                "the model's Rayleigh damping ratios, shown beside the identified ones",
+            ),
+            "structure": fixed(
+                structure_fixed(spec), "the model's modes the identified ones are compared with"
+            ),
+        }
+
     def phases(self) -> list[IdentifiedModes]:
         """The phases identified (rocking first)."""
         return [p for p in (self.rocking, self.full_contact) if p is not None]
@@ -284,6 +313,7 @@ class OperationalModes:
                     None if self.full_contact is None else self.full_contact.to_dict()
                 ),
                 "paper": paper,
+                "parameters": self.parameters(),
                 "warnings": list(self.warnings),
             }
         )
