@@ -26,6 +26,7 @@ The truths (from the truth file of `multimass.identify.synthetic_trace`):
 
 from __future__ import annotations
 
+import inspect
 import math
 import time
 
@@ -226,8 +227,11 @@ def calibration_rows(cal, truth: dict) -> list[dict]:
     mean_r, mean_l, _ = _pooled(matched)
     means = truth["restitution"]["means"]
     sample = {"r_mean_right": (mean_r, means["right"]), "r_mean_left": (mean_l, means["left"])}
+    prov = getattr(cal, "provenance", None) or {}
     for name, p in cal.parameters.items():
         q = _CAL_NAMES.get(name, name)
+        if prov.get(name, {}).get("status") in ("estimated", "ill-posed"):
+            p = prov[name]  # the std and interval the result reports for it
         tr, nom = sample[q] if q in sample else (_truth_of(q, truth), _NAN)
         unc = _interval(p)
         if "status" not in unc:
@@ -258,9 +262,11 @@ def run_case(draw: Draw, records_dir=None, with_calibrate: bool = False) -> dict
     runs = [("restitution", lambda: restitution(syn.trace, draw.specimen, draw.family,
                                                  progress=False), restitution_rows)]  # fmt: skip
     if with_calibrate:
-        fit = tuple(n for n in FITTABLE if draw.family == "DD" or n != "cp")
+        kw = {"fit": _everything(draw)}
+        if inspect.signature(calibrate).parameters["fit"].default is None:
+            kw = {}  # its default: every parameter not given (those the traces show)
         runs.append(("calibrate", lambda: calibrate(syn.trace, draw.specimen, _cal_model(draw),
-                                                    fit=fit, progress=False), calibration_rows))  # fmt: skip
+                                                    progress=False, **kw), calibration_rows))  # fmt: skip
     for name, call, extract in runs:
         t0 = time.perf_counter()
         try:
@@ -275,6 +281,11 @@ def run_case(draw: Draw, records_dir=None, with_calibrate: bool = False) -> dict
             rows.append({"case": draw.case, "specimen": draw.specimen, "kind": draw.kind,
                          "estimator": name, **row})  # fmt: skip
     return {"case": case, "rows": rows}
+
+
+def _everything(draw: Draw) -> tuple:
+    """Every parameter `calibrate` can fit for the family (C_p only for Dirac-delta)."""
+    return tuple(n for n in FITTABLE if draw.family == "DD" or n != "cp")
 
 
 def _cal_model(draw: Draw) -> str:
