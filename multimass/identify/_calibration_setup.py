@@ -26,7 +26,7 @@ from ..traces import Trace, read_trace
 from ._trace_checks import above_passband, check_ag, no_rocking, require_sensors
 from .segments import segment_trace
 
-__all__ = ["Case", "cases", "structure_of", "check_fit", "showable"]
+__all__ = ["Case", "cases", "structure_of", "check_fit", "showable", "modes_shown"]
 
 
 # ---------------------------------------------------------------------------- the traces
@@ -324,14 +324,10 @@ def check_fit(out: list, fit, st: Structure, theta_min: float) -> None:
     _check_damping(out, [n for n in ("zeta1", "zeta2") if n in fit], st)
 
 
-def _check_damping(out: list, asked: list, st: Structure) -> None:
-    """Rayleigh damping sets each mode's decay from ζ1 and ζ2: fitting k of them needs k
-    modes that the traces show (below `PASSBAND` × their sampling rates; the uplifted
-    modes in the rocking, the full-contact ones with table motion or in a free trace's
-    stretches of full contact after the rocking has died out, where `multimass identify`
-    finds them too)."""
-    if not asked:
-        return
+def modes_shown(out: list, st: Structure) -> tuple[set, dict]:
+    """(the modes the traces show: {(Hz, "uplifted mode j")}, those they do not → why):
+    the uplifted modes in the rocking, the full-contact ones with table motion or in a
+    free trace's stretches of full contact, each below `PASSBAND` × the trace's rate."""
     model = analyse(st)
     shown, hidden = set(), {}
     for c in out:
@@ -346,10 +342,23 @@ def _check_damping(out: list, asked: list, st: Structure) -> None:
                     shown.add(key)
                 else:
                     hidden.setdefault(key, f"{c.trace.source}: {why}")
+    hidden = {k: w for k, w in hidden.items() if k not in shown}
+    return shown, hidden
+
+
+def _check_damping(out: list, asked: list, st: Structure) -> None:
+    """Rayleigh damping sets each mode's decay from ζ1 and ζ2: fitting k of them needs k
+    modes that the traces show (below `PASSBAND` × their sampling rates; the uplifted
+    modes in the rocking, the full-contact ones with table motion or in a free trace's
+    stretches of full contact after the rocking has died out, where `multimass identify`
+    finds them too)."""
+    if not asked:
+        return
+    shown, hidden = modes_shown(out, st)
     if len(shown) >= len(asked):
         return
     seen = ", ".join(f"{name} ({f:.4g} Hz)" for f, name in sorted(shown)) or "none"
-    rest = sorted((k, w) for k, w in hidden.items() if k not in shown)
+    rest = sorted(hidden.items())
     (_, name), why = rest[0] if rest else ((0.0, "mode"), "none: the model has no more modes")
     raise InputError(
         f"`fit` has {', '.join(asked)}: the Rayleigh damping ratios set the decay of the "

@@ -39,6 +39,9 @@ STRUCTURE_FIELDS = ("heights", "masses", "m0", "J0", "B", "E_s", "I_s", "K_rot",
                     "sensors")  # fmt: skip
 
 
+_LOG_STD_MAX = 50.0  # a log's std beyond which exp() of the interval overflows
+
+
 def given(value: float, what: str = "") -> dict:
     """A parameter the user gave."""
     return {"status": GIVEN, "value": float(value), "std": None, "interval": None, "what": what}
@@ -65,8 +68,8 @@ def estimated(value: float, std: float, log: bool = False, what: str = "") -> di
     """A parameter estimated from the traces: `std` is that of the value, or of its
     logarithm if `log`; the interval is the 95 % one."""
     s = float(std)
-    if not math.isfinite(s):
-        interval, s_value = None, math.inf
+    if not math.isfinite(s) or (log and s > _LOG_STD_MAX):  # no interval to speak of
+        interval, s_value = None, (value * s if math.isfinite(s) else math.inf)
     elif log:
         interval = [value * math.exp(-Z95 * s), value * math.exp(Z95 * s)]
         s_value = value * s

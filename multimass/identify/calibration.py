@@ -1,16 +1,21 @@
 """Calibration of a rocking-column model against shake-table traces (issue 14, item 4).
 
-`calibrate` fits some of a column's model parameters — the corner means of the
-coefficient of restitution r̄_er, r̄_el (``r_er``, ``r_el``; paper 001 Table 1), the
-C_p of the Dirac-delta impact force (``cp``; paper 001 Eq 15) and the Rayleigh damping
-ratios (``zeta1``, ``zeta2``) — to one or more recorded traces (θ and the sensors'
-accelerations) by least squares (`scipy.optimize.least_squares`, trust-region
-reflective, bounds), simulating with the compiled backend. Each trace also has
-nuisance parameters, fitted and reported: its clock offset (the trace time of the
-release, ``t_offset``), the bias of its θ sensor, the release angle θ0 of a free
-vibration (a trace without ``ag``; with ``ag`` the table motion is the excitation,
-from rest, on the trace's clock) and each accelerometer's bias (eliminated in closed
-form: the mean residual).
+`calibrate` fits a column's model parameters — the corner means of the coefficient of
+restitution r̄_er, r̄_el (``r_er``, ``r_el``; paper 001 Table 1), the C_p of the
+Dirac-delta impact force (``cp``; paper 001 Eq 15, not for CIM, which has none) and
+the Rayleigh damping ratios (``zeta1``, ``zeta2``): by default every one the user did
+not give (``given=``, ``--given``, ``--cp``, ``--zeta1``, ``--zeta2``), so that no
+value of the specimen file or of Table 2 stands in for an unknown; a fit list named
+explicitly (``fit=``) fixes the others at the specimen's values, and the result says
+so (`Calibration.provenance`: given, estimated with std and 95 % interval, ill-posed
+with the reason, fixed by the specimen file, not used) — to one or more recorded
+traces (θ and the sensors' accelerations) by least squares
+(`scipy.optimize.least_squares`, trust-region reflective, bounds), simulating with the
+compiled backend. Each trace also has nuisance parameters, fitted and reported: its
+clock offset (the trace time of the release, ``t_offset``), the bias of its θ sensor,
+the release angle θ0 of a free vibration (a trace without ``ag``; with ``ag`` the
+table motion is the excitation, from rest, on the trace's clock) and each
+accelerometer's bias (eliminated in closed form: the mean residual).
 
 The objective, and the measurements behind it
 ----------------------------------------------
@@ -80,7 +85,8 @@ autocorrelation (`multimass.identify._calibration_stats`); for the means the dat
 columns are replaced by the prior's (`_per_impact_means`). A fitted parameter whose
 std exceeds 0.02 (restitution) or 25 % (C_p, ζ), that sits on a bound, or that is
 correlated beyond 0.98 with another is reported as not constrained, and the status is
-then "ill-posed"; residuals that are not white (lag-1 autocorrelation above 0.5 in a
+then "ill-posed" (C_p's reported std has `CP_REL_FLOOR`, 1 %, added in quadrature: the
+model's error, measured); residuals that are not white (lag-1 autocorrelation above 0.5 in a
 channel) make it "misfit" (see `STATUSES`).
 
 >>> from multimass import FreeRelease

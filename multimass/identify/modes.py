@@ -48,6 +48,11 @@ the full-contact modes, compared with the full-contact shapes v_n:
   f2, barely excited by then, −0.06…+0.27 % (fit, MAC ≥ 0.96) against −0.06…+0.77 %
   or not found (FFT).
 
+No model is run: the operational modes depend on no C_p, restitution or damping
+of the model, estimated or not; the model's modes they are compared with (and its
+damping shown beside theirs) come from the specimen file (`OperationalModes.parameters`,
+``parameters`` in the JSON, says which is which).
+
 So the fit is the default (``method="fit"``): two to three times more precise per
 half-cycle, and the only one whose damping can be used. (On a noiseless trace every
 half-cycle's uplifted f1 sits +0.10 % (S1) and +0.25 % (S2) above the model's whatever
