@@ -12,7 +12,7 @@ import pandas as pd
 from . import _parameter_status as ps
 from ._calibration_fit import Problem
 from ._calibration_params import PARAMETERS
-from ._calibration_stats import CP_REL_FLOOR, covariance, flags, status_of
+from ._calibration_stats import MODEL_REL_FLOOR, covariance, flags, status_of
 from ._calibration_views import channel_metrics, feature_errors, view
 
 __all__ = ["assemble", "failed", "views", "provenance"]
@@ -295,8 +295,8 @@ def provenance(fields: dict, impact: str, given: dict, dropped: dict, st) -> dic
         elif name in fitted:
             f = fitted[name]
             std = f["std"] / f["value"] if par.log and f["value"] > 0 else f["std"]
-            if name == "cp":  # the model's error, beyond the noise's (`CP_REL_FLOOR`)
-                std = math.hypot(std, CP_REL_FLOOR)
+            if par.log:  # C_p, ζ: the model's error, beyond the noise's (`MODEL_REL_FLOOR`)
+                std = math.hypot(std, MODEL_REL_FLOOR)
             entry = ps.estimated(f["value"], std, log=par.log, what=par.what)
             if not f["constrained"]:
                 entry["status"] = ps.ILL_POSED

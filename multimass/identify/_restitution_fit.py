@@ -6,8 +6,10 @@ come from calibration: the runs are `_calibration_model.Simulator`'s (recorded a
 least-squares window is a `_calibration_fit.Problem` solved by
 `_calibration_fit.solve`, and the standard errors are `_calibration_stats.covariance`'s.
 Here the unknowns are the coefficients of single impacts — by their index in the
-simulation, matched to the trace's impacts by time — and the trace's nuisance
-parameters (θ0, clock offset, θ bias).
+simulation, matched to the trace's impacts by time —, the model's parameters not
+given (C_p, ζ1, ζ2 as their logarithms, with calibration's bounds and steps:
+`Track.estimate`) and the trace's nuisance parameters (θ0, clock offset, θ bias);
+`parameter_report` says, for each, whether it was given, estimated or ill-posed.
 """
 
 from __future__ import annotations
@@ -22,7 +24,7 @@ from ._calibration_fit import _T_MARGIN, Problem, Unknown, solve
 from ._calibration_model import Simulator, TrialRejected
 from ._calibration_params import PARAMETERS, parameter_set
 from ._calibration_setup import Case, cases, modes_shown
-from ._calibration_stats import CP_REL_FLOOR, LIMITS, covariance
+from ._calibration_stats import LIMITS, MODEL_REL_FLOOR, covariance
 
 __all__ = [
     "Track",
@@ -644,8 +646,8 @@ def _damping_shown(track: Track, out: dict) -> None:
 def _entry(track: Track, name: str, log: bool, limit, partners: dict, what: str) -> dict:
     value = track.phys[name] if log else track.nuis[name]
     std = track.std[name]
-    if name == "cp":  # the model's error, beyond the noise's (measured: `CP_REL_FLOOR`)
-        std = math.hypot(std, CP_REL_FLOOR)
+    if log:  # C_p, ζ: the model's error, beyond the noise's (measured: `MODEL_REL_FLOOR`)
+        std = math.hypot(std, MODEL_REL_FLOOR)
     entry = ps.estimated(value, std, log=log, what=what)
     why = ps.ill_posed_reasons(std, limit, partners.get(name, {}), log=log)
     if why:

@@ -85,9 +85,9 @@ autocorrelation (`multimass.identify._calibration_stats`); for the means the dat
 columns are replaced by the prior's (`_per_impact_means`). A fitted parameter whose
 std exceeds 0.02 (restitution) or 25 % (C_p, ζ), that sits on a bound, or that is
 correlated beyond 0.98 with another is reported as not constrained, and the status is
-then "ill-posed" (C_p's reported std has `CP_REL_FLOOR`, 1 %, added in quadrature: the
-model's error, measured); residuals that are not white (lag-1 autocorrelation above 0.5 in a
-channel) make it "misfit" (see `STATUSES`).
+then "ill-posed" (C_p's and ζ's reported std have `MODEL_REL_FLOOR`, 1.5 %, added in
+quadrature: the model's error, measured); residuals that are not white (lag-1
+autocorrelation above 0.5 in a channel) make it "misfit" (see `STATUSES`).
 
 >>> from multimass import FreeRelease
 >>> from multimass.identify import synthetic_trace

@@ -25,7 +25,11 @@ to 0.036 on single impacts on noiseless synthetic S1–S3 traces).
 anti-alias filter (`_calibration_model.Simulator`, shared with `calibrate`) — and the
 coefficients are fitted so that θ and the accelerations (the channels of the
 specimen's sensors the trace has; each weighted by its residual RMS, a sensor's bias
-taken out as its mean) match the trace (`multimass.identify._restitution_fit`):
+taken out as its mean) match the trace (`multimass.identify._restitution_fit`). The
+model's parameters the user did not give — C_p of the Dirac-delta force (paper 001
+Eq 15; not for CIM, which has none) and the Rayleigh damping ratios ζ1, ζ2 — are
+unknowns too, estimated from the same trace; neither Table 2's C_p nor the specimen
+file's damping stands in for them (they only start the search):
 
 1. *Alignment*: the release angle θ0 and the clock offset by least squares on the
    samples before the first impact (no restitution acts there), θ first, then every
@@ -39,9 +43,17 @@ taken out as its mean) match the trace (`multimass.identify._restitution_fit`):
    it; for the Dirac-delta models up to 65 ms before it, where r_{k+1}'s force acts),
    with θ0, the clock offset and the θ bias while the window starts at the release.
    A window whose fit stays above the noise is scanned again in steps of 0.002.
-3. *Everything together*: least squares on every fitted r, θ0, the clock offset and
-   the θ bias over the whole span — the windows held the earlier values, and a clock
-   0.09 ms off shifted later coefficients by up to 0.006 (S2).
+   *The model's parameters* come first with the first impact: C_p is scanned on its
+   spike (0.1 s after it, r_0 held: factors 0.5–2 of the start, then steps of 6 %),
+   then C_p, ζ1 and ζ2 are fitted with r_0 over its half-cycle; after the first 4
+   impacts, least squares of C_p, ζ, their r, θ0, the clock offset and the θ bias
+   together, and those 4 impacts are fitted once more one by one with C_p and ζ held.
+   (Held at Table 2's C_p, a trace made with 1.4 × it gave r up to 0.10 off, 200 of
+   their own std; least squares alone from there stopped at C_p 2345 for 2450 with r
+   0.03–0.13 off: each r has its own valley, which the scans find once C_p is near.)
+3. *Everything together*: least squares on every fitted r, C_p, ζ1, ζ2, θ0, the clock
+   offset and the θ bias over the whole span — the windows held the earlier values,
+   and a clock 0.09 ms off shifted later coefficients by up to 0.006 (S2).
 
 The fit goes two impacts past the last estimated one, so that the last ones are set
 by the time of the impact after them. Each r_k is the coefficient the *chosen impact
@@ -59,7 +71,8 @@ recorded through the anti-alias filter, and its clock was 4 ms off).
 
 **Standard errors (`r_std`).** From the Jacobian of the last fit
 (`_calibration_stats.covariance`: each channel whitened by its residual RMS and
-inflated by its residuals' lag-1 autocorrelation), plus 5e-4 in quadrature (the fit's
+inflated by its residuals' lag-1 autocorrelation; every unknown free, so that the
+r_std are marginal — they carry C_p's and ζ's uncertainty), plus 5e-4 in quadrature (the fit's
 error beyond the noise's — the clock and θ0 trade off with the coefficients, the runs
 are recorded at 10 × the rate where the synthetic traces are at 40 × — measured up to
 0.0013 where the noise alone gives 1e-5–5e-4), plus 0.002 where the simulation
@@ -79,6 +92,19 @@ an otherwise idle 2-core machine): 4–8 s for S1, 12–24 s for S2 (up to 19 im
 fitted, about 500 runs), 6–13 s for S3.
 θ alone (S1 DD2, 5 s): errors up to 0.003 for half-cycles ≥ 0.025 rad and 0.026 at
 0.012 rad, with r_std 0.002–0.017 that covers them.
+
+**What the result says** (`RestitutionEstimate.parameters`, in the JSON, the text and
+the fragment's comments): each of C_p, ζ1, ζ2 is *given* (by the user: ``C_p=``,
+``zeta1=``, ``zeta2=``; ``--cp``, ``--zeta1``, ``--zeta2``), *estimated* (value, std,
+95 % interval; C_p's and ζ's std with `_calibration_stats.MODEL_REL_FLOOR`, 1.5 %, for
+the model's error, measured) or *ill-posed* (std beyond 25 %, correlated beyond 0.98
+with a named unknown, or a damping ratio beyond the modes the trace shows below its
+anti-alias passband: S2 at 200 Hz shows its 20.5 Hz mode alone); θ0, the clock offset,
+the θ bias and each accelerometer's bias are estimated; the column's geometry, masses
+and stiffnesses are *fixed by the specimen file*. The status is ``ill-posed`` naming
+what the trace does not fix, else ``estimated``. The written specimen takes the
+estimated damping (its ``[damping]``), and names C_p in its comment (a specimen file
+holds no C_p).
 
 Impacts between half-cycles whose peaks are both ≥ `theta_min` (0.01 rad, the
 paper's rule) and whose r the trace fixes (r_std ≤ 0.02) are *estimated*; the
