@@ -235,7 +235,7 @@ def _fig_coverage(est, plt):
         ax.axhline(95, color="k", ls="--", lw=1, label="95 % (nominal)")
         ax.axhline(90, color="r", ls=":", lw=1, label="90 % (asked)")
         ax.set_xticks(range(len(qs)))
-        ax.set_xticklabels([QUANTITIES[q].label for q in qs], fontsize=8)
+        ax.set_xticklabels([QUANTITIES[q].label for q in qs], fontsize=8, rotation=15, ha="right")
         ax.set_ylim(0, 118)
         ax.set_ylabel("truth inside the 95 % interval (%)")
         ax.set_title(
