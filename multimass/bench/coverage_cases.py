@@ -143,6 +143,12 @@ def _uncertainties(est) -> dict:
         lo, hi = _getter(est, f"{q}_lo"), _getter(est, f"{q}_hi")
         if std is not None or lo is not None:
             out[q] = {"std": std, "lo": lo, "hi": hi}
+    per_corner = getattr(est, "r_mean_std", None)  # corner → {std, interval, n} or None
+    if isinstance(per_corner, dict):
+        for corner in ("right", "left"):
+            entry = per_corner.get(corner)
+            if isinstance(entry, dict) and entry.get("std") is not None:
+                out[f"r_mean_{corner}"] = _interval(entry)
     return out
 
 

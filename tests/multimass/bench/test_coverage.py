@@ -227,3 +227,8 @@ def test_parameters_the_estimate_reports_are_compared_with_their_truth():
     assert s.loc[("S1", "cp"), "n_ill_posed"] == 1 and s.loc[("S1", "cp"), "coverage"] == 1.0
     assert math.isnan(s.loc[("S1", "cp"), "coverage_not_ill_posed"])  # its only one is
     assert s.loc[("S1", "theta0"), "coverage"] == 0.0  # 0.1 is outside [0.0993, 0.0997]
+    # the corner means' std and interval, where the estimate reports them
+    est.r_mean_std = {"right": None, "left": {"std": 0.01, "interval": [0.835, 0.875], "n": 2}}
+    rows = pd.DataFrame(restitution_rows(est, truth)).set_index("quantity")
+    assert (rows.loc["r_mean_left", "lo"], rows.loc["r_mean_left", "hi"]) == (0.835, 0.875)
+    assert math.isnan(rows.loc["r_mean_right", "std"])
