@@ -116,6 +116,12 @@ def run(args) -> int:
         f"r̄_er = {est.r_mean_right:.4f}, r̄_el = {est.r_mean_left:.4f}, σ_r = {est.sigma_r:.4f} "
         f"(energy estimate: {e['r_mean_right']:.4f}, {e['r_mean_left']:.4f}, {e['sigma_r']:.4f})"
     )
+    sd = {c: m["std"] for c, m in est.r_mean_std.items() if m}
+    if sd:
+        print(
+            "std of the corner means (as the means of the impacts they average): "
+            + ", ".join(f"{c} {x:.4f}" for c, x in sd.items())
+        )
     print(f"status: {est.status} — {est.message}")
     shown = {k: p for k, p in est.parameters.items() if k not in ("structure", "sensor_bias")}
     for line in lines(shown):

@@ -96,6 +96,9 @@ def _parameters(pset, p2, x, cov, rough) -> tuple[dict, dict]:
         if r and not r["trusted"]:
             secant = std[i] * r["jacobian_norm"] / max(r["secant_norm"], 1e-300)
             std[i] = max(std[i], secant, r["step"])
+    for i, name in enumerate(pset.fit):  # C_p, ζ: the model's error, beyond the noise's
+        if PARAMETERS[name].log and math.isfinite(std[i]):
+            std[i] = math.hypot(std[i], MODEL_REL_FLOOR)
     with np.errstate(invalid="ignore", divide="ignore"):
         corr = cov[:n, :n] / np.outer(np.sqrt(np.diag(cov)[:n]), np.sqrt(np.diag(cov)[:n]))
     flagged = flags(pset.fit, x[:n], std, corr, pset.bounds)
@@ -295,8 +298,6 @@ def provenance(fields: dict, impact: str, given: dict, dropped: dict, st) -> dic
         elif name in fitted:
             f = fitted[name]
             std = f["std"] / f["value"] if par.log and f["value"] > 0 else f["std"]
-            if par.log:  # C_p, ζ: the model's error, beyond the noise's (`MODEL_REL_FLOOR`)
-                std = math.hypot(std, MODEL_REL_FLOOR)
             entry = ps.estimated(f["value"], std, log=par.log, what=par.what)
             if not f["constrained"]:
                 entry["status"] = ps.ILL_POSED

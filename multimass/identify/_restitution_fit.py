@@ -34,6 +34,7 @@ __all__ = [
     "fit_impacts",
     "MODEL_PARAMETERS",
     "parameter_report",
+    "mean_std",
 ]
 
 R_LOW = 0.05  # lowest coefficient tried (PerImpact's clip)
@@ -108,6 +109,8 @@ class Track:
     correlation : dict
         After `fit_impacts`: (label, label) → correlation of the pairs of unknowns
         correlated beyond `LIMITS["correlation"]`.
+    covariance : dict
+        After `fit_impacts`: (label, label) → covariance of the last fit's unknowns.
     """
 
     sim: Simulator
@@ -120,6 +123,7 @@ class Track:
     estimate: tuple = ()
     std: dict = field(default_factory=dict)
     correlation: dict = field(default_factory=dict)
+    covariance: dict = field(default_factory=dict)  # (label, label) → of the last fit
 
     @property
     def t(self) -> np.ndarray:
@@ -546,6 +550,9 @@ def fit_impacts(track: Track, n_fit: int, bar, warnings: list) -> dict:
     labels = [un.label for un in p.unknowns]
     sd = np.sqrt(np.clip(np.diag(cov), 0.0, np.inf))
     track.std = {lab: float(x) for lab, x in zip(labels, sd)}
+    track.covariance = {
+        (a, b): float(cov[i, j]) for i, a in enumerate(labels) for j, b in enumerate(labels)
+    }
     with np.errstate(invalid="ignore", divide="ignore"):
         corr = cov / np.outer(sd, sd)
     track.correlation = {
@@ -674,3 +681,21 @@ def _sensor_biases(track: Track) -> dict:
     entry = {"status": ps.ESTIMATED, "value": values, "std": stds, "interval": None,
              "what": "each accelerometer's bias (m/s²): its mean residual"}  # fmt: skip
     return entry
+
+
+def mean_std(track: Track, rows, weights) -> float:
+    """The standard deviation of the weighted mean Σ w_k r_k / Σ w_k of the estimated
+    impacts `rows` (``model_impact``, ``r_std``) from the last fit's covariance (every
+    unknown free, so C_p's and ζ's uncertainty is in it; each r's own variance its
+    r_std², with the floors), correlations between impacts included."""
+    w = np.asarray(weights, dtype=float)
+    ks = [int(k) for k in rows["model_impact"]]
+    sd = rows["r_std"].to_numpy(dtype=float)
+    if not ks or w.sum() <= 0.0:
+        return math.nan
+    c = np.diag(sd**2)
+    for i, a in enumerate(ks):
+        for j, b in enumerate(ks):
+            if i != j:
+                c[i, j] = track.covariance.get((f"r[{a}]", f"r[{b}]"), 0.0)
+    return float(math.sqrt(max(w @ c @ w, 0.0)) / w.sum())

@@ -82,16 +82,27 @@ small half-cycles, whose misfit then has valleys ±0.002 wide in r; errors up to
 
 **Measured** (`benchmarks/identify_restitution.py`: synthetic S1, S2, S3
 free-vibration traces, 0.11 rad release, 10 s, DD2 and CIM, noise 2 % of peak,
-200 Hz, seeds 1–3; the model fitted is the trace's family): for every impact whose
-half-cycles are both ≥ 0.01 rad (8–17 per trace) the model-based r is within 0.0057
-of the truth (0.0013 for the Dirac-delta traces; 0.0057 at 0.03 rad where S2's CIM
-run bounces), the corner means within 0.0009 of the mean truth of the impacts they
-average, and 207 of 208 estimated impacts within 2.5 r_std. The energy estimate is
-off by −0.007 … −0.039 on average and up to 0.23 on single impacts. Run time (wall,
-an otherwise idle 2-core machine): 4–8 s for S1, 12–24 s for S2 (up to 19 impacts
-fitted, about 500 runs), 6–13 s for S3.
-θ alone (S1 DD2, 5 s): errors up to 0.003 for half-cycles ≥ 0.025 rad and 0.026 at
-0.012 rad, with r_std 0.002–0.017 that covers them.
+200 Hz, seeds 1–3; the model fitted is the trace's family, C_p and damping those of
+the specimen file and Table 2 and given): for every impact whose half-cycles are both
+≥ 0.01 rad (8–17 per trace) the model-based r is within 0.0057 of the truth (0.0013
+for the Dirac-delta traces; 0.0057 at 0.03 rad where S2's CIM run bounces), the
+corner means within 0.0009 of the mean truth of the impacts they average, and 207 of
+208 estimated impacts within 2.5 r_std. The energy estimate is off by −0.007 … −0.039
+on average and up to 0.23 on single impacts.
+
+*Nothing given* (C_p, ζ1, ζ2 estimated; the same benchmark with ``--cp-factor``,
+``--zeta-factors``, ``--fs``, ``--t-end``, ``--theta0``: nine synthetic DD2 traces of
+S1, S2, S3 with C_p 0.6 and 1.4 × Table 2's 1750, four of them with ζ1, ζ2 0.5–1.5 ×
+the specimen's, 4–6 s, 200–1000 Hz, noise 1–5 %, release 0.06–0.15 rad): all 73
+estimated impacts within 0.0032 of the truth (within 7e-4 at noise ≤ 3 %), 72 within
+1.96 r_std, C_p within 2.5 % (0.7 % at noise ≤ 3 %). Held at Table 2's C_p the same
+fit was off by up to 0.10 on S1 at 1.4 × (14 % within 0.015, r_std covering 14 %). Run
+time (CPU of the process, 5 s traces at 200 Hz): 10.3–10.8 s with nothing given
+against 5.3–7.1 s with C_p and ζ given (the same fit, the specimen's values given); 47
+s for S2 at 1000 Hz. θ alone (S1 DD2, 5 s, C_p and ζ given): errors up to 0.003 for
+half-cycles ≥ 0.025 rad and 0.026 at 0.012 rad, with r_std 0.002–0.017 that covers
+them; nothing given (3 s), the damping is ill-posed (ζ2's relative std 6.7) and C_p
+2513 ± 356 for 2450, with every r within its r_std.
 
 **What the result says** (`RestitutionEstimate.parameters`, in the JSON, the text and
 the fragment's comments): each of C_p, ζ1, ζ2 is *given* (by the user: ``C_p=``,
@@ -141,7 +152,7 @@ from ..traces import Trace
 from . import _restitution_fit as fitting
 from ._calibration_params import PARAMETERS
 from ._calibration_stats import LIMITS
-from ._parameter_status import overall
+from ._parameter_status import Z95, overall
 from ._trace_checks import check_ag, no_rocking
 from .segments import THETA_MIN, Segments, require_trace, segment_trace
 
@@ -195,6 +206,10 @@ class RestitutionEstimate:
         ``sensor_bias`` and ``structure`` (`multimass.identify._parameter_status`).
     status, message : str
         ``estimated``, or ``ill-posed`` with the parameters the trace does not fix.
+    r_mean_std : dict
+        ``right``, ``left`` → ``std`` of the corner mean as the mean of the impacts it
+        averages (from the fit's covariance, C_p's and ζ's uncertainty in it),
+        ``interval`` (95 %), ``n``; None for a corner without an estimated impact.
     """
 
     impacts: pd.DataFrame
@@ -212,6 +227,7 @@ class RestitutionEstimate:
     parameters: dict = field(default_factory=dict)
     status: str = "estimated"
     message: str = ""
+    r_mean_std: dict = field(default_factory=dict)
 
     def model_values(self) -> dict:
         """The values of C_p and the damping ratios the coefficients are for (given,
@@ -314,6 +330,7 @@ class RestitutionEstimate:
                 "r_mean_right": self.r_mean_right,
                 "r_mean_left": self.r_mean_left,
                 "sigma_r": self.sigma_r,
+                "r_mean_std": self.r_mean_std,
                 "energy": self.energy_means,
                 "n_estimated": int(self.impacts["estimated"].sum()),
                 "alignment": self.alignment,
@@ -504,12 +521,33 @@ def restitution(
     align = {k: float(track.nuis[k]) for k in ("t_offset", "theta_bias", "theta0")}
     parameters = fitting.parameter_report(track, given, fitted, st.specimen)
     status, message = overall(parameters)
+    mean_std = _mean_stds(table, means, track)
     return RestitutionEstimate(
         table, *means, energy_means=dict(zip(("r_mean_right", "r_mean_left", "sigma_r"), energy)),
         alignment=align, structure=st, impact=impact, theta_min=seg.theta_min, segments=seg,
         response=final.response, warnings=tuple(warnings), parameters=parameters,
-        status=status, message=message,
+        status=status, message=message, r_mean_std=mean_std,
     )  # fmt: skip
+
+
+def _mean_stds(table: pd.DataFrame, means, track) -> dict:
+    """Per corner: ``std`` of its mean as the mean of its estimated impacts (their joint
+    covariance: `_restitution_fit.mean_std`, with `_means`' weights), ``interval`` (95 %)
+    and ``n``; None where the corner has no estimated impact. (As an estimate of the
+    corner's mean over further impacts add σ_r / √n in quadrature.)"""
+    est = table[table["estimated"]]
+    out = {}
+    for j, corner in enumerate(("right", "left")):
+        rows = est[est["corner"] == corner]
+        if rows.empty:
+            out[corner] = None
+            continue
+        w = 1.0 / (means[2] ** 2 + rows["r_std"].to_numpy(dtype=float) ** 2 + 1e-12)
+        sd = fitting.mean_std(track, rows, w)
+        out[corner] = {
+            "std": sd, "interval": [means[j] - Z95 * sd, means[j] + Z95 * sd], "n": len(rows)
+        }  # fmt: skip
+    return out
 
 
 def _given(st, impact: str, cp, zeta1, zeta2) -> dict:

@@ -48,6 +48,12 @@ def test_restitution_with_cp_40_percent_off_and_nothing_given(s1_cp_high, s1_est
     # estimating C_p: ≤ 6e-4
     assert np.max(np.abs(err)) <= 0.015
     assert np.mean(np.abs(err) <= 1.96 * rows["r_std"].to_numpy()) >= 0.8
+    for corner, mean in (("right", est.r_mean_right), ("left", est.r_mean_left)):
+        mine = rows["corner"] == corner
+        drawn = np.mean(truth[mine.to_numpy()])  # the mean truth of the impacts it averages
+        assert abs(mean - drawn) <= 0.01
+        lo, hi = est.r_mean_std[corner]["interval"]
+        assert lo <= drawn <= hi
     cp = est.parameters["cp"]
     assert cp["status"] == "estimated"
     assert abs(cp["value"] / (1.4 * TABLE_2_CP) - 1.0) <= 0.1
