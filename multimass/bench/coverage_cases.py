@@ -195,14 +195,15 @@ def _truth_of(q: str, truth: dict) -> float:
 
 
 def _nuisance_rows(align: dict, truth: dict, uncert: dict) -> list[dict]:
-    """θ0 (free vibration only), the clock offset and the θ bias beside their truths."""
+    """θ0 and the clock offset (free vibration only: with table motion the recorded
+    ``ag`` drives the model on the trace's own clock) and the θ bias beside their truths."""
     rows = []
     theta0 = _theta0(truth)
     for q, tr in (("theta0", theta0), ("t_offset", truth["t_offset"]),
                   ("theta_bias", truth["bias"]["values"]["theta"])):  # fmt: skip
         value = align.get(q)
-        if value is None or (q == "theta0" and tr is None):
-            continue
+        if value is None or (q in ("theta0", "t_offset") and theta0 is None):
+            continue  # table motion: no release; the model runs on the trace's clock
         unc = dict(uncert.get(q, {}))
         if f"{q}_std" in align:
             unc["std"] = align[f"{q}_std"]

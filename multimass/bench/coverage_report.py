@@ -24,6 +24,7 @@ from .coverage_stats import QUANTITIES, add_errors, summarise
 __all__ = ["write_report", "tables", "markdown"]
 
 _ESTIMATORS = ("restitution", "calibrate")
+_TRUSTED = ("estimated", "converged")  # run statuses that claim every parameter is fixed
 
 
 def tables(cases: list[dict]) -> tuple[pd.DataFrame, pd.DataFrame]:
@@ -33,13 +34,20 @@ def tables(cases: list[dict]) -> tuple[pd.DataFrame, pd.DataFrame]:
     meta = pd.DataFrame(case_rows)
     if est.empty:
         return est, meta
-    est = add_errors(est)
+    if "kind" in est:  # table motion runs on the trace's clock: no offset to compare
+        est = est[~((est["quantity"] == "t_offset") & (est["kind"] == "table"))]
+    est = add_errors(est.reset_index(drop=True))
     keep = ["case", "cp", "cp_table", "fs", "noise", "sigma_r", "zeta1", "zeta2"]
     drawn = meta[[k for k in keep if k in meta]].rename(
         columns={k: f"drawn_{k}" for k in keep if k != "case"}
     )
     est = est.merge(drawn, on="case", how="left")
     est["cp_ratio"] = est["drawn_cp"] / est["drawn_cp_table"]
+    status = {}  # (case, estimator) → the run's status ("estimated", "ill-posed", ...)
+    for name in _ESTIMATORS:
+        if f"{name}_status" in meta:
+            status |= {(c, name): st for c, st in zip(meta["case"], meta[f"{name}_status"])}
+    est["run_status"] = [status.get(k) for k in zip(est["case"], est["estimator"])]
     return est, meta
 
 
@@ -129,7 +137,10 @@ def write_report(out, facts: dict | None = None) -> dict:
     cases = read_results(out)
     est, meta = tables(cases)
     summary = summarise(est) if not est.empty else pd.DataFrame()
+    trusted = pd.DataFrame()  # the runs whose result says every parameter was estimated
     if not est.empty:
+        ok = est[est["run_status"].isin(_TRUSTED)]
+        trusted = summarise(ok, by_specimen=False) if not ok.empty else trusted
         est.to_csv(out / "estimates.csv", index=False)
         try:
             est.to_parquet(out / "estimates.parquet", index=False)
@@ -147,10 +158,23 @@ def write_report(out, facts: dict | None = None) -> dict:
     result = {
         "facts": all_facts,
         "summary": json.loads(summary.to_json(orient="records")) if not summary.empty else [],
+        "summary_runs_not_ill_posed": json.loads(trusted.to_json(orient="records"))
+        if not trusted.empty
+        else [],
         "charts": charts,
     }
     (out / "summary.json").write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
-    (out / "coverage.md").write_text(markdown(summary, meta, all_facts), encoding="utf-8")
+    text = markdown(summary, meta, all_facts)
+    if not trusted.empty:
+        part = markdown(trusted, meta.iloc[0:0], {}).split("### Cases")[0]
+        text += (
+            "\n## Only the runs whose result says every parameter was estimated\n\n"
+            "(status "
+            + ", ".join(_TRUSTED)
+            + "; the runs that said ill-posed left out)\n\n"
+            + part.replace("### `", "### `", 1)
+        )
+    (out / "coverage.md").write_text(text, encoding="utf-8")
     return result
 
 
