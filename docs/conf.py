@@ -65,6 +65,7 @@ exclude_patterns = [
     "bench/*.md",
     "nscd/*.md",
     "scaling/*.md",
+    "identify/coverage/**",
     "suites/**",
     "spectra/**",
     "auto_examples/*.ipynb",

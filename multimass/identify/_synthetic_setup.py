@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -12,8 +13,11 @@ from .. import validation as v
 from ..cost import check_output, series_columns
 from ..errors import InputError
 from ..inputs.excitations import FreeRelease
+from ..model.structure import from_specimen
 
-__all__ = ["Settings", "Grids", "settings", "grids", "restitution_law", "draw_table"]
+__all__ = [
+    "Settings", "Grids", "settings", "grids", "restitution_law", "draw_table", "with_damping",
+]  # fmt: skip
 
 #: The simulated rate must exceed this multiple of the highest full-contact frequency.
 _ABOVE_MODES = 2.5
@@ -194,3 +198,28 @@ def draw_table(rng, mean: float, spread: float, n: int) -> np.ndarray:
             break
         x[bad] = rng.normal(mean, spread, int(bad.sum()))
     return np.clip(x, np.nextafter(0.0, 1.0), 1.0)
+
+
+def with_damping(st, damping):
+    """`st`, or the same column with the Rayleigh damping ratios (ζ1, ζ2) = `damping`."""
+    if damping is None:
+        return st
+    if (
+        isinstance(damping, (str, bytes))
+        or not isinstance(damping, (list, tuple))
+        or len(damping) != 2
+    ):
+        raise InputError(
+            f"`damping` = {damping!r:.60}: give the pair (zeta_1, zeta_2) of fractions of "
+            "critical, e.g. (0.005, 0.015)"
+        )
+    if st.n == 0 or not hasattr(st.specimen, "zeta_1"):
+        raise InputError(
+            f"`damping` = {damping!r:.60}: {st.name!r} is a rigid block without elastic modes; "
+            "remove it"
+        )
+    z1, z2 = (
+        v.number(f"damping[{i}]", z, low=0.0, high=1.0, high_open=True, what="fraction of critical")
+        for i, z in enumerate(damping)
+    )
+    return from_specimen(dataclasses.replace(st.specimen, zeta_1=z1, zeta_2=z2))

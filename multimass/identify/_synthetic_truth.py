@@ -44,6 +44,7 @@ def truth(st, excitation, response, model, tables, cfg, grid, law, levels, figur
             "distribution": "normal about the corner's mean, truncated to (0, 1] by redrawing",
             "table_length": len(tables[0]),
         },
+        "damping": _damping(st.specimen),
         "noise": {
             "fraction_of_peak": cfg.noise,
             "std": {k: cfg.noise * p for k, p in levels["peak"].items()},
@@ -97,6 +98,13 @@ def corner_statistics(impacts: list[dict]) -> dict:
         "r_mean_left": means["left"],
         "sigma_r": float(np.sqrt(ss / dof)) if dof > 0 else None,
     }
+
+
+def _damping(spec) -> dict | None:
+    """The Rayleigh damping ratios simulated (a column's), None for a rigid block."""
+    if not hasattr(spec, "zeta_1"):
+        return None
+    return {"zeta_1": float(spec.zeta_1), "zeta_2": float(spec.zeta_2)}
 
 
 def _describe_model(model) -> dict:

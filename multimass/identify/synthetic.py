@@ -80,7 +80,8 @@ class SyntheticTrace:
         ``excitation``, ``t_offset``, ``impacts`` (``t``, ``t_model``, ``corner``
         "right"/"left", ``r``, ``theta_before``, ``theta_after``), ``r_mean_right``,
         ``r_mean_left``, ``sigma_r``, ``transitions``, ``peaks``, ``noise``, ``bias``,
-        ``restitution``, ``sampling`` (the anti-alias filter's measured figures),
+        ``restitution``, ``damping`` (``zeta_1``, ``zeta_2`` of a column; None for
+        a block), ``sampling`` (the anti-alias filter's measured figures),
         ``simulation``.
     clean : multimass.inputs.traces.Trace
         The same samples before bias and noise (not rounded).
@@ -179,6 +180,7 @@ def synthetic_trace(
     restitution_means=None,
     restitution_spread=None,
     C_p: float | None = None,
+    damping=None,
     passband: float = 0.4,
     oversample: int = 40,
     **options,
@@ -227,6 +229,10 @@ def synthetic_trace(
         specimen's σ_r. 0 gives the means at every impact.
     C_p : float, optional
         Replaces the Table 2 C_p of a Dirac-delta model named by `impact`.
+    damping : (float, float), optional
+        The Rayleigh damping ratios (ζ1, ζ2) of the full-contact modes 1 and 2
+        (fractions of critical, in [0, 1)) replacing the column specimen's; the
+        truth's ``damping`` holds the ratios simulated either way.
     passband : float, optional
         End of the anti-alias filter's flat passband as a fraction of `fs`
         (default 0.4; the stopband starts at `fs` / 2).
@@ -253,6 +259,7 @@ def synthetic_trace(
         If the simulation fails.
     """
     st = structure if isinstance(structure, Structure) else from_specimen(structure)
+    st = setup.with_damping(st, damping)
     cfg = setup.settings(
         st, excitation, t_end, seed, fs, noise, bias, t_offset, sensors, passband, oversample
     )
