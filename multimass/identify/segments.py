@@ -328,8 +328,15 @@ def _assemble(t, raw, x, runs, n_rest: int, theta_min: float, band: float):
     for j, (a, b, sgn) in enumerate(runs):
         if j == 0:
             if a == 0:
-                top = int(np.argmax(sgn * x[a:b]))
-                begins = "release" if top <= 0.15 * (b - a) else "start"
+                # held at its release angle before it lets go: the largest angle comes
+                # early, or (a noisy hold, whose largest sample is noise) the first samples
+                # sit within the quiet band's width of the run's upper tenth; a trace that
+                # starts mid-swing starts well below it
+                y = sgn * x[a:b]
+                top = int(np.argmax(y))
+                head = float(np.median(y[: min(10, y.size)]))
+                held = head >= float(np.quantile(y, 0.9)) - band
+                begins = "release" if top <= 0.15 * (b - a) or held else "start"
                 starts.append((begins, float(t[0]), 0))
             else:
                 starts.append(("uplift", float(t[a - 1]), a - 1))

@@ -82,6 +82,26 @@ def test_segments_find_the_impacts_and_corners_of_the_truth(s1_dd2):
     assert seg.full_contact and seg.full_contact[-1][1] == syn.trace.time.size
 
 
+@pytest.mark.parametrize("hold, seed", [(0.1, 3), (0.3, 3), (1.0, 3), (1.0, 6)])
+def test_a_noisy_hold_before_the_release_is_still_a_release(hold, seed):
+    # the block held at θ0 for `hold` s before it lets go (synthetic_trace's clock offset),
+    # θ noise 5 % of its peak: the hold's largest sample is noise, anywhere in the hold, so
+    # "the largest angle comes in the first 15 % of the half-cycle" alone called these
+    # traces "start" (cases found by the coverage benchmark's draws)
+    syn = synthetic_trace(
+        "S1", FreeRelease(theta0=0.11), "DD2", 2.0, seed=seed, noise=0.05, t_offset=hold
+    )
+    assert segment_trace(syn.trace).half_cycles[0].begins == "release"
+
+
+def test_a_trace_that_starts_rising_is_not_a_release():
+    # θ rising from 0.03 rad to 0.1 at 0.45 s, then falling: a swing joined under way
+    t = np.arange(0, 1.0, 0.005)
+    theta = 0.1 * np.sin(np.pi * (t + 0.1) / 1.1)
+    trace = Trace(t, {"theta": theta}, {"theta": "rad"}, source="rising.csv")
+    assert segment_trace(trace).half_cycles[0].begins == "start"
+
+
 def test_a_trace_at_rest_has_no_half_cycle_and_restitution_says_so():
     t = np.arange(400) / 200.0
     rng = np.random.default_rng(0)
