@@ -21,6 +21,7 @@ from ..errors import InputError
 from ..impact_models.restitution import housner_eta
 from ..inputs.excitations import FreeRelease
 from ..inputs.records import Record
+from ..model.equations import free_rocking_peak
 from ..model.structure import Structure, from_specimen
 from ..simulation import simulate
 from ._runtime import import_opensees
@@ -126,12 +127,14 @@ def housner_peaks(s: Structure, theta0: float, n: int) -> np.ndarray:
     Each impact keeps r² of the kinetic energy (paper 004, Eq 9 for r), so consecutive
     peaks satisfy E(θ_k+1) = r² E(θ_k) with `rocking_energy` E.
     """
-    r = housner_eta(s.alpha_cg)  # paper 004, Eq 9
+    r = housner_eta(s.alpha_cg)
     out = [abs(theta0)]
     for _ in range(n - 1):
         e = r**2 * float(rocking_energy(s, out[-1]))
-        c = e / (s.m_t * s.g * s.R_cg) + math.cos(s.alpha_cg)
-        out.append(s.alpha_cg - math.acos(min(1.0, c)))
+        # the swing that E reaches: m g R [cos(α − φ) − cos α] = E
+        out.append(
+            free_rocking_peak(s.alpha_cg, e / (s.m_t * s.g * s.R_cg * (1 - math.cos(s.alpha_cg))))
+        )
     return np.asarray(out)
 
 
