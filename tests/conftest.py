@@ -8,6 +8,7 @@ import pytest
 REPO = Path(__file__).resolve().parents[1]
 SHARED = REPO.parent / "shared"
 GROUND_MOTIONS = SHARED / "data" / "ground_motions"
+REFERENCE = SHARED / "data" / "reference"
 
 
 IN_CI = os.environ.get("CI", "").lower() in ("1", "true", "yes")
@@ -27,6 +28,15 @@ def ground_motions() -> Path:
     if not GROUND_MOTIONS.is_dir():
         unavailable(f"shared ground-motion records not found at {GROUND_MOTIONS}")
     return GROUND_MOTIONS
+
+
+@pytest.fixture(scope="session")
+def reference_data() -> Path:
+    """Folder of other engines' outputs (../shared/data/reference, provenance in its
+    SOURCES_rocking.md); skip if absent (fail in CI)."""
+    if not REFERENCE.is_dir():
+        unavailable(f"shared reference outputs not found at {REFERENCE}")
+    return REFERENCE
 
 
 def column_toml(tmp_path, heights, masses, name="custom", **replace) -> Path:
