@@ -171,6 +171,8 @@ class DiracDelta(ImpactModel):
             raise InputError(f"`release` = {self.release!r}: must be ≥ 1 (paper 001 uses 1.1)")
 
     def rebound(self, thetadot, udot, r):
+        """Velocities after the transition at θ = 0: unchanged, ``θ̇⁺ = θ̇⁻, u̇⁺ = u̇⁻``
+        (the force has already dissipated the impact's energy; `r` is not used here)."""
         return thetadot, udot.copy()  # paper 001, Eq 12
 
     def width(

@@ -128,7 +128,7 @@ RANGES: dict[str, Range] = {
         "Pa",
         "structural materials run from soft rubber (~1e6 Pa) to diamond (1.05e12 Pa); "
         "the bound is 1000 x diamond because stiffened copies of a real column are how "
-        "the rigid limit is studied (S1 x 1000, README)",
+        "the rigid limit is studied (S1 x 1000 against the rigid body, in the verification guide)",
         ((1e9, "GPa"), (1e6, "MPa"), (1e3, "kPa")),
         "steel is 200e9, concrete 30e9",
         common=(1e6, 1.2e12),

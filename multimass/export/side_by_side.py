@@ -99,13 +99,19 @@ def impact_times(t, theta, theta_min: float = THETA_MIN) -> np.ndarray:
 
 
 def half_cycle_peaks(t, theta, theta_min: float = THETA_MIN) -> tuple[np.ndarray, np.ndarray]:
-    """(peaks, times): the largest ``|θ|`` (rad) of each half-cycle between impacts, and when."""
+    """(peaks, times): the largest ``|θ|`` (rad) of each half-cycle between impacts, and when.
+
+    A last half-cycle that the series cuts off while ``|θ|`` still grows (its largest value
+    is the last sample) has no peak yet and is left out.
+    """
     t, theta = np.asarray(t, float), np.asarray(theta, float)
     cuts = np.searchsorted(t, impact_times(t, theta, theta_min))
     peaks, times = [], []
     for a, b in zip(np.r_[0, cuts], np.r_[cuts, t.size]):
         if b > a:
             k = a + int(np.argmax(np.abs(theta[a:b])))
+            if b == t.size and k == b - 1 and b - a > 1:
+                continue  # cut off before its peak
             if abs(theta[k]) > theta_min:
                 peaks.append(abs(theta[k]))
                 times.append(t[k])

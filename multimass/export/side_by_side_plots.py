@@ -38,7 +38,7 @@ def plot_side_by_side(result: SideBySide, path=None, title: str | None = None):
     ax_e.set(
         xlabel="impact (between half-cycles)",
         ylabel="E(peak n) − E(peak n+1) (J)",
-        title="rocking energy lost between consecutive peaks (structure taken as rigid; "
+        title="rocking energy lost between consecutive peaks\n(structure taken as rigid; "
         "under a record it includes the ground's work)",
     )
     ax_e.title.set_fontsize(9)

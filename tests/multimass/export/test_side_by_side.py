@@ -23,8 +23,14 @@ def test_impacts_and_peaks_of_a_decaying_cosine():
     theta = 0.1 * np.exp(-t) * np.cos(2 * np.pi * t)
     np.testing.assert_allclose(impact_times(t, theta), 0.25 + 0.5 * np.arange(6), atol=1e-6)
     peaks, times = half_cycle_peaks(t, theta)
+    # seven peaks: the seventh at tan(2πt) = −1/(2π), t = 3 − 0.0253, before the series ends
     assert peaks.size == 7 and peaks[0] == pytest.approx(0.1)
     np.testing.assert_allclose(times[1:6], 0.5 * np.arange(1, 6), atol=0.03)
+    assert times[6] == pytest.approx(3 - math.atan(1 / (2 * math.pi)) / (2 * math.pi), abs=1e-3)
+    # cut at t = 2.9, while |θ| still grows towards the seventh peak: that one is left out
+    cut = t <= 2.9
+    p6, _ = half_cycle_peaks(t[cut], theta[cut])
+    np.testing.assert_allclose(p6, peaks[:6])
     # a bump below the threshold is no impact
     assert impact_times(t, 1e-5 * np.sin(20 * t)).size == 0
 
