@@ -74,11 +74,14 @@ def executor_session(
     batched: bool = False,
     contact: bool = False,
     columns: bool = False,
+    per_run: bool = True,
 ):
     """One executor for several `run_jobs` calls; closed after unless the caller owns it.
 
     With `compiled`, a process pool's forkserver loads the compiled kernels once
-    (`multimass.engines.fast.preload`; with `batched` also the batch kernels of
+    (`multimass.engines.fast.preload`, unless `per_run` is False: jobs that run whole
+    batches only, as a batched map's chunks, where a cell the batch cannot finish loads
+    the per-run kernels if it ever runs; with `batched` the batch kernels of
     `multimass.engines.fast.block_preload`, with `contact` the closed-form full contact of
     `multimass.engines.fast.contact_preload`, with `columns` the whole column runs of
     `multimass.engines.fast.column_preload`), so its workers start with them in memory.
@@ -89,7 +92,7 @@ def executor_session(
     options = {}
     if compiled and isinstance(executor, str) and executor.lower() == "process":
         options["preload"] = (
-            ("multimass.engines.fast.preload",)
+            (("multimass.engines.fast.preload",) if per_run or not batched else ())
             + (("multimass.engines.fast.block_preload",) if batched else ())
             + (("multimass.engines.fast.contact_preload",) if contact else ())
             + (("multimass.engines.fast.column_preload",) if columns else ())
@@ -367,7 +370,8 @@ def overturning_map(
     runs = batch_runs(st, options) if BATCHED else None
     compiled = options.get("backend") == "compiled"
     simulated = [0.0]  # seconds in the executor's runs
-    with executor_session(executor, workers, compiled, runs is not None) as ex:
+    batched = runs is not None
+    with executor_session(executor, workers, compiled, batched, per_run=not batched) as ex:
 
         def simulate(pairs, desc, show=progress):
             t0 = time.perf_counter()
