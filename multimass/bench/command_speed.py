@@ -17,6 +17,11 @@ Three figures, each a ratio measured within one run, repeated (median, min, max)
   `overturning_map` call (target ≥ 150×). ``identical_outcomes``: the two maps give
   the same outcome (and impacts) in every cell, grid and refinement alike.
 
+``breakdown_s`` splits the command's time (spawn and exit, start-up to the map, the map
+outside its cells, the cells outside the kernel); ``start_up_floor_s`` times, in a
+fresh process, what every run pays before its first cell: the interpreter, the imports
+of numpy, scipy, pandas, numba and multimass, and loading the kernel from numba's cache.
+
 ``python -m benchmarks.stability_command`` or ``multimass bench --command --out DIR``.
 """
 
@@ -32,7 +37,15 @@ from pathlib import Path
 
 from .targets import spread
 
-__all__ = ["command_argv", "run_command", "kernel_per_cell", "small_maps", "measure", "TARGETS"]
+__all__ = [
+    "command_argv",
+    "run_command",
+    "kernel_per_cell",
+    "small_maps",
+    "startup_floor",
+    "measure",
+    "TARGETS",
+]
 
 #: ``command_over_kernel`` at most, ``scipy_over_compiled`` at least
 TARGETS = {"command_over_kernel": 1.3, "scipy_over_compiled": 150.0}
@@ -67,6 +80,38 @@ def run_command(argv: list[str]) -> dict:
     if done.returncode:
         raise RuntimeError(f"{' '.join(argv)} exited {done.returncode}: {done.stderr[-2000:]}")
     return {"wall_s": wall, "cpu_s": cpu, "json": json.loads(done.stdout)}
+
+
+_FLOOR = """
+import json, time
+from multimass.cli._clock import process_start
+t = [process_start(), time.perf_counter()]
+import numpy
+t.append(time.perf_counter())
+import scipy.integrate
+t.append(time.perf_counter())
+import pandas
+t.append(time.perf_counter())
+import numba
+t.append(time.perf_counter())
+import multimass.sweeps.maps
+t.append(time.perf_counter())
+from multimass.engines.fast.block_runs import ensure_ready
+ensure_ready()
+t.append(time.perf_counter())
+names = ["interpreter", "numpy", "scipy", "pandas", "numba", "multimass", "kernel_cache_load"]
+print(json.dumps(dict(zip(names, [b - a for a, b in zip(t, t[1:])]))))
+"""
+
+
+def startup_floor() -> dict:
+    """What any run of the command pays before its first cell, in a fresh process (s): the
+    interpreter's start, then each import in the command's order, then loading the
+    batched kernel from numba's cache (its share of numba's own start-up included)."""
+    done = subprocess.run([sys.executable, "-c", _FLOOR], capture_output=True, text=True)
+    if done.returncode:
+        raise RuntimeError(f"the start-up probe failed: {done.stderr[-2000:]}")
+    return json.loads(done.stdout.strip().splitlines()[-1])
 
 
 def _map(n: int, **options):
@@ -147,6 +192,7 @@ def measure(n: int = 100, small_n: int = 20, repeats: int = 3, progress=None) ->
         for what in order:
             got[what] = run_command(argv) if what == "command" else kernel_per_cell(cells)
         got["small"] = small_maps(small_n)
+        got["floor"] = startup_floor()
         rows.append(got)
         c, k, s = got["command"], got["kernel"], got["small"]
         n_sim = c["json"]["n_simulations"]
@@ -166,6 +212,7 @@ def _report(argv, n, small_n, rows, same_as_kernel) -> dict:
     per_sim = lambda r: r["command"]["wall_s"] / r["command"]["json"]["n_simulations"]  # noqa: E731
     cpu_sim = lambda r: r["command"]["cpu_s"] / r["command"]["json"]["n_simulations"]  # noqa: E731
     js = [r["command"]["json"] for r in rows]
+    kernel = [r["kernel"]["wall_s_per_cell"] * j["n_simulations"] for r, j in zip(rows, js)]
     ratio = spread([per_sim(r) / r["kernel"]["wall_s_per_cell"] for r in rows])
     speedup = spread(
         [
@@ -192,9 +239,21 @@ def _report(argv, n, small_n, rows, same_as_kernel) -> dict:
             "command_wall_time_s": spread([j["wall_time_s"] for j in js]),
             "map_wall_time_s": spread([j["map_wall_time_s"] for j in js]),
             "simulation_time_s": spread([j["simulation_time_s"] for j in js]),
-            "kernel_on_its_cells": spread(
-                [r["kernel"]["wall_s_per_cell"] * j["n_simulations"] for r, j in zip(rows, js)]
+            "kernel_on_its_cells": spread(kernel),
+            # the differences: where the command's time goes besides the kernel
+            "spawn_and_exit": spread(
+                [r["command"]["wall_s"] - j["wall_time_s"] for r, j in zip(rows, js)]
             ),
+            "start_up_to_the_map": spread([j["wall_time_s"] - j["map_wall_time_s"] for j in js]),
+            "map_outside_the_cells": spread(
+                [j["map_wall_time_s"] - j["simulation_time_s"] for j in js]
+            ),
+            "cells_outside_the_kernel": spread(
+                [j["simulation_time_s"] - k for j, k in zip(js, kernel)]
+            ),
+        },
+        "start_up_floor_s": {
+            key: spread([r["floor"][key] for r in rows]) for key in rows[0]["floor"]
         },
         "small_map": {
             "case": f"B6M sine map {small_n}x{small_n}, refine 2, serial, in this process",
