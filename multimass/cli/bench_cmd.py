@@ -65,6 +65,14 @@ def register(sub) -> None:
         "python -m benchmarks.identify_coverage runs the large version",
     )
     p.add_argument(
+        "--command",
+        action="store_true",
+        help="instead: `multimass stability` on a 100 x 100 map as a subprocess, start to exit, "
+        "against the batched kernel on the same cells, and the solve_ivp path against the "
+        "compiled one on a 20 x 20 map, 3 repeats (command_speed.json; ~2 min; --quick one "
+        "repeat, --smoke a 10 x 10 map); python -m benchmarks.stability_command runs it too",
+    )
+    p.add_argument(
         "--records",
         type=Path,
         default=None,
@@ -97,6 +105,8 @@ def run(args) -> int:
         return 2
     if getattr(args, "scaling", False):
         return _run_scaling(size, output_folder(args.out), args.json)
+    if getattr(args, "command", False):
+        return _run_command_speed(size, output_folder(args.out), args.json)
     cfg = preset(size)
     quiet = args.json
     res = run_bench(
@@ -171,4 +181,31 @@ def _run_coverage(size: str, out: Path, as_json: bool, records) -> int:
         f"bench --coverage ({size}): {run['cases_run']} traces in {run['wall_time_s']:.0f} s -> {out}"
     )
     print((out / "coverage.md").read_text(encoding="utf-8"))
+    return 0
+
+
+#: --command sizes: (the command's map n, the solve_ivp map n, repeats)
+_COMMAND_SIZES = {"full": (100, 20, 3), "quick": (100, 20, 1), "smoke": (10, 4, 1)}
+
+
+def _run_command_speed(size: str, out: Path, as_json: bool) -> int:
+    from multimass.bench.command_speed import measure
+    from multimass.bench.run import json_safe
+
+    n, small_n, repeats = _COMMAND_SIZES[size]
+    say = None if as_json else (lambda m: print(m, file=sys.stderr, flush=True))
+    res = json_safe(measure(n, small_n, repeats, progress=say))
+    (out / "command_speed.json").write_text(json.dumps(res, indent=1))
+    if as_json:
+        print(json.dumps(res, indent=1))
+        return 0
+    r, s = res["command_over_kernel"], res["small_map"]["scipy_over_compiled"]
+    print(
+        f"bench --command ({size}) -> {out / 'command_speed.json'}\n"
+        f"  command / kernel per simulation  {r['median']:.2f} [{r['min']:.2f}-{r['max']:.2f}]"
+        f"  (target <= {res['targets']['command_over_kernel']})\n"
+        f"  solve_ivp / compiled ({small_n}x{small_n})  {s['median']:.0f}x "
+        f"[{s['min']:.0f}-{s['max']:.0f}]  (target >= {res['targets']['scipy_over_compiled']:.0f}; "
+        f"identical outcomes: {res['small_map']['identical_outcomes']})"
+    )
     return 0

@@ -107,7 +107,8 @@ def exit_with_parent(parent_pid: int) -> None:
 
 
 def _preload_in_forkserver(*modules: str | None) -> None:
-    """Have the forkserver import multimass and `modules` once, before it forks workers.
+    """Have the forkserver import multimass and `modules` once, before it forks workers,
+    then freeze its garbage collector (`multimass.sweeps.forkserver_freeze`).
 
     Each worker then starts with them imported: a fresh 2-worker pool's first
     sweep falls from ~2 s to ~0.05 s (benchmarks/sweep_overhead.py). Effective
@@ -119,9 +120,14 @@ def _preload_in_forkserver(*modules: str | None) -> None:
     current = list(
         getattr(getattr(forkserver, "_forkserver", None), "_preload_modules", None) or ["__main__"]
     )
-    wanted = current + [m for m in ("multimass", *modules) if m and m not in current]
+    kept = [m for m in current if m != _FREEZE]
+    wanted = kept + [m for m in ("multimass", *modules) if m and m not in kept] + [_FREEZE]
     if wanted != current:
         forkserver.set_forkserver_preload(wanted)
+
+
+#: Imported last by the forkserver (`multimass.sweeps.forkserver_freeze`): `gc.freeze`.
+_FREEZE = "multimass.sweeps.forkserver_freeze"
 
 
 def _refers_to_main(obj) -> bool:

@@ -68,11 +68,24 @@ def _lattice(n: int, h: int) -> np.ndarray:
     return np.unique(np.r_[np.arange(0, n, h), n - 1])
 
 
-def _mixed(codes: np.ndarray, b) -> bool:
-    a0, a1, w0, w1 = b
-    sub = codes[a0 : a1 + 1, w0 : w1 + 1]
-    k = sub[sub >= 0]
-    return k.size > 0 and k.min() != k.max()
+def _mixed_blocks(codes: np.ndarray, blocks: list) -> list:
+    """Whether each closed block (a0, a1, w0, w1) is mixed: the computed cells in it (codes
+    ≥ 0) do not all share one class. Array operations over the blocks of each shape."""
+    flags = [False] * len(blocks)
+    shapes: dict = {}
+    for k, (a0, a1, w0, w1) in enumerate(blocks):
+        shapes.setdefault((a1 - a0, w1 - w0), []).append(k)
+    for (da, dw), ks in shapes.items():
+        at = np.array([(blocks[k][0], blocks[k][2]) for k in ks], dtype=np.intp)
+        rows = at[:, :1, None] + np.arange(da + 1)[None, :, None]
+        cols = at[:, None, 1:] + np.arange(dw + 1)[None, None, :]
+        sub = codes[rows, cols]  # (blocks, da + 1, dw + 1)
+        known = sub >= 0
+        top = np.where(known, sub, -1).max(axis=(1, 2))
+        low = np.where(known, sub, np.iinfo(codes.dtype).max).min(axis=(1, 2))
+        for k, m in zip(ks, ((top >= 0) & (low != top)).tolist()):
+            flags[k] = m
+    return flags
 
 
 def _points(b, half, n_a, n_w):
@@ -135,7 +148,8 @@ def adaptive_codes(
         by_start = {(b[0], b[2]): b for b in blocks}
         refine: set = set()
         while True:
-            mixed = [b for b in blocks if b not in refine and _mixed(codes, b)]
+            open_ = [b for b in blocks if b not in refine]
+            mixed = [b for b, m in zip(open_, _mixed_blocks(codes, open_)) if m]
             if not mixed:
                 break
             grow = set(mixed)
@@ -152,7 +166,7 @@ def adaptive_codes(
         blocks = [c for b in sorted(refine) for c in _children(b, half)]
         h = half
     while True:  # final check of the kept blocks: corners, edges and interior
-        bad = [b for b, _ in kept if _mixed(codes, b)]
+        bad = [b for (b, _), m in zip(kept, _mixed_blocks(codes, [b for b, _ in kept])) if m]
         if not bad:
             break
         bad_set = set(bad)
@@ -170,11 +184,11 @@ def adaptive_codes(
     return codes, computed
 
 
-def adaptive_cells(omega_p, amp, coarse, rounds, simulate, bisect, row):
+def adaptive_cells(omega_p, amp, coarse, rounds, simulate, bisect, table):
     """Cells (a table of every grid cell, ``computed`` True where simulated, numeric columns
     missing elsewhere, plus the refined boundary cells) and boundary segments of an
     adaptive map (`adaptive_codes`). ``simulate(pairs, desc)`` gives `map_cell` results,
-    ``bisect`` and ``row`` are `maps._bisect` and `maps._row`."""
+    ``bisect`` and ``table`` are `maps._bisect` and `maps._cells_table`."""
     n_a, n_w = len(amp), len(omega_p)
     results: dict[int, tuple] = {}
     code = {name: i for i, name in enumerate(OUTCOMES)}
@@ -194,12 +208,13 @@ def adaptive_cells(omega_p, amp, coarse, rounds, simulate, bisect, row):
     got = [results[i] for i in flat.tolist()]
     n = n_a * n_w
     t_over, theta = np.full(n, np.nan), np.full(n, np.nan)
-    impacts, accurate = pd.array([pd.NA] * n, dtype="Int64"), np.ones(n, bool)
+    impacts, missing, accurate = np.zeros(n, np.int64), np.ones(n, bool), np.ones(n, bool)
     if got:
         t_over[flat] = [r[1] for r in got]
         theta[flat] = [r[2] for r in got]
-        impacts[flat] = [r[3] for r in got]
+        impacts[flat], missing[flat] = [r[3] for r in got], False
         accurate[flat] = [bool(r[5]) for r in got]
+    impacts = pd.arrays.IntegerArray(impacts, missing)  # Int64: missing where not computed
     cells = pd.DataFrame(
         {
             "omega_p": np.tile(np.asarray(omega_p, float), n_a),
@@ -215,7 +230,8 @@ def adaptive_cells(omega_p, amp, coarse, rounds, simulate, bisect, row):
     )
     extra, segments = bisect(grid_segments(codes, omega_p, amp), rounds, simulate)
     if extra:
-        rows = pd.DataFrame([row(w, a, r, False) for w, a, r in extra])
+        ew, ea, er = zip(*extra)
+        rows = table(ew, ea, er, False)
         rows["n_impacts"] = rows["n_impacts"].astype("Int64")
         rows["computed"] = True
         cells = pd.concat([cells, rows], ignore_index=True)

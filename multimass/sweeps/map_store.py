@@ -41,6 +41,7 @@ __all__ = [
     "STORE_CHUNK_CELLS",
     "STORE_MIN_CELLS",
     "MANIFEST",
+    "WALL_TIME_COVERS",
 ]
 
 #: Cells per stored chunk (~1 s of work on 2 workers at 0.11 ms per cell; an interrupted
@@ -51,6 +52,11 @@ STORE_MIN_CELLS = 250_000
 MANIFEST = "manifest.json"
 _FORMAT = 1
 _OUTCOMES = ("no_rocking", "rest", "overturned", "undecided")  # codes = positions
+#: What a map's ``wall_time_s`` covers (said in its summary; `multimass.sweeps.maps`).
+WALL_TIME_COVERS = (
+    "the overturning_map call, start to finish: validating the arguments, loading the "
+    "compiled kernels, the cells, the boundary refinement and assembling the tables"
+)
 
 
 class MapStoreMismatch(InputError):
@@ -145,12 +151,28 @@ def _check_readable(path: Path, folder: Path) -> None:
 
 
 def run_stored(
-    folder, st, pulse, omega_p, amp, options, simulate, *, refine, bisect, progress, chunk_cells
+    folder,
+    st,
+    pulse,
+    omega_p,
+    amp,
+    options,
+    simulate,
+    *,
+    refine,
+    bisect,
+    progress,
+    chunk_cells,
+    started=None,
+    simulated=(0.0,),
 ):
     """Compute the missing chunks of a stored map, then its refinement; return a `StoredMap`.
 
     ``simulate(pairs, desc)`` returns the `map_cell` results of (ω/p, a0/(α g)) pairs;
-    ``bisect(segments, rounds, simulate)`` is `maps._bisect`.
+    ``bisect(segments, rounds, simulate)`` is `maps._bisect`. The map's ``wall_time_s``
+    counts from `started` (a `time.perf_counter` reading; default: this call) to the
+    map read back from disk; ``simulated[0]`` holds the seconds `simulate` spent, read
+    at the end.
     """
     folder = Path(folder)
     manifest = _manifest(st, pulse, omega_p, amp, options | {"refine": refine}, chunk_cells)
@@ -160,7 +182,7 @@ def run_stored(
     todo = [c for c in range(n_chunks) if not _chunk_path(folder, c).exists()]
     for f in sorted((folder / "cells").glob("*.parquet")):  # before any new work
         _check_readable(f, folder)
-    wall = time.perf_counter()
+    wall = time.perf_counter() if started is None else started
     show = progress if progress is not None else bool(getattr(sys.stderr, "isatty", bool)())
     done_cells = n - sum(min(chunk_cells, n - c * chunk_cells) for c in todo)
     bar = _Bar(
@@ -191,9 +213,8 @@ def run_stored(
         tmp = folder / f".{finished.name}.tmp"
         pd.DataFrame(done, columns=_SEGMENT_COLUMNS).to_parquet(tmp)
         os.replace(tmp, finished)
-    wall = time.perf_counter() - wall
     m = StoredMap.read(folder)
-    return m.with_run(len(todo), n_chunks - len(todo), wall)
+    return m.with_run(len(todo), n_chunks - len(todo), time.perf_counter() - wall, simulated[0])
 
 
 _SEGMENT_COLUMNS = ["omega_p", "amp_low", "amp_high", "low_outcome", "high_outcome"]
@@ -269,6 +290,10 @@ class StoredMap:
     chunks_computed, chunks_skipped : int
         Chunks computed by this run, and found on disk from an earlier one.
     wall_time_s : float
+        Seconds of the `overturning_map` call that computed or resumed it, start to
+        finish (reading the stored chunks back included).
+    simulation_time_s : float
+        The part of `wall_time_s` spent simulating cells.
     """
 
     folder: Path
@@ -285,6 +310,7 @@ class StoredMap:
     chunks_computed: int = 0
     chunks_skipped: int = 0
     wall_time_s: float = 0.0
+    simulation_time_s: float = 0.0
 
     @classmethod
     def read(cls, folder) -> StoredMap:
@@ -325,10 +351,17 @@ class StoredMap:
             bad_cells=np.concatenate(bad) if bad else np.zeros(0, np.intp),
         )
 
-    def with_run(self, computed: int, skipped: int, wall: float) -> StoredMap:
+    def with_run(
+        self, computed: int, skipped: int, wall: float, simulation: float = 0.0
+    ) -> StoredMap:
         """This map with the figures of the run that produced it."""
         d = dict(self.__dict__)
-        d.update(chunks_computed=computed, chunks_skipped=skipped, wall_time_s=wall)
+        d.update(
+            chunks_computed=computed,
+            chunks_skipped=skipped,
+            wall_time_s=wall,
+            simulation_time_s=simulation,
+        )
         return StoredMap(**d)
 
     @property
@@ -405,6 +438,8 @@ class StoredMap:
             "inaccurate": int(self.inaccurate),
             "n_simulations": self.n_simulations(),
             "wall_time_s": float(self.wall_time_s),
+            "simulation_time_s": float(self.simulation_time_s),
+            "wall_time_covers": WALL_TIME_COVERS,
             "options": {k: v for k, v in opts.items() if k != "restitution_name"},
             "store": {
                 "folder": str(self.folder),

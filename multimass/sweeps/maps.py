@@ -39,7 +39,13 @@ from .map_cells import (
     pulse_label,
     simulate_cells,
 )
-from .map_store import STORE_CHUNK_CELLS, StoredMap, run_stored
+from .map_store import (
+    STORE_CHUNK_CELLS,
+    WALL_TIME_COVERS,
+    StoredMap,
+    grid_segments,
+    run_stored,
+)
 from .ranges import check_values
 
 __all__ = [
@@ -49,7 +55,10 @@ __all__ = [
     "OUTCOMES",
     "executor_session",
     "default_backend",
+    "WALL_TIME_COVERS",
 ]
+
+_CODE = {name: i for i, name in enumerate(OUTCOMES)}
 
 #: Run supported maps in compiled chunks; False runs every cell as one `map_cell` job, the
 #: reference the batched path is compared with (tests/multimass/sweeps/test_batched_maps.py,
@@ -65,11 +74,14 @@ def executor_session(
     batched: bool = False,
     contact: bool = False,
     columns: bool = False,
+    per_run: bool = True,
 ):
     """One executor for several `run_jobs` calls; closed after unless the caller owns it.
 
     With `compiled`, a process pool's forkserver loads the compiled kernels once
-    (`multimass.engines.fast.preload`; with `batched` also the batch kernels of
+    (`multimass.engines.fast.preload`, unless `per_run` is False: jobs that run whole
+    batches only, as a batched map's chunks, where a cell the batch cannot finish loads
+    the per-run kernels if it ever runs; with `batched` the batch kernels of
     `multimass.engines.fast.block_preload`, with `contact` the closed-form full contact of
     `multimass.engines.fast.contact_preload`, with `columns` the whole column runs of
     `multimass.engines.fast.column_preload`), so its workers start with them in memory.
@@ -80,7 +92,7 @@ def executor_session(
     options = {}
     if compiled and isinstance(executor, str) and executor.lower() == "process":
         options["preload"] = (
-            ("multimass.engines.fast.preload",)
+            (("multimass.engines.fast.preload",) if per_run or not batched else ())
             + (("multimass.engines.fast.block_preload",) if batched else ())
             + (("multimass.engines.fast.contact_preload",) if contact else ())
             + (("multimass.engines.fast.column_preload",) if columns else ())
@@ -114,6 +126,13 @@ class OverturningMap:
         ``amp_high``, ``low_outcome``, ``high_outcome``.
     options : dict
     wall_time_s : float
+        Seconds from the call of `overturning_map` to its return: validating the
+        arguments, loading the compiled kernels, the cells, the boundary refinement and
+        assembling these tables (`WALL_TIME_COVERS`; ``multimass stability`` reports the
+        whole command instead, from its process start).
+    simulation_time_s : float
+        The part of `wall_time_s` spent simulating cells (the executor's runs, grid and
+        refinement).
     """
 
     block: str
@@ -124,13 +143,19 @@ class OverturningMap:
     boundaries: pd.DataFrame
     options: dict = field(default_factory=dict)
     wall_time_s: float = 0.0
+    simulation_time_s: float = 0.0
 
     @property
     def grid(self) -> np.ndarray:
-        """Outcomes on the base grid, shape (len(amp), len(omega_p))."""
+        """Outcomes on the base grid, shape (len(amp), len(omega_p)) (object array of names)."""
         g = self.cells[self.cells.grid]
-        table = g.pivot(index="amp", columns="omega_p", values="outcome")
-        return table.loc[self.amp, self.omega_p].to_numpy()
+        i = _axis_index(self.amp, g.amp.to_numpy())
+        j = _axis_index(self.omega_p, g.omega_p.to_numpy())
+        if (i < 0).any() or (j < 0).any() or len(g) != self.amp.size * self.omega_p.size:
+            raise ValueError("the cells' grid rows do not cover the map's omega_p × amp grid")
+        out = np.empty((self.amp.size, self.omega_p.size), dtype=object)
+        out[i, j] = g.outcome.to_numpy(dtype=object)
+        return out
 
     def overturned(self) -> np.ndarray:
         """Boolean grid (amp × omega_p): the cell overturned (undecided cells are False)."""
@@ -141,20 +166,28 @@ class OverturningMap:
         return self.grid == "undecided"
 
     def min_overturn_amp(self) -> list:
-        """Smallest a0/(α g) that overturns, per ω/p (refined; None if none in range)."""
-        out = []
-        for w in self.omega_p:
-            b = self.boundaries[
-                (self.boundaries.omega_p == w) & (self.boundaries.high_outcome == "overturned")
-            ]
-            cells = self.cells[(self.cells.omega_p == w) & (self.cells.outcome == "overturned")]
-            if cells.empty:
-                out.append(None)
-                continue
-            first = float(cells.amp.min())
-            below = b[b.amp_high <= first + 1e-12]
-            out.append(float(below.amp_high.min()) if not below.empty else first)
-        return out
+        """Smallest a0/(α g) that overturns, per ω/p (refined; None if none in range).
+
+        Per ω/p: the smallest amplitude of an overturned cell, lowered to the smallest
+        ``amp_high`` of a boundary segment into overturning at or below it.
+        """
+        c, n_w = self.cells, self.omega_p.size
+        over = (c.outcome == "overturned").to_numpy(dtype=bool)
+        j = _axis_index(self.omega_p, c.omega_p.to_numpy()[over])
+        first = np.full(n_w, np.inf)
+        np.minimum.at(first, j[j >= 0], c.amp.to_numpy()[over][j >= 0])
+        b = self.boundaries[self.boundaries.high_outcome == "overturned"]
+        jb, high = (
+            _axis_index(self.omega_p, b.omega_p.to_numpy(dtype=float)),
+            b.amp_high.to_numpy(dtype=float),
+        )
+        keep = jb >= 0
+        jb, high = jb[keep], high[keep]
+        keep = high <= first[jb] + 1e-12
+        best = np.full(n_w, np.inf)
+        np.minimum.at(best, jb[keep], high[keep])
+        low = np.where(np.isfinite(best), best, first)
+        return [float(x) if np.isfinite(f) else None for x, f in zip(low, first)]
 
     def overturn_fraction(self) -> float:
         """Share of base-grid cells that overturn; undecided cells do not count as overturned
@@ -175,8 +208,15 @@ class OverturningMap:
         return self.cells.loc[self.cells.grid & ~self.cells.accurate, ["omega_p", "amp"]]
 
     def summary(self) -> dict:
-        """JSON-ready summary (keys of the `multimass stability --json` object)."""
-        counts = self.cells[self.cells.grid].outcome.value_counts().to_dict()
+        """JSON-ready summary (keys of the `multimass stability --json` object).
+
+        ``wall_time_s`` is this map's (`WALL_TIME_COVERS` says what it covers),
+        ``simulation_time_s`` the part of it spent simulating cells.
+        """
+        g = self.cells[self.cells.grid]
+        if len(g) != self.amp.size * self.omega_p.size:
+            raise ValueError("the cells' grid rows do not cover the map's omega_p × amp grid")
+        counts = g.outcome.value_counts().to_dict()  # fractions: counts over the grid's cells
         return {
             "block": self.block,
             "pulse": self.pulse,
@@ -186,12 +226,14 @@ class OverturningMap:
             "omega_p": [float(w) for w in self.omega_p],
             "amp": [float(a) for a in self.amp],
             "min_overturn_amp": self.min_overturn_amp(),
-            "overturn_fraction": self.overturn_fraction(),
-            "undecided_fraction": self.undecided_fraction(),
+            "overturn_fraction": counts.get("overturned", 0) / len(g),
+            "undecided_fraction": counts.get("undecided", 0) / len(g),
             "outcomes": {k: int(counts.get(k, 0)) for k in OUTCOMES},
             "inaccurate": int((~self.cells.accurate).sum()),
             "n_simulations": self.n_simulations(),
             "wall_time_s": float(self.wall_time_s),
+            "simulation_time_s": float(self.simulation_time_s),
+            "wall_time_covers": WALL_TIME_COVERS,
             "options": {k: v for k, v in self.options.items() if k not in ("restitution_name",)},
         }
 
@@ -279,7 +321,10 @@ def overturning_map(
     Returns
     -------
     OverturningMap, or StoredMap with `store`
+        ``wall_time_s`` covers this whole call (`WALL_TIME_COVERS`);
+        ``simulation_time_s`` the part of it spent simulating cells.
     """
+    started = time.perf_counter()
     st = _block(block)
     if store is not None and adaptive:
         raise InputError("`adaptive` maps are held in memory: give `store` or `adaptive`, not both")
@@ -322,13 +367,18 @@ def overturning_map(
         "t_free": t_free,
         **{k_: v for k_, v in sim_options.items()},
     }
-    wall = time.perf_counter()
     runs = batch_runs(st, options) if BATCHED else None
     compiled = options.get("backend") == "compiled"
-    with executor_session(executor, workers, compiled, runs is not None) as ex:
+    simulated = [0.0]  # seconds in the executor's runs
+    batched = runs is not None
+    with executor_session(executor, workers, compiled, batched, per_run=not batched) as ex:
 
         def simulate(pairs, desc, show=progress):
-            return simulate_cells(pairs, cells_for, chunks_for, runs, ex, show, desc)
+            t0 = time.perf_counter()
+            try:
+                return simulate_cells(pairs, cells_for, chunks_for, runs, ex, show, desc)
+            finally:
+                simulated[0] += time.perf_counter() - t0
 
         if store is not None:
             return run_stored(
@@ -343,10 +393,12 @@ def overturning_map(
                 bisect=_bisect,
                 progress=progress,
                 chunk_cells=STORE_CHUNK_CELLS,
+                started=started,
+                simulated=simulated,
             )
         if adaptive:
             cells, boundaries = adaptive_cells(
-                omega_p, amp, coarse, int(refine), simulate, _bisect, _row
+                omega_p, amp, coarse, int(refine), simulate, _bisect, _cells_table
             )
             map_options["adaptive"] = {
                 "coarse": int(coarse),
@@ -354,59 +406,58 @@ def overturning_map(
                 "cells": int(cells.grid.sum()),
             }
         else:
-            pairs = [(w, a) for a in amp for w in omega_p]
-            rows = [
-                _row(w, a, r, True)
-                for (w, a), r in zip(pairs, simulate(pairs, f"{st.name} {label} map"))
-            ]
-            boundaries = _refine(rows, omega_p, int(refine), simulate)
-            cells = pd.DataFrame(rows + boundaries.pop("extra"))
-            boundaries = boundaries["segments"]
-    wall = time.perf_counter() - wall
+            w = np.tile(omega_p, amp.size)  # amp-major, as the grid's rows
+            a = np.repeat(amp, omega_p.size)
+            results = simulate(list(zip(w.tolist(), a.tolist())), f"{st.name} {label} map")
+            codes = np.array([_CODE[r[0]] for r in results], np.int8).reshape(amp.size, -1)
+            extra, boundaries = _bisect(grid_segments(codes, omega_p, amp), int(refine), simulate)
+            cells = _cells_table(w, a, results, True)
+            if extra:
+                ew, ea, er = zip(*extra)
+                cells = pd.concat([cells, _cells_table(ew, ea, er, False)], ignore_index=True)
+    boundaries = pd.DataFrame(boundaries, columns=_SEGMENT_COLUMNS)
     return OverturningMap(
         block=st.name,
         pulse=label,
         omega_p=omega_p,
         amp=amp,
         cells=cells,
-        boundaries=pd.DataFrame(boundaries, columns=_SEGMENT_COLUMNS),
+        boundaries=boundaries,
         options=map_options,
-        wall_time_s=wall,
+        wall_time_s=time.perf_counter() - started,
+        simulation_time_s=simulated[0],
     )
 
 
 _SEGMENT_COLUMNS = ["omega_p", "amp_low", "amp_high", "low_outcome", "high_outcome"]
 
 
-def _row(w, a, result, grid):
-    outcome, t_over, theta, impacts, _, accurate = result
-    return {
-        "omega_p": float(w),
-        "amp": float(a),
-        "outcome": outcome,
-        "overturn_time": t_over,
-        "theta_max_over_alpha": theta,
-        "n_impacts": impacts,
-        "accurate": bool(accurate),
-        "grid": grid,
-    }
+def _axis_index(axis: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """Position of each value in the increasing `axis` (exact match), -1 where absent."""
+    values = np.asarray(values, dtype=float)
+    j = np.searchsorted(axis, values)
+    hit = j < axis.size
+    hit[hit] = axis[j[hit]] == values[hit]
+    return np.where(hit, j, -1)
 
 
-def _refine(rows, omega_p, rounds, simulate) -> dict:
-    """Bisect, in amplitude, every grid interval whose ends differ in overturning."""
-    columns: dict[float, list] = {}  # rows by ω/p: one pass, not one per ω/p
-    for r in rows:
-        columns.setdefault(r["omega_p"], []).append(r)
-    segments = []
-    for w in omega_p:
-        col = sorted(columns.get(float(w), ()), key=lambda r: r["amp"])
-        for lo, hi in zip(col, col[1:]):  # undecided cells bound no boundary
-            if "undecided" in (lo["outcome"], hi["outcome"]):
-                continue
-            if (lo["outcome"] == "overturned") != (hi["outcome"] == "overturned"):
-                segments.append([float(w), lo["amp"], hi["amp"], lo["outcome"], hi["outcome"]])
-    extra, done = _bisect(segments, rounds, simulate)
-    return {"segments": done, "extra": [_row(w, a, r, False) for w, a, r in extra]}
+def _cells_table(w, a, results, grid: bool) -> pd.DataFrame:
+    """The rows of `OverturningMap.cells` for cells (``w``, ``a``) and their `map_cell`
+    `results`, built column by column (what one row per cell gives, with no Python per
+    cell beyond reading the results)."""
+    outcome, t_over, theta, impacts, _, accurate = zip(*results) if len(results) else ((),) * 6
+    return pd.DataFrame(
+        {
+            "omega_p": np.asarray(w, dtype=float),
+            "amp": np.asarray(a, dtype=float),
+            "outcome": list(outcome),
+            "overturn_time": np.asarray(t_over, dtype=float),
+            "theta_max_over_alpha": np.asarray(theta, dtype=float),
+            "n_impacts": np.asarray(impacts, dtype=np.int64),
+            "accurate": np.asarray(accurate, dtype=bool),
+            "grid": np.full(len(outcome), grid),
+        }
+    )
 
 
 def _bisect(segments, rounds, simulate) -> tuple[list, list]:

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from multimass.errors import InputError
-from multimass.sweeps.map_adaptive import adaptive_codes, count_islands
+from multimass.sweeps.map_adaptive import _mixed_blocks, adaptive_codes, count_islands
 from multimass.sweeps.maps import overturning_map
 
 
@@ -112,3 +112,25 @@ def test_cli_writes_a_large_adaptive_map_as_parquet(tmp_path, capsys, monkeypatc
     cells = pd.read_parquet(tmp_path / "B6M_sine_modified_cells.parquet")
     assert int(cells.grid.sum()) == 1089
     assert not (tmp_path / "B6M_sine_modified_cells.csv").exists()
+
+
+def test_mixed_blocks_as_one_block_at_a_time():
+    # the rule of the module docstring, block by block: the computed cells (≥ 0) of the
+    # closed block do not all share one class; seeded random grids with uncomputed cells
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        codes = rng.integers(-1, 3, size=(23, 17)).astype(np.int32)
+        codes[rng.random(codes.shape) < 0.5] = -1
+        blocks = [
+            (a0, min(a0 + da, 22), w0, min(w0 + dw, 16))
+            for a0 in range(0, 23, 3)
+            for w0 in range(0, 17, 4)
+            for da, dw in ((1, 1), (2, 4), (4, 2), (0, 3))
+        ]
+        expected = []
+        for a0, a1, w0, w1 in blocks:
+            known = codes[a0 : a1 + 1, w0 : w1 + 1]
+            known = known[known >= 0]
+            expected.append(bool(known.size) and bool(known.min() != known.max()))
+        assert _mixed_blocks(codes, blocks) == expected
+        assert any(expected) and not all(expected)

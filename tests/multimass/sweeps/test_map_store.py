@@ -55,7 +55,7 @@ def test_stored_map_equals_in_memory_map(tmp_path, small_chunks):
     np.testing.assert_array_equal(stored.grid, mem.grid)
     pd.testing.assert_frame_equal(stored.boundaries, mem.boundaries)
     a, b = mem.summary(), stored.summary()
-    for key in ("wall_time_s", "options"):
+    for key in ("wall_time_s", "simulation_time_s", "options"):
         a.pop(key), b.pop(key)
     assert b.pop("store")["chunks_computed"] == 5
     assert a == b

@@ -636,3 +636,30 @@ def test_pool_workers_end_when_their_parent_is_killed(tmp_path):
     finally:
         if parent.poll() is None:
             parent.kill()
+
+
+def test_forkserver_freezes_its_collector_last(monkeypatch):
+    # the forkserver imports multimass and the asked modules, then the module that calls
+    # gc.freeze, which stays last whatever is asked later
+    from multiprocessing import forkserver
+
+    from multimass.sweeps import executors
+
+    asked = []
+    server = forkserver._forkserver
+    monkeypatch.setattr(server, "_preload_modules", ["__main__"], raising=False)
+    monkeypatch.setattr(forkserver, "set_forkserver_preload", asked.append)
+    executors._preload_in_forkserver("multimass.engines.fast.block_preload")
+    assert asked[-1] == [
+        "__main__", "multimass", "multimass.engines.fast.block_preload", executors._FREEZE,
+    ]  # fmt: skip
+    monkeypatch.setattr(server, "_preload_modules", asked[-1])
+    executors._preload_in_forkserver("other.module")
+    assert asked[-1][-2:] == ["other.module", executors._FREEZE]
+    assert asked[-1].count(executors._FREEZE) == 1
+    import gc
+
+    import multimass.sweeps.forkserver_freeze  # noqa: F401  (the module the server imports)
+
+    assert gc.get_freeze_count() > 0
+    gc.unfreeze()
