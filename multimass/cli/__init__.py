@@ -14,6 +14,7 @@ import importlib
 import pkgutil
 import re
 import sys
+import time
 
 __all__ = ["main", "build_parser", "command_modules", "attach_negative_values"]
 
@@ -65,12 +66,14 @@ def attach_negative_values(argv: list[str]) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``multimass`` console script."""
+    started = time.perf_counter()  # the command's start: the commands' wall times count from it
     parser = build_parser()
     argv = sys.argv[1:] if argv is None else list(argv)
     try:
         args = parser.parse_args(attach_negative_values(argv))
     except SystemExit as done:  # --help, or a mistake argparse reported in one line
         return int(done.code or 0) if not isinstance(done.code, str) else 2
+    args.started = started
     try:
         return int(args.func(args) or 0)
     except ValueError as exc:  # the packages' own errors all derive from ValueError
