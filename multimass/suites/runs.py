@@ -38,7 +38,8 @@ from ..progress import RunCost, budget_seconds, format_duration
 from ..simulation import estimate, outcome_summaries, outcome_summary
 from ..sweeps.base import available_workers, validate_workers
 from ..sweeps.engine import _Bar, batch_plan, run_jobs
-from ..sweeps.maps import default_backend, executor_session
+from ..sweeps.kernel_pools import kernel_session, preload_modules
+from ..sweeps.maps import default_backend
 from ..sweeps.method_choice import AUTO, resolve
 from ..sweeps.seeding import job_seed
 from .spec import Distribution, Suite
@@ -589,9 +590,9 @@ def run_suite(
     compiled = options.get("backend") == "compiled"
     batched = BATCHED and compiled and st.n == 0
     try:
-        contact = compiled and st.n > 0  # a column: records use the closed-form contact
-        columns = contact  # and whole runs in one call (`multimass.engines.fast.column_runs`)
-        with executor_session(executor, workers, compiled, batched, contact, columns) as ex:
+        columns = compiled and st.n > 0  # whole runs (`multimass.engines.fast.column_runs`)
+        preload = preload_modules(st.n > 0, bool(suite.records), batched) if compiled else ()
+        with kernel_session(executor, workers, preload) as ex:
             for c in todo:
                 index = np.arange(c * chunk, min((c + 1) * chunk, n))
                 jobs = [job(int(i)) for i in index]

@@ -22,8 +22,9 @@ from ..inputs.records import Record
 from ..model.structure import Structure, from_specimen
 from ..simulation import estimate, outcome_summaries, outcome_summary
 from .engine import batch_plan, run_jobs
+from .kernel_pools import kernel_session, preload_modules
 from .map_cells import pulse_label
-from .maps import default_backend, executor_session
+from .maps import default_backend
 from .method_choice import resolve
 from .ranges import check_values
 from .seeding import job_seeds
@@ -158,12 +159,7 @@ def _check_in_parent(points) -> tuple[list, dict]:
 
 def _run(st, points, sweep_cols, executor, workers, progress, desc, kind, options, started):
     """The spectrum of `points`; its wall time counts from `started`."""
-    compiled = options.get("backend") == "compiled"
-    contact = (  # a column under a record: the closed-form full contact
-        compiled and st.n > 0 and kind == "record" and options.get("full_contact") != "integrate"
-    )
-    columns = compiled and st.n > 0  # whole column runs (`multimass.engines.fast.column_runs`)
-    with executor_session(executor, workers, compiled, contact=contact, columns=columns) as ex:
+    with kernel_session(executor, workers, _preload(st, kind, options)) as ex:
         # one task per batch of the engine's plan, its runs prepared together
         plan = batch_plan(len(points), ex.workers)
         res = run_jobs(
@@ -182,6 +178,14 @@ def _run(st, points, sweep_cols, executor, workers, progress, desc, kind, option
             results[i] = r
     table = _table(sweep_cols, results)
     return Spectrum(st.name, kind, table, options, time.perf_counter() - started)
+
+
+def _preload(st, kind: str, options: dict) -> tuple[str, ...]:
+    """The kernels a process pool's workers load for this spectrum (`preload_modules`)."""
+    if options.get("backend") != "compiled":
+        return ()
+    contact = kind == "record" and options.get("full_contact") != "integrate"
+    return preload_modules(column=st.n > 0, record=contact)
 
 
 def _table(sweep_cols: dict, results: list) -> pd.DataFrame:
