@@ -148,7 +148,7 @@ def choose_method(structure, excitation, t_end: float, impact, seed, options: di
 def _by_sample(st, excitation, t_end, impact, seed, options, s, rtol) -> MethodChoice:
     """The choice from the sample run each way (timed by `simulate_outcome`, kernels loaded
     before its clock), checked against each other and, if they differ, a reference."""
-    run = dict(options) | {"seed": seed}
+    run = dict(options) | {"seed": seed, "progress": None}  # a bar if a sample run is long
     got = {m: simulate_outcome(st, excitation, impact, t_end, **run | {"method": m}) for m in _BOTH}
     wall = {m: float(got[m].wall_time_s) for m in _BOTH}
     dop, exp = got["DOP853"], got["exponential"]

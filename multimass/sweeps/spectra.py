@@ -146,10 +146,11 @@ def _common(repeats, seed, t_free) -> tuple:
 
 def _check_in_parent(points) -> tuple[list, dict]:
     """Validate the options and the cost of the longest run here, before any worker starts;
-    with ``method="auto"``, choose the method on that run (`multimass.sweeps.method_choice`).
+    with ``method="auto"``, choose the method on that run (`multimass.sweeps.method_choice`;
+    of the longest, the last: the largest scale or amplitude, the one that rocks most).
 
     Returns the points with the method chosen, and the choice to report (or {})."""
-    p = max(points, key=lambda q: q.t_end)
+    p = max(reversed(points), key=lambda q: q.t_end)
     options, chosen = resolve(p.structure, p.ground(), p.t_end, p.seed, p.options)
     if chosen:
         points = [dataclasses.replace(q, options=options) for q in points]
