@@ -479,6 +479,10 @@ def run_suite(
     Returns
     -------
     SuiteRuns
+        Its ``wall_time_s`` is the whole call. With ``suite.options["method"] = "auto"``
+        (``[model] method``), the method of a column's runs is chosen on the suite's
+        longest run at its highest level (`multimass.sweeps.method_choice`) and reported
+        in ``chosen``.
 
     Raises
     ------

@@ -234,6 +234,14 @@ def pulse_spectrum(
         Free response after the pulse (s).
     **sim_options :
         Passed to `simulate`; ``backend="compiled"`` (the fast path) unless given.
+        ``method="auto"``: DOP853 or the exponential rocking integrator, chosen for the
+        structure on the spectrum's longest run (`multimass.sweeps.method_choice`); the
+        choice and why are in ``options["method_choice"]``.
+
+    Returns
+    -------
+    Spectrum
+        Its ``wall_time_s`` is the whole call, from its start to its table.
     """
     started = time.perf_counter()
     st = structure if isinstance(structure, Structure) else from_specimen(structure)
@@ -300,6 +308,9 @@ def record_spectrum(
         Default DD5 (random restitution per impact).
     repeats : int
         Runs per scale factor, each with its own seed.
+
+    The other parameters, ``method="auto"`` and the result's ``wall_time_s`` are as in
+    `pulse_spectrum`.
     """
     started = time.perf_counter()
     st = structure if isinstance(structure, Structure) else from_specimen(structure)
