@@ -352,6 +352,8 @@ def test_column_suites_run_in_batches_with_the_per_run_table(monkeypatch):
 
     s = _column_suite()
     batched = run_suite(s, executor="serial", progress=False).runs
+    pooled = run_suite(s, executor="process", workers=2, chunk_runs=3, progress=False).runs
+    pd.testing.assert_frame_equal(batched, pooled)  # records sent unscaled, scaled in workers
     monkeypatch.setattr(runs_mod, "COLUMNS_BATCHED", False)
     pd.testing.assert_frame_equal(batched, run_suite(s, executor="serial", progress=False).runs)
     assert batched.n_impacts.gt(0).all() and batched.theta_max_over_alpha.nunique() == 8
