@@ -32,6 +32,7 @@ it ends, its accuracy checks decide its status (`multimass.checks`).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass
@@ -59,6 +60,7 @@ __all__ = [
     "simulate",
     "simulate_outcome",
     "outcome_summary",
+    "outcome_summaries",
     "RunSummary",
     "estimate",
     "SimulationOptions",
@@ -154,13 +156,46 @@ def outcome_summary(
     run, and one whose solver fails, runs through `simulate_outcome`.
     """
     kw = {"progress": False} | kw | {"output_dt": None}
-    plan = _prepare(structure, excitation, impact, t_end, SimulationOptions.of(options, **kw))
+    return _summary(
+        _prepare(structure, excitation, impact, t_end, SimulationOptions.of(options, **kw))
+    )
+
+
+def _summary(plan: _Plan) -> RunSummary:
+    """`outcome_summary` of a prepared run."""
     got = plan.whole_run()
     if got is not None:
         return got
     r = judge(plan.run(lean=True), plan.options.energy_tol)
     t_over = next((e.time for e in r.events if e.kind == "overturn"), math.nan)
     return RunSummary(r.theta_max, r.outcome, r.status, r.n_impacts, t_over, r.message)
+
+
+def outcome_summaries(structure, runs, impact="DD2", **kw) -> list[RunSummary]:
+    """`outcome_summary` of each run of a sweep's batch, what the runs share prepared once.
+
+    ``runs`` holds ``(excitation, t_end, seed)`` triples; every run takes `impact` and
+    the options `kw`. The first run is prepared as `outcome_summary` prepares it (its
+    validation, its cost, the structure's modes, the compiled kernels loaded); a later run
+    of a column on the compiled path whose excitation is of the same kind and no longer
+    than a prepared one reuses those parts and changes only its ground motion, end time and
+    seed: the same `multimass.engines.fast.column_runs.ColumnRun`, so the same result,
+    bit for bit, as `outcome_summary` of that run alone. Any other run is `outcome_summary`.
+    """
+    st = _structure(structure)
+    kw = {"progress": False} | kw | {"output_dt": None}
+    out, first = [], None
+    for excitation, t_end, seed in runs:
+        got = None if first is None else first.again(excitation, t_end, seed)
+        if got is None:
+            plan = _prepare(
+                st, excitation, impact, t_end, SimulationOptions.of(None, **kw | {"seed": seed})
+            )
+            got = _summary(plan)
+            if first is None or t_end > first.t_end:
+                first = _WholeRuns.of(plan) or first
+        out.append(got)
+    return out
 
 
 def estimate(structure, excitation, impact="DD2", t_end: float = 10.0, *, options=None, **kw):
@@ -312,14 +347,16 @@ class _Plan:
     def whole_run(self) -> RunSummary | None:
         """`outcome_summary` of this run from `multimass.engines.fast.column_runs` (one compiled
         call), or None where that does not apply or the kernel could not finish it."""
+        run = self.column_run()
+        return None if run is None else _whole_summary(run, self.options)
+
+    def column_run(self):
+        """This run as a `multimass.engines.fast.column_runs.ColumnRun`, its kernels loaded;
+        None where the whole-run kernel does not apply."""
         if self.fast is None or self.st.n < 1 or self.options.integrator != "solve_ivp":
             return None
-        from .engines.fast import (  # numba loads only for "compiled"
-            warm_up,
-            warm_up_contact,
-            warm_up_exponential,  # numba: "compiled"
-        )
-        from .engines.fast.column_runs import BROKEN, ColumnRun
+        from .engines.fast import warm_up_contact, warm_up_exponential  # numba: "compiled"
+        from .engines.fast.column_runs import ColumnRun
         from .engines.fast.compile import warm_up_columns
 
         o, (_, duration, bps) = self.options, self.ground
@@ -327,18 +364,14 @@ class _Plan:
         run = ColumnRun.of(self.st, self.model, self.fast, self.start, ends, self.t_end, o)
         if run is None:
             return None
-        warm_up()
+        # the whole run calls the column kernel only (its group covers the sources it
+        # compiles); the per-phase kernels load when a run falls back to the phase loop
         if self.fast.contact is not None:
             warm_up_contact()
         if self.fast.rocking is not None:
             warm_up_exponential()
         warm_up_columns()
-        outcome, t_over, top, n_impacts, _, err = run.run()
-        if outcome == BROKEN:
-            return None
-        status = status_of(outcome, energy_check(err, o.energy_tol)["passed"])  # as judge
-        message = overturn_message(o.overturn_angle) if outcome == "overturned" else ""
-        return RunSummary(float(top), outcome, status, int(n_impacts), float(t_over), message)
+        return run
 
     def _phase_loop(self) -> PhaseLoop:
         if self.fast is not None:
@@ -389,6 +422,62 @@ class _Plan:
                 engine="newmark",
             )
         return r
+
+
+def _whole_summary(run, o: SimulationOptions) -> RunSummary | None:
+    """The `RunSummary` of a `ColumnRun` (as `judge` would judge it), None if it broke."""
+    from .engines.fast.column_runs import BROKEN
+
+    outcome, t_over, top, n_impacts, _, err = run.run()
+    if outcome == BROKEN:
+        return None
+    status = status_of(outcome, energy_check(err, o.energy_tol)["passed"])  # as judge
+    message = overturn_message(o.overturn_angle) if outcome == "overturned" else ""
+    return RunSummary(float(top), outcome, status, int(n_impacts), float(t_over), message)
+
+
+@dataclass(frozen=True, eq=False)
+class _WholeRuns:
+    """A prepared whole column run (`outcome_summaries`) that later runs of a batch reuse."""
+
+    st: Structure
+    run: object  # multimass.engines.fast.column_runs.ColumnRun
+    options: SimulationOptions
+    kind: int  # the excitation's code (`multimass.engines.fast.excitation.encode`)
+    t_end: float  # its cost was checked: a run no longer than this costs no more
+
+    @classmethod
+    def of(cls, plan: _Plan) -> _WholeRuns | None:
+        run = plan.column_run()
+        if run is None:
+            return None
+        return cls(plan.st, run, plan.options, plan.fast.kind, plan.t_end)
+
+    def again(self, excitation, t_end: float, seed) -> RunSummary | None:
+        """The summary of the run with this excitation, end and seed; None if this prepared
+        run does not apply to it (another kind of excitation, a longer run) or it broke."""
+        from .engines.fast.excitation import encode
+
+        t_end = v.positive("t_end", t_end, "the end time in s")
+        if t_end > self.t_end:
+            return None
+        _, duration, bps = _excitation(excitation, t_end)
+        kind, par, samples = encode(excitation)
+        if kind != self.kind:
+            return None
+        phase, y0 = _initial_state(self.st, excitation)
+        o = SimulationOptions.of(self.options, seed=seed)
+        arr = lambda a: np.array(a, dtype=np.float64, order="C")  # as FastPath.of
+        run = dataclasses.replace(
+            self.run,
+            t_end=float(t_end),
+            phase=int(phase),
+            y0=np.ascontiguousarray(y0, dtype=np.float64),
+            breakpoints=np.asarray(segment_ends(bps, duration, t_end), dtype=np.float64),
+            ground=(int(kind), arr(par), arr(samples)),
+            seed=o.seed,
+        )
+        return _whole_summary(run, o)
 
 
 def _prepare(structure, excitation, impact, t_end, o: SimulationOptions) -> _Plan:

@@ -201,7 +201,9 @@ def add_solver_args(p) -> None:
         "--method",
         default=DEFAULTS["method"],
         help="RK23, RK45, DOP853, Radau, BDF or LSODA, or with --backend compiled "
-        f"exponential (the rocking phases of a column; default {DEFAULTS['method']})",
+        "exponential (the rocking phases of a column); `multimass spectrum` also takes auto "
+        "(chosen for the column from its stiffness and a sample run timed and checked each "
+        f"way; multimass.sweeps.method_choice). Default {DEFAULTS['method']}",
     )
     g.add_argument(
         "--rtol",

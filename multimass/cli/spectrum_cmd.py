@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import time
 from pathlib import Path
 
 from ..errors import InputError
@@ -19,7 +20,7 @@ from ._args import (
 from ._output import output_folder
 from ._sweep_args import add_executor_args, executor_kwargs
 
-__all__ = ["register"]
+__all__ = ["register", "WALL_TIME_COVERS"]
 
 
 def register(sub) -> None:
@@ -83,11 +84,19 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
+#: What the command's ``wall_time_s`` (JSON, printed line) counts.
+WALL_TIME_COVERS = (
+    "the whole command: from its start (its imports, loading the compiled kernels, "
+    "reading the record, starting the workers) through the runs, the table, the "
+    "statistics and the CSV and figure written, to the JSON summary"
+)
+
+
 def run(args) -> int:
+    started = time.perf_counter()
     import multimass
     from multimass.inputs.excitations import plausible_amplitude
     from multimass.inputs.units import parse_acceleration
-    from multimass.sweeps.plots import plot_spectrum
     from multimass.sweeps.ranges import check_values, parse_range
     from multimass.sweeps.spectra import pulse_spectrum, record_spectrum
 
@@ -141,9 +150,10 @@ def run(args) -> int:
         "stats": sp.stats(x).replace({float("nan"): None}).to_dict(orient="records")
     }
     if out is not None:
+        from multimass.sweeps.plots import plot_spectrum  # matplotlib: only for the figure
+
         stem = out / f"{st.name}_spectrum_{x}"
         sp.table.to_csv(f"{stem}.csv", index=False)
-        Path(f"{stem}.json").write_text(json.dumps(info, indent=2))
         table, px = sp.table, x
         if x == "amp":  # plot amplitudes in g
             table, px, xlabel = (
@@ -152,9 +162,15 @@ def run(args) -> int:
                 "amplitude A (g)",
             )
         plot_spectrum(table, px, f"{stem}.png", xlabel, title)
+    info["wall_time_s"] = time.perf_counter() - getattr(args, "started", started)
+    info["wall_time_covers"] = WALL_TIME_COVERS
+    if out is not None:
+        Path(f"{stem}.json").write_text(json.dumps(info, indent=2))
     if args.json:
         print(json.dumps(info, indent=2))
     else:
+        if "method_choice" in sp.options:
+            print(f"method {sp.options['method_choice']['reason']}")
         print("θ_max over the completed runs (overturned and inaccurate runs counted apart):")
         for row in info["stats"]:
             print(_stats_line(x, row))

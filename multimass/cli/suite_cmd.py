@@ -2,13 +2,17 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
+import time
 from pathlib import Path
 
 from ..errors import InputError
 from . import _types as types
 from ._output import output_folder
 from ._sweep_args import add_executor_args, executor_kwargs
+
+METHODS = ("DOP853", "exponential", "auto")  # as multimass.suites.spec.METHODS
 
 __all__ = ["register"]
 
@@ -47,12 +51,21 @@ def register(sub) -> None:
         default=None,
         help="budget: refuse a suite estimated to take longer (default 1; inf for none)",
     )
+    p.add_argument(
+        "--method",
+        choices=METHODS,
+        default=None,
+        help="integrator of a column's rocking phases: DOP853, exponential, or auto (chosen "
+        "for the column from its stiffness and a sample run timed and checked each way; "
+        "multimass.sweeps.method_choice). Default: the suite file's [model] method, else DOP853",
+    )
     add_executor_args(p)
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
+    started = time.perf_counter()
     from multimass.suites.report import write_report
     from multimass.suites.runs import run_suite
     from multimass.suites.spec import Suite
@@ -62,6 +75,8 @@ def run(args) -> int:
             f"`--bootstrap` = {args.bootstrap}: give 0 (the Fisher band) or ≥ 10 resamples"
         )
     suite = Suite.from_toml(args.suite)
+    if args.method is not None:
+        suite = dataclasses.replace(suite, options=suite.options | {"method": args.method})
     out = output_folder(args.out)
     ex = executor_kwargs(args)
     result = run_suite(
@@ -73,7 +88,9 @@ def run(args) -> int:
         progress=ex.get("progress"),
         max_hours=args.max_hours,
     )
-    info = write_report(result, out, bootstrap=args.bootstrap)
+    info = write_report(
+        result, out, bootstrap=args.bootstrap, started=getattr(args, "started", started)
+    )
     if args.json:
         print(json.dumps(info, indent=2))
         return 0

@@ -17,16 +17,26 @@
 from __future__ import annotations
 
 import json
+import time
 from pathlib import Path
 
 from .analysis import as_json, summary_tables
 from .plots import plot_fragility, plot_ida, plot_im_efficiency, plot_pulse_fragility
 from .runs import SuiteRuns
 
-__all__ = ["write_report"]
+__all__ = ["write_report", "WHOLE_COMMAND"]
+
+#: What ``wall_time_s`` counts when `write_report` is given the command's start.
+WHOLE_COMMAND = (
+    "the whole command: from its start (its imports, reading the suite and its records, "
+    "loading the compiled kernels, starting the workers) through the runs, the runs table, "
+    "the fits, tables and figures written, to this summary"
+)
 
 
-def write_report(result: SuiteRuns, out, *, bootstrap: int = 200, seed: int = 0) -> dict:
+def write_report(
+    result: SuiteRuns, out, *, bootstrap: int = 200, seed: int = 0, started: float | None = None
+) -> dict:
     """Write the tables and figures of `result` into `out` and return the summary dict.
 
     Parameters
@@ -38,6 +48,11 @@ def write_report(result: SuiteRuns, out, *, bootstrap: int = 200, seed: int = 0)
         Bootstrap resamples of the fragility bands (0: the Fisher band only).
     seed : int
         Seed of the bootstrap.
+    started : float, optional
+        A `time.perf_counter` reading of when the caller's command started (``multimass
+        suite``): the summary's ``wall_time_s`` then counts from it to the summary's
+        writing, the runs, tables and figures included (default: the runs' own
+        `SuiteRuns.wall_time_s`).
     """
     out = Path(out)
     runs, suite = result.runs, result.suite
@@ -65,6 +80,8 @@ def write_report(result: SuiteRuns, out, *, bootstrap: int = 200, seed: int = 0)
         plot_pulse_fragility(
             runs[kind == "pulse"], out / "pulse_fragility.png", title=f"{title}: pulses"
         )
+    if started is not None:  # the whole command, up to this summary
+        summary |= result.timing(time.perf_counter() - started, WHOLE_COMMAND)
     info = {"summary": summary} | as_json(tables)
     (out / "summary.json").write_text(json.dumps(info, indent=1))
     return info

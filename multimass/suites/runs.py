@@ -24,7 +24,7 @@ import math
 import os
 import sys
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -35,10 +35,12 @@ from ..engines._rigid import uplift_threshold
 from ..errors import InputError
 from ..inputs.excitations import TWO_PI, MPShape
 from ..progress import RunCost, budget_seconds, format_duration
-from ..simulation import estimate, outcome_summary
+from ..simulation import estimate, outcome_summaries, outcome_summary
 from ..sweeps.base import available_workers, validate_workers
-from ..sweeps.engine import _Bar, run_jobs
-from ..sweeps.maps import default_backend, executor_session
+from ..sweeps.engine import _Bar, batch_plan, run_jobs
+from ..sweeps.kernel_pools import kernel_session, preload_modules
+from ..sweeps.maps import default_backend
+from ..sweeps.method_choice import AUTO, resolve
 from ..sweeps.seeding import job_seed
 from .spec import Distribution, Suite
 
@@ -191,6 +193,9 @@ def motions(suite: Suite) -> list[_Motion]:
 # --------------------------------------------------------------------------- one run
 @dataclass(frozen=True)
 class _Job:
+    """One run. A record's run carries the unscaled record and its `scale` (scaled where it
+    runs), so a batch of runs sends each record once, not a copy per run."""
+
     structure: object
     excitation: object
     t_end: float
@@ -198,6 +203,11 @@ class _Job:
     options: dict
     ims: _ImSpec | None = None  # compute the IMs of this (drawn) pulse in the worker
     draw: float = math.nan  # the restitution value drawn for this run (k or r), if any
+    scale: float | None = None
+
+    def ground(self):
+        """The run's excitation."""
+        return self.excitation if self.scale is None else self.excitation.scaled(self.scale)
 
 
 def _draw_options(suite: Suite, seed: int) -> tuple[dict, float]:
@@ -231,21 +241,35 @@ def _result(job: _Job, theta_max, overturned, n_impacts, status, t_over, message
     )
 
 
+def _summary_result(job: _Job, r) -> tuple:
+    """The tuple of one run from its `multimass.simulation.RunSummary`."""
+    overturned = r.outcome == "overturned"
+    return _result(job, r.theta_max, overturned, r.n_impacts, r.status, r.overturn_time, r.message)
+
+
 def suite_run(job: _Job) -> tuple:
     """One run: (θ_max/α, overturned, impacts, status, overturn time or NaN, message, IMs
     of the excitation or None)."""
-    r = outcome_summary(
-        job.structure, job.excitation, t_end=job.t_end, seed=job.seed, **job.options
-    )
-    return _result(
-        job,
-        r.theta_max,
-        r.outcome == "overturned",
-        r.n_impacts,
-        r.status,
-        r.overturn_time,
-        r.message,
-    )
+    r = outcome_summary(job.structure, job.ground(), t_end=job.t_end, seed=job.seed, **job.options)
+    return _summary_result(job, r)
+
+
+def suite_columns(jobs: list) -> list[tuple]:
+    """`suite_run` of every job of a batch, the runs of a column with the same options
+    prepared once (`multimass.simulation.outcome_summaries`: the same results, run for run)."""
+    out: list = []
+    k = 0
+    while k < len(jobs):
+        j = k + 1
+        while j < len(jobs) and jobs[j].options == jobs[k].options:
+            j += 1
+        group, first = jobs[k:j], jobs[k]
+        runs = outcome_summaries(
+            first.structure, [(b.ground(), b.t_end, b.seed) for b in group], **first.options
+        )
+        out += [_summary_result(b, r) for b, r in zip(group, runs)]
+        k = j
+    return out
 
 
 def suite_batch(jobs: list) -> list[tuple]:
@@ -257,7 +281,7 @@ def suite_batch(jobs: list) -> list[tuple]:
     st = jobs[0].structure
     r = simulate_outcomes(
         st,
-        [j.excitation for j in jobs],
+        [j.ground() for j in jobs],
         [j.t_end for j in jobs],
         [j.options | {"seed": j.seed} for j in jobs],
     )
@@ -325,6 +349,9 @@ def suite_cost(suite: Suite, n: int, one: RunCost, executor="process", workers=N
 BATCHED = True
 #: A chunk of a batched suite is cut into this many jobs (strided, so they cost alike).
 BATCHES_PER_CHUNK = 8
+#: Column suites on the compiled path run a batch per task, prepared once (`suite_columns`);
+#: False: one job per run (`suite_run`).
+COLUMNS_BATCHED = True
 
 
 # --------------------------------------------------------------------------- the table
@@ -338,9 +365,15 @@ class SuiteRuns:
     runs : pandas.DataFrame
         One row per run (`RUN_COLUMNS`, then ``sa_<T>s`` columns).
     wall_time_s : float
-        Time of this call (a resumed suite: the missing chunks only).
+        Seconds from the call of `run_suite` to its return: reading the motions and their
+        IMs, the checks, loading the compiled kernels, starting the workers, the runs, the
+        chunks written and the table joined (a resumed suite: the chunks read back, the
+        missing ones run).
     computed, resumed : int
         Runs computed by this call, and read back from finished chunks.
+    chosen : dict
+        With ``method = "auto"``: ``{"method_choice": ...}``, the method the runs used and
+        why (`multimass.sweeps.method_choice`); else empty.
     """
 
     suite: Suite
@@ -348,25 +381,42 @@ class SuiteRuns:
     wall_time_s: float
     computed: int
     resumed: int
+    chosen: dict = field(default_factory=dict)  # {"method_choice": ...} of method "auto"
 
     def summary(self) -> dict:
         r = self.runs
         status = r.status.value_counts().to_dict()
+        return (
+            {
+                "suite": self.suite.name,
+                "structure": self.suite.structure.name,
+                "n_runs": int(len(r)),
+                "n_motions": int(r.motion.nunique()),
+                "n_levels": int(len(self.suite.levels)),
+                "draws": int(self.suite.draws),
+                "measure": self.suite.measure,
+                "overturned": int(r.overturned.sum()),
+                "status": {k: int(v) for k, v in status.items()},
+                "computed": self.computed,
+                "resumed": self.resumed,
+            }
+            | self.timing(self.wall_time_s, _CALL)
+            | self.chosen
+        )
+
+    def timing(self, seconds: float, covers: str) -> dict:
+        """``wall_time_s``, what it covers and ``runs_per_s`` (runs computed per second)."""
         return {
-            "suite": self.suite.name,
-            "structure": self.suite.structure.name,
-            "n_runs": int(len(r)),
-            "n_motions": int(r.motion.nunique()),
-            "n_levels": int(len(self.suite.levels)),
-            "draws": int(self.suite.draws),
-            "measure": self.suite.measure,
-            "overturned": int(r.overturned.sum()),
-            "status": {k: int(v) for k, v in status.items()},
-            "computed": self.computed,
-            "resumed": self.resumed,
-            "wall_time_s": round(self.wall_time_s, 3),
-            "runs_per_s": round(self.computed / self.wall_time_s, 2) if self.wall_time_s else None,
+            "wall_time_s": round(seconds, 3),
+            "wall_time_covers": covers,
+            "runs_per_s": round(self.computed / seconds, 2) if seconds else None,
         }
+
+
+_CALL = (
+    "the call of run_suite: the motions and their IMs, the checks, loading the compiled "
+    "kernels, starting the workers, the runs and the table"
+)
 
 
 def _manifest(suite: Suite) -> dict:
@@ -429,6 +479,10 @@ def run_suite(
     Returns
     -------
     SuiteRuns
+        Its ``wall_time_s`` is the whole call. With ``suite.options["method"] = "auto"``
+        (``[model] method``), the method of a column's runs is chosen on the suite's
+        longest run at its highest level (`multimass.sweeps.method_choice`) and reported
+        in ``chosen``.
 
     Raises
     ------
@@ -454,6 +508,7 @@ def run_suite(
     n_l, n_d = len(levels), int(suite.draws)
     n = len(ms) * n_l * n_d
     options = default_backend(dict(suite.options))
+    chosen = {}
     p = float(getattr(st, "p", math.nan) or math.nan)
 
     def job(i: int) -> _Job:
@@ -461,17 +516,24 @@ def run_suite(
         j = rest // n_d
         m = ms[mi]
         seed = job_seed(suite.seed, i)  # derived per run: never a list of the suite's seeds
-        exc = m.excitation(float(factors[mi, j]), seed)
+        f = float(factors[mi, j])
         opts, drawn = _draw_options(suite, seed)
         ims = _ImSpec.of(suite) if m.drawn else None
-        t_end = exc.duration + suite.t_free
-        return _Job(st, exc, t_end, seed, options | opts, ims, drawn)
+        if m.kind == "record" and f != 1.0:  # scaled where it runs (`_Job.ground`)
+            t_end = m.unit.duration + suite.t_free
+            return _Job(st, m.unit, t_end, seed, options | opts, ims, drawn, f)
+        exc = m.excitation(f, seed)
+        return _Job(st, exc, exc.duration + suite.t_free, seed, options | opts, ims, drawn)
 
     # the options and the longest run checked here, and the whole suite's cost, before any
     # worker starts
     longest = max(range(len(ms)), key=lambda mi: ms[mi].excitation(1.0, 0).duration)
     probe = job(longest * n_l * n_d + (n_l - 1) * n_d)
-    one = estimate(st, probe.excitation, t_end=probe.t_end, seed=probe.seed, **probe.options)
+    if options.get("method") == AUTO:  # the suite's method, chosen on its longest run
+        picked, chosen = resolve(st, probe.ground(), probe.t_end, probe.seed, probe.options)
+        options = options | {"method": picked["method"]}  # `job` reads it from here on
+        probe = job(longest * n_l * n_d + (n_l - 1) * n_d)
+    one = estimate(st, probe.ground(), t_end=probe.t_end, seed=probe.seed, **probe.options)
     suite_cost(suite, n, one, executor, workers).check(
         f"{suite.source}: suite {suite.name!r} of {n:,} runs",
         "lower [monte_carlo] draws, the number of [intensity] levels or of motions",
@@ -532,9 +594,9 @@ def run_suite(
     compiled = options.get("backend") == "compiled"
     batched = BATCHED and compiled and st.n == 0
     try:
-        contact = compiled and st.n > 0  # a column: records use the closed-form contact
-        columns = contact  # and whole runs in one call (`multimass.engines.fast.column_runs`)
-        with executor_session(executor, workers, compiled, batched, contact, columns) as ex:
+        columns = compiled and st.n > 0  # whole runs (`multimass.engines.fast.column_runs`)
+        preload = preload_modules(st.n > 0, bool(suite.records), batched) if compiled else ()
+        with kernel_session(executor, workers, preload) as ex:
             for c in todo:
                 index = np.arange(c * chunk, min((c + 1) * chunk, n))
                 jobs = [job(int(i)) for i in index]
@@ -545,6 +607,19 @@ def run_suite(
                     results = [None] * len(jobs)
                     for b, part_results in enumerate(parts_):
                         results[b::k] = part_results
+                elif columns and COLUMNS_BATCHED:  # a task per batch of the plan, prepared together
+                    plan = batch_plan(len(jobs), ex.workers)
+                    got = run_jobs(
+                        suite_columns,
+                        [[jobs[i] for i in b] for b in plan],
+                        executor=ex,
+                        batch_size=1,
+                        progress=False,
+                    )
+                    results = [None] * len(jobs)
+                    for b, part_results in zip(plan, got):
+                        for i, r in zip(b, part_results):
+                            results[i] = r
                 else:
                     results = run_jobs(suite_run, jobs, executor=ex, progress=False)
                 tables[c] = rows(index, jobs, results)
@@ -556,4 +631,4 @@ def run_suite(
     parts = [tables[c] if c in tables else pd.read_parquet(part(c)) for c in range(n_chunks)]
     runs = pd.concat(parts, ignore_index=True)
     computed = sum(len(tables[c]) for c in tables)
-    return SuiteRuns(suite, runs, time.perf_counter() - wall, computed, n - computed)
+    return SuiteRuns(suite, runs, time.perf_counter() - wall, computed, n - computed, chosen)

@@ -9,6 +9,8 @@ A `Suite` is built in Python or read from TOML (`Suite.from_toml`)::
     impact = "CIM"                    # CIM (blocks) | DD1 … DD5 | DD (columns)
     restitution = "modified"          # modified | housner | a value | Table 2's (omit)
     t_free_s = 5.0                    # free response after the motion (s)
+    method = "DOP853"                 # | exponential | auto (a column's rocking phases;
+                                      #   multimass.sweeps.method_choice)
     [monte_carlo]
     draws = 50                        # runs per motion and level
     seed = 1
@@ -74,6 +76,8 @@ MEASURE_UNITS = {
 MEASURES = tuple(MEASURE_UNITS)
 #: Default largest scale factor on a record (larger factors distort a record's character).
 MAX_SCALE = 10.0
+#: The methods a suite may ask for (``[model] method``; "auto": `multimass.sweeps.method_choice`).
+METHODS = ("DOP853", "exponential", "auto")
 #: Plausible PGA range of a record in its stated units (g): outside, the units are wrong.
 _PGA_RANGE_G = (0.005, 3.0)
 #: Records whose PGAs differ by more than this factor are refused as a unit mix.
@@ -392,7 +396,12 @@ class Suite:
             raise _fail(w, "name", name, "give the suite a name")
         st = _structure(w, data["structure"], folder)
         model = data.get("model", {})
-        _keys(w, "model", model, {"impact", "restitution", "t_free_s", "backend", "max_scale"})
+        _keys(
+            w,
+            "model",
+            model,
+            {"impact", "restitution", "t_free_s", "backend", "max_scale", "method"},
+        )
         kind = "block" if st.n == 0 else "column"
         impact = model.get("impact", "CIM" if kind == "block" else "DD5")
         restitution = model.get("restitution")
@@ -403,6 +412,8 @@ class Suite:
         options = {}
         if "backend" in model:
             options["backend"] = v.choice("model.backend", model["backend"], ("compiled", "scipy"))
+        if "method" in model:
+            options["method"] = v.choice("model.method", model["method"], METHODS)
         mc = data.get("monte_carlo", {})
         _keys(w, "monte_carlo", mc, {"draws", "seed", "k", "restitution"})
         draws = v.integer("monte_carlo.draws", mc.get("draws", 1), low=1, what="runs per level")

@@ -7,6 +7,7 @@ repeated with random restitution (DD5) to show the spread.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass, field
 
@@ -19,23 +20,40 @@ from ..inputs.excitations import MPShape
 from ..inputs.excitations import pulse as make_pulse
 from ..inputs.records import Record
 from ..model.structure import Structure, from_specimen
-from ..simulation import estimate, outcome_summary
-from .engine import run_jobs
+from ..simulation import estimate, outcome_summaries, outcome_summary
+from .engine import batch_plan, run_jobs
+from .kernel_pools import kernel_session, preload_modules
 from .map_cells import pulse_label
-from .maps import default_backend, executor_session
+from .maps import default_backend
+from .method_choice import resolve
 from .ranges import check_values
 from .seeding import job_seeds
 
-__all__ = ["Spectrum", "pulse_spectrum", "record_spectrum", "spectrum_point"]
+__all__ = ["Spectrum", "pulse_spectrum", "record_spectrum", "spectrum_point", "spectrum_points"]
 
 
 @dataclass(frozen=True)
 class _Point:
+    """One run of a spectrum. A record's run carries the unscaled record and its `scale`
+    (scaled where it runs), so a batch sends the record once, not a copy per run."""
+
     structure: Structure
     excitation: object
     t_end: float
     seed: int
     options: dict
+    scale: float | None = None
+
+    def ground(self):
+        """The run's excitation."""
+        return self.excitation if self.scale is None else self.excitation.scaled(self.scale)
+
+
+def _checked(p: _Point, r) -> tuple:
+    """(θ_max, status, impacts, overturn time or nan) of a run's `RunSummary`."""
+    if r.status == "failed":
+        raise RuntimeError(f"{p.ground().describe()}: {r.message}")
+    return r.theta_max, r.status, r.n_impacts, r.overturn_time
 
 
 def spectrum_point(p: _Point) -> tuple:
@@ -44,10 +62,28 @@ def spectrum_point(p: _Point) -> tuple:
     `multimass.simulation.outcome_summary`: a column on the compiled path runs whole
     in one compiled call (`multimass.engines.fast.column_runs`).
     """
-    r = outcome_summary(p.structure, p.excitation, t_end=p.t_end, seed=p.seed, **p.options)
-    if r.status == "failed":
-        raise RuntimeError(f"{p.excitation.describe()}: {r.message}")
-    return r.theta_max, r.status, r.n_impacts, r.overturn_time
+    exc = p.ground()
+    return _checked(p, outcome_summary(p.structure, exc, t_end=p.t_end, seed=p.seed, **p.options))
+
+
+def spectrum_points(points: list) -> list[tuple]:
+    """`spectrum_point` of each point of a batch, the runs of a column prepared once
+    (`multimass.simulation.outcome_summaries`: the same results, run for run)."""
+    same = lambda a, b: a.structure is b.structure and a.options == b.options
+    out: list = []
+    k = 0
+    while k < len(points):  # the points of one structure and options run together
+        p = points[k]
+        j = k + 1
+        while j < len(points) and same(points[j], p):
+            j += 1
+        group = points[k:j]
+        runs = outcome_summaries(
+            p.structure, [(q.ground(), q.t_end, q.seed) for q in group], **p.options
+        )
+        out += [_checked(q, r) for q, r in zip(group, runs)]
+        k = j
+    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -69,6 +105,8 @@ class Spectrum:
     kind: str
     table: pd.DataFrame
     options: dict = field(default_factory=dict)
+    #: Seconds from the call of `pulse_spectrum` or `record_spectrum` to its return: the
+    #: checks, loading the compiled kernels, starting the workers, the runs and the table.
     wall_time_s: float = 0.0
 
     def stats(self, by: str) -> pd.DataFrame:
@@ -92,6 +130,8 @@ class Spectrum:
             "rows": self.table.replace({np.nan: None}).to_dict(orient="records"),
             "n_simulations": int(len(self.table)),
             "wall_time_s": float(self.wall_time_s),
+            "wall_time_covers": "the spectrum's call: its checks, loading the compiled "
+            "kernels, starting the workers, the runs and the table",
             "options": self.options,
         }
 
@@ -104,27 +144,57 @@ def _common(repeats, seed, t_free) -> tuple:
     return repeats, seed, v.positive("t_free", t_free, "free response after the excitation, s")
 
 
-def _check_in_parent(points) -> None:
-    """Validate the options and the cost of the longest run here, before any worker starts."""
-    p = max(points, key=lambda q: q.t_end)
-    estimate(p.structure, p.excitation, t_end=p.t_end, seed=p.seed, **p.options)
+def _check_in_parent(points) -> tuple[list, dict]:
+    """Validate the options and the cost of the longest run here, before any worker starts;
+    with ``method="auto"``, choose the method on that run (`multimass.sweeps.method_choice`;
+    of the longest, the last: the largest scale or amplitude, the one that rocks most).
+
+    Returns the points with the method chosen, and the choice to report (or {})."""
+    p = max(reversed(points), key=lambda q: q.t_end)
+    options, chosen = resolve(p.structure, p.ground(), p.t_end, p.seed, p.options)
+    if chosen:
+        points = [dataclasses.replace(q, options=options) for q in points]
+    estimate(p.structure, p.ground(), t_end=p.t_end, seed=p.seed, **options)
+    return points, chosen
 
 
-def _run(st, points, sweep_cols, executor, workers, progress, desc, kind, options):
-    wall = time.perf_counter()
-    compiled = options.get("backend") == "compiled"
-    contact = (  # a column under a record: the closed-form full contact
-        compiled and st.n > 0 and kind == "record" and options.get("full_contact") != "integrate"
-    )
-    columns = compiled and st.n > 0  # whole column runs (`multimass.engines.fast.column_runs`)
-    with executor_session(executor, workers, compiled, contact=contact, columns=columns) as ex:
-        res = run_jobs(spectrum_point, points, executor=ex, progress=progress, desc=desc)
+def _run(st, points, sweep_cols, executor, workers, progress, desc, kind, options, started):
+    """The spectrum of `points`; its wall time counts from `started`."""
+    with kernel_session(executor, workers, _preload(st, kind, options)) as ex:
+        # one task per batch of the engine's plan, its runs prepared together
+        plan = batch_plan(len(points), ex.workers)
+        res = run_jobs(
+            spectrum_points,
+            [[points[i] for i in index] for index in plan],
+            executor=ex,
+            batch_size=1,
+            progress=progress,
+            desc=desc,
+            weights=[len(index) for index in plan],
+            unit="run",
+        )
+    results: list = [None] * len(points)
+    for index, got in zip(plan, res):
+        for i, r in zip(index, got):
+            results[i] = r
+    table = _table(sweep_cols, results)
+    return Spectrum(st.name, kind, table, options, time.perf_counter() - started)
+
+
+def _preload(st, kind: str, options: dict) -> tuple[str, ...]:
+    """The kernels a process pool's workers load for this spectrum (`preload_modules`)."""
+    if options.get("backend") != "compiled":
+        return ()
+    contact = kind == "record" and options.get("full_contact") != "integrate"
+    return preload_modules(column=st.n > 0, record=contact)
+
+
+def _table(sweep_cols: dict, results: list) -> pd.DataFrame:
+    """The spectrum's table: the swept columns, then each run's outcome."""
     table = pd.DataFrame(sweep_cols)
-    table["theta_max"] = [r[0] for r in res]
-    table["status"] = [r[1] for r in res]
-    table["n_impacts"] = [r[2] for r in res]
-    table["overturn_time"] = [r[3] for r in res]
-    return Spectrum(st.name, kind, table, options, time.perf_counter() - wall)
+    for k, name in enumerate(("theta_max", "status", "n_impacts", "overturn_time")):
+        table[name] = [r[k] for r in results]
+    return table
 
 
 def pulse_spectrum(
@@ -164,7 +234,16 @@ def pulse_spectrum(
         Free response after the pulse (s).
     **sim_options :
         Passed to `simulate`; ``backend="compiled"`` (the fast path) unless given.
+        ``method="auto"``: DOP853 or the exponential rocking integrator, chosen for the
+        structure on the spectrum's longest run (`multimass.sweeps.method_choice`); the
+        choice and why are in ``options["method_choice"]``.
+
+    Returns
+    -------
+    Spectrum
+        Its ``wall_time_s`` is the whole call, from its start to its table.
     """
+    started = time.perf_counter()
     st = structure if isinstance(structure, Structure) else from_specimen(structure)
     omegas = check_values("omega", omega, positive=True)
     amps = check_values("amp", amp, nonnegative=True)
@@ -182,7 +261,7 @@ def pulse_spectrum(
     for (w, a, _), s in zip(grid, seeds):
         exc = build(amplitude=a, omega=w)
         points.append(_Point(st, exc, exc.duration + t_free, s, options))
-    _check_in_parent(points)
+    points, chosen = _check_in_parent(points)
     cols = {
         "omega": [g[0] for g in grid],
         "amp": [g[1] for g in grid],
@@ -198,7 +277,8 @@ def pulse_spectrum(
         progress,
         f"{st.name} {label} spectrum",
         f"{label}_pulse",
-        options | {"pulse": label, "t_free": t_free, "seed": seed},
+        points[0].options | {"pulse": label, "t_free": t_free, "seed": seed} | chosen,
+        started,
     )
 
 
@@ -228,7 +308,11 @@ def record_spectrum(
         Default DD5 (random restitution per impact).
     repeats : int
         Runs per scale factor, each with its own seed.
+
+    The other parameters, ``method="auto"`` and the result's ``wall_time_s`` are as in
+    `pulse_spectrum`.
     """
+    started = time.perf_counter()
     st = structure if isinstance(structure, Structure) else from_specimen(structure)
     scales = check_values("scale", scale, positive=True)
     if not isinstance(record, Record):
@@ -238,10 +322,10 @@ def record_spectrum(
     seeds = job_seeds(seed, len(grid))
     options = dict(impact=impact) | default_backend(sim_options)
     points = [
-        _Point(st, record.scaled(s), record.duration + t_free, sd, options)
+        _Point(st, record, record.duration + t_free, sd, options, float(s))
         for (s, _), sd in zip(grid, seeds)
     ]
-    _check_in_parent(points)
+    points, chosen = _check_in_parent(points)
     cols = {"scale": [g[0] for g in grid], "repeat": [g[1] for g in grid], "seed": list(seeds)}
     return _run(
         st,
@@ -252,5 +336,6 @@ def record_spectrum(
         progress,
         f"{st.name} record spectrum",
         "record",
-        options | {"record": record.name, "t_free": t_free, "seed": seed},
+        points[0].options | {"record": record.name, "t_free": t_free, "seed": seed} | chosen,
+        started,
     )

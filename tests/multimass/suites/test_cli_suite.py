@@ -96,3 +96,43 @@ def test_failed_runs_are_reported_in_text_mode_with_their_message(tmp_path, caps
     text = capsys.readouterr().out
     assert "run(s) failed (left out of the fits), e.g. mp_wp1.5" in text
     assert ": solve_ivp failed at t = 0.1 s" in text and f"files in {out}/" in text
+
+
+def test_the_suite_command_wall_time_counts_its_report(tmp_path, capsys, monkeypatch):
+    # the command's `wall_time_s` runs from its start to its summary: a figure of the report
+    # made 0.5 s slower is counted
+    import time
+
+    from multimass.suites import report
+
+    draw = report.plot_fragility
+    monkeypatch.setattr(report, "plot_fragility", lambda *a, **k: time.sleep(0.5) or draw(*a, **k))
+    suite = tmp_path / "small.toml"
+    suite.write_text(SMALL.replace("draws = 4", "draws = 1"))
+    out = tmp_path / "out"
+    args = ["suite", str(suite), "--out", str(out), "--executor", "serial", "--bootstrap", "0"]
+    assert main(args + ["--json"]) == 0
+    printed = json.loads(capsys.readouterr().out)["summary"]
+    saved = json.loads((out / "summary.json").read_text())["summary"]
+    assert printed == saved
+    assert saved["wall_time_s"] >= 0.5 and "the whole command" in saved["wall_time_covers"]
+
+
+def test_suite_method_auto_reports_its_choice(tmp_path, capsys):
+    # S1 is not stiff (S ≈ 1.9 < 10, multimass.sweeps.method_choice): auto keeps DOP853, says why
+    from multimass.cli.suite_cmd import METHODS
+    from multimass.suites.spec import METHODS as SPEC_METHODS
+
+    assert METHODS == SPEC_METHODS
+    rec = ROOT / "examples" / "data" / "records" / "kobe_1995.dat"
+    suite = tmp_path / "s1.toml"
+    suite.write_text(
+        'name = "S1 auto"\n[structure]\nspecimen = "S1"\n[model]\nt_free_s = 1.0\n'
+        '[monte_carlo]\ndraws = 1\n[intensity]\nmeasure = "pga"\nlevels = [0.3]\nunit = "g"\n'
+        f'[[records]]\npath = "{rec}"\nunits = "m/s2"\n'
+    )
+    out = tmp_path / "out"
+    args = ["suite", str(suite), "--out", str(out), "--executor", "serial", "--bootstrap", "0"]
+    assert main(args + ["--method", "auto", "--json"]) == 0
+    choice = json.loads(capsys.readouterr().out)["summary"]["method_choice"]
+    assert choice["method"] == "DOP853" and "not stiff" in choice["reason"]

@@ -326,3 +326,46 @@ def test_the_suite_budget_is_max_hours_and_counts_every_run(tmp_path, capsys):
     assert main(["suite", str(path), "--out", str(tmp_path / "o"), "--executor", "serial"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "of 120,000,000,000 runs" in err, err
+
+
+def _column_suite():
+    import multimass
+
+    rec = multimass.read_record(RECORDS / "kobe_1995.dat", units="m/s2", name="Kobe")
+    short = type(rec).from_arrays(rec.time[:300], rec.accel[:300], units="m/s2", name="Kobe 6 s")
+    return Suite(
+        name="S1 under Kobe",
+        structure=multimass.column("S1"),
+        records=(short,),
+        measure="pga",
+        levels=np.array([0.8, 1.0]) * G,
+        draws=4,
+        impact="DD5",
+        t_free=1.0,
+    )
+
+
+def test_column_suites_run_in_batches_with_the_per_run_table(monkeypatch):
+    # a batch of column runs shares its preparation (`outcome_summaries`): the table must be
+    # the one of a run per job (`suite_run`), run for run
+    from multimass.suites import runs as runs_mod
+
+    s = _column_suite()
+    batched = run_suite(s, executor="serial", progress=False).runs
+    pooled = run_suite(s, executor="process", workers=2, chunk_runs=3, progress=False).runs
+    pd.testing.assert_frame_equal(batched, pooled)  # records sent unscaled, scaled in workers
+    monkeypatch.setattr(runs_mod, "COLUMNS_BATCHED", False)
+    pd.testing.assert_frame_equal(batched, run_suite(s, executor="serial", progress=False).runs)
+    assert batched.n_impacts.gt(0).all() and batched.theta_max_over_alpha.nunique() == 8
+
+
+def test_the_suite_wall_time_counts_reading_its_motions(monkeypatch):
+    # `wall_time_s` is the whole call: a step before the runs made 0.5 s slower is counted
+    import time
+
+    from multimass.suites import runs as runs_mod
+
+    read = runs_mod.motions
+    monkeypatch.setattr(runs_mod, "motions", lambda suite: time.sleep(0.5) or read(suite))
+    r = run_suite(_block_suite(draws=1), executor="serial", progress=False)
+    assert r.wall_time_s >= 0.5 and "the motions" in r.summary()["wall_time_covers"]

@@ -121,3 +121,98 @@ def test_spectrum_options_are_checked_before_the_workers_start():
         pulse_spectrum("S1", "cosine", omega=15.0, amp=0.4 * G, rtol=float("nan"))
     with pytest.raises(InputError, match="`repeats` = 0"):
         pulse_spectrum("S1", "cosine", omega=15.0, amp=0.4 * G, repeats=0)
+
+
+def _short_record(ground_motions, seconds=3.0):
+    rec = read_two_column(ground_motions / "elcentro_1940_NS.dat", units="g")
+    n = int(round(seconds / rec.dt))
+    return type(rec).from_arrays(rec.time[:n], rec.accel[:n] / G, units="g", name="el centro")
+
+
+def _per_run(points) -> list:
+    """Each point alone through `outcome_summary` (`spectrum_point`), one job per run."""
+    from multimass.sweeps.engine import run_jobs
+    from multimass.sweeps.spectra import spectrum_point
+
+    return run_jobs(spectrum_point, points, executor="serial")
+
+
+def _same_rows(table, expected):
+    for k, column in enumerate(("theta_max", "status", "n_impacts", "overturn_time")):
+        got, want = table[column].to_numpy(), np.array([e[k] for e in expected])
+        assert np.array_equal(got, want, equal_nan=column == "overturn_time"), column
+
+
+def test_a_record_spectrum_batch_gives_each_run_as_it_runs_alone(ground_motions):
+    # the runs of a batch share their preparation (`outcome_summaries`); each must still be
+    # the run `outcome_summary` makes alone, bit for bit (random restitution, seeded)
+    from multimass import from_specimen
+    from multimass.sweeps.spectra import _Point
+
+    st, rec = from_specimen("S1"), _short_record(ground_motions)
+    sp = record_spectrum(st, rec, [1.0, 3.0, 6.0], repeats=3, seed=5, t_free=1.0, executor="serial")
+    options = {"impact": "DD5", "backend": "compiled"}
+    points = [
+        _Point(st, rec.scaled(scale), rec.duration + 1.0, seed, options)
+        for scale, seed in zip(sp.table.scale, sp.table.seed)
+    ]
+    _same_rows(sp.table, _per_run(points))
+    assert sp.table.n_impacts.min() >= 1 and sp.table.theta_max.nunique() == 9
+
+
+def test_a_batch_of_pulses_gives_each_run_as_it_runs_alone():
+    # pulses of several lengths in one batch: a longer run is prepared again, a shorter
+    # one reuses the prepared parts; every run is the one made alone
+    from multimass import from_specimen
+    from multimass.inputs.excitations import pulse
+    from multimass.sweeps.spectra import _Point, spectrum_points
+
+    st = from_specimen("S1")
+    options = {"impact": "DD2", "backend": "compiled"}
+    points = []
+    for w, a in [(20.0, 0.3 * G), (8.0, 0.3 * G), (12.0, 0.6 * G), (20.0, 0.6 * G)]:
+        exc = pulse("cosine", structure_kind="column", amplitude=a, omega=w)
+        points.append(_Point(st, exc, exc.duration + 1.0, 0, options))
+    batch, alone = spectrum_points(points), _per_run(points)
+    assert [r[:3] for r in batch] == [r[:3] for r in alone]
+    assert np.array_equal([r[3] for r in batch], [r[3] for r in alone], equal_nan=True)
+    assert len({r[0] for r in batch}) == 4
+
+
+def test_a_spectrum_wall_time_counts_its_checks_and_its_table(monkeypatch):
+    # `wall_time_s` is the whole call: a slow check before the runs and a slow table after
+    # them are both counted (each step made 0.3 s slower here)
+    import time
+
+    from multimass.sweeps import spectra
+
+    def slow(step):
+        def run(*args):
+            time.sleep(0.3)
+            return step(*args)
+
+        return run
+
+    monkeypatch.setattr(spectra, "_check_in_parent", slow(spectra._check_in_parent))
+    monkeypatch.setattr(spectra, "_table", slow(spectra._table))
+    sp = pulse_spectrum("S1", "cosine", 15.0, 0.3 * G, t_free=0.5, executor="serial")
+    assert sp.wall_time_s >= 0.6
+    assert "table" in sp.summary()["wall_time_covers"]
+
+
+def test_the_spectrum_command_wall_time_counts_writing_its_files(tmp_path, capsys, monkeypatch):
+    # the command's `wall_time_s` runs from its start to its JSON: the figure written counts
+    import json
+    import time
+
+    from multimass.cli import main
+    from multimass.sweeps import plots
+
+    draw = plots.plot_spectrum
+    monkeypatch.setattr(plots, "plot_spectrum", lambda *a: time.sleep(0.5) or draw(*a))
+    args = ["spectrum", "S1", "--pulse", "cosine", "--omega", "15", "--amp", "0.3g"]
+    assert main(args + ["--t-free", "0.5", "--executor", "serial", "--out", str(tmp_path)]) == 0
+    saved = json.loads((tmp_path / "S1_spectrum_omega.json").read_text())
+    assert saved["wall_time_s"] >= 0.5 and "the whole command" in saved["wall_time_covers"]
+    printed = capsys.readouterr().out.splitlines()[-1]  # "1 simulations in 0.9 s; files in ..."
+    assert float(printed.split(" in ")[1].split(" s")[0]) >= 0.5
