@@ -129,14 +129,15 @@ print(wall)
 """
 
 
-def _child(python: str, workers: int, repeats: int, table: Path):
-    """(wall time s, table) of one default spectrum under the interpreter `python`."""
+def _child(python: str, workers: int, repeats: int, table: Path, env=None):
+    """(wall time s, table) of one default spectrum under the interpreter `python`, in
+    the environment `env` (this process's if None)."""
     import subprocess
 
     import pandas as pd
 
     args = [python, "-c", _CHILD, str(RECORD), str(workers), str(repeats), str(table)]
-    out = subprocess.run(args, check=True, capture_output=True, text=True, cwd="/")
+    out = subprocess.run(args, check=True, capture_output=True, text=True, cwd="/", env=env)
     return float(out.stdout.strip().splitlines()[-1]), pd.read_pickle(table)
 
 
@@ -177,12 +178,14 @@ def against(python: str, repeat: int, workers: int, repeats: int) -> dict:
     from types import SimpleNamespace
 
     times, ratios = {"baseline": [], "this": []}, []
+    # the baseline runs without PYTHONPATH: a checkout on it would shadow its installation
+    bare = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     with tempfile.TemporaryDirectory() as tmp:
         for r in range(repeat):
-            ways = [("baseline", python), ("this", sys.executable)]
+            ways = [("baseline", python, bare), ("this", sys.executable, None)]
             got = {}
-            for name, exe in ways if r % 2 == 0 else ways[::-1]:
-                got[name] = _child(exe, workers, repeats, Path(tmp) / f"{name}.pkl")
+            for name, exe, env in ways if r % 2 == 0 else ways[::-1]:
+                got[name] = _child(exe, workers, repeats, Path(tmp) / f"{name}.pkl", env)
             for name in times:
                 times[name].append(got[name][0])
             ratios.append(got["baseline"][0] / got["this"][0])

@@ -187,7 +187,7 @@ def _segment(t, t_stop, y, phase, ctx):
     status, t_new, y_new, ev, nfev, samples, _, _, nt_y = integrate_phase(
         t, t_stop, y, t_eval, np.int64(phase), none[0], none[0], none[1], none[1], mp, fp,
         codes, dirs, term, quiet, t_on, ep, kind, par, smp, int(cfg[CFG_METHOD]),
-        cfg[CFG_RTOL], cfg[CFG_ATOL], cfg[CFG_MAX_STEP],
+        cfg[CFG_RTOL], cfg[CFG_ATOL], cfg[CFG_MAX_STEP], np.zeros(1),
     )  # fmt: skip
     if status == KERNEL_FAILED or not _finite(samples, y_new):
         return _BROKEN, t, y, nfev, 0.0

@@ -191,6 +191,7 @@ def column_run(
     phi, w, z, gam, h_max, screen = modes
     L_r, lam_r, V_r, W_r, wt_r = rock
     exp_cache = new_cache(lam_r.size)
+    hints = (np.zeros(1), np.zeros(1))  # integrate_phase's next step: full contact, rocking
     has_force = cfg[CF_FORCE] != 0.0
     tdmin, delay, window = cfg[CF_TDMIN], cfg[CF_DELAY], cfg[CF_WINDOW]
     ring = np.empty(int(cfg[CF_COUNT]))
@@ -251,7 +252,7 @@ def column_run(
             status, t_new, y_new, ev, nfev, samples, _, _, nt_y = integrate_phase(
                 t, t_stop, y, t_eval, phase, m, H, K, C_, mp, fp, codes, dirs, term, quiet,
                 ton, ep, kind, par, smp, int(cfg[CF_METHOD]), cfg[CF_RTOL], cfg[CF_ATOL],
-                cfg[CF_MAX_STEP],
+                cfg[CF_MAX_STEP], hints[0 if phase == 0 else 1],
             )  # fmt: skip
         n_rhs += nfev
         finite = True

@@ -79,7 +79,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ._maths import EXC_RECORD, event_value, rhs_call
+from ._maths import event_value, piece_end, rhs_call
 from ._rk import _MAX_BRENT, _MAX_FACTOR, _MIN_FACTOR, _SAFETY, EVENT, FAILED, OK, zeroin_next
 
 __all__ = ["exp_phase", "new_cache", "phi_functions", "ERROR_EXPONENT"]
@@ -90,8 +90,6 @@ ERROR_EXPONENT = -0.2
 #: above it the recurrence's cancellation costs φ_5 at most ~1e-13 of its value.
 _TAYLOR = 1.0
 _TERMS = 20
-#: A record's sample closer than this share of its interval ahead of t is t's own.
-_PIECE_EPS = 1e-9
 #: Step sizes are powers of 2^(1/_QUANTA) (or a record interval split in equal parts), so
 #: that few distinct sizes occur and their φ-functions are reused from `_SLOTS` tables.
 _QUANTA = 4
@@ -362,21 +360,6 @@ def _brent(code, a, b, t_on, quiet, dense, model, ep, ytmp):
 
 
 @njit(cache=True, error_model="numpy")
-def _piece_end(t, kind, par):
-    """The next sample of a record after t: its start before it, +inf after its end or
-    for other excitations (their breakpoints end the phase loop's segments)."""
-    if kind != EXC_RECORD or t >= par[1]:
-        return np.inf
-    if t < par[0]:
-        return par[0]
-    x = (t - par[0]) * par[2]
-    i = math.floor(x)
-    if i + 1 - x < _PIECE_EPS:
-        i += 1
-    return min(par[0] + (i + 1) / par[2], par[1])
-
-
-@njit(cache=True, error_model="numpy")
 def _quantised(h_abs, level, t, t_end, piece):
     """(step size to try, its level) for a proposed `h_abs`: the level is the power of
     2^(1/_QUANTA) below it, or the current `level` if that is at most twice as long
@@ -513,7 +496,7 @@ def exp_phase(
         if h_abs > max_step:
             h_abs = max_step
         rejected = False
-        piece = _piece_end(t, kind, par)
+        piece = piece_end(t, kind, par)
         t_end = min(t_stop, piece)
         while True:
             if h_abs < min_step:

@@ -43,6 +43,7 @@ for _fn in (checks.energy_scale, checks.balance_error):
 
 __all__ = [
     "ground_acc",
+    "piece_end",
     "rocking_rhs",
     "full_contact_rhs",
     "rhs",
@@ -77,6 +78,8 @@ EXC_RECORD = 4  # [t_start, t_end, 1/dt, last interval index]; samples = ü_g
 EXC_MP = 5  # [A, f_p, γ, ν, t0, start, duration] (MPPulse)
 #: Length of an excitation's parameter array.
 PAR_SIZE = 8
+#: A record's sample closer than this share of its interval ahead of t is t's own.
+_PIECE_EPS = 1e-9
 
 # event codes (multimass.engines._events.phase_events)
 EV_ZERO = 0
@@ -126,6 +129,23 @@ def ground_acc(t, kind, par, samples):
         return par[0] * math.cos(par[1] * t)  # paper 004, Fig 2; paper 001, Sec 4.4
     x2 = (par[1] * (t - par[2])) ** 2  # Ricker wavelet, in Ricker._shape_scalar's order of
     return par[0] * ((1.0 - 0.5 * x2) * math.exp(-0.25 * x2))  # operations (same rounding)
+
+
+@njit(cache=True, error_model="numpy")
+def piece_end(t, kind, par):
+    """The next sample of a record after t (ü_g is linear between samples, `ground_acc`):
+    its start before it, +inf after its end or for other excitations (their breakpoints
+    end the phase loop's segments). A sample closer than `_PIECE_EPS` of an interval
+    ahead of t is t's own."""
+    if kind != EXC_RECORD or t >= par[1]:
+        return np.inf
+    if t < par[0]:
+        return par[0]
+    x = (t - par[0]) * par[2]
+    i = math.floor(x)
+    if i + 1 - x < _PIECE_EPS:
+        i += 1
+    return min(par[0] + (i + 1) / par[2], par[1])
 
 
 @njit(cache=True, error_model="numpy", inline="always")

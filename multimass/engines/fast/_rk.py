@@ -21,6 +21,11 @@ the same events:
 * the output grid `t_eval` is filled from the dense output of the step
   that covers each time.
 
+Two departures, both in `._kernel`: under a record no step crosses one of its
+samples (ü_g has a kink there; solve_ivp steps across it), and a column's phase
+segment starts at the step the previous one proposed (solve_ivp guesses anew each
+call; a rigid block's segments still do, so its steps stay solve_ivp's).
+
 Differences from the reference start at round-off (sums are accumulated in
 loops, not by BLAS). A rigid block then takes the very same steps (states agree
 to ~1e-15). The bundled columns are integrated near the stability limit of the

@@ -488,6 +488,7 @@ def _tiny_call() -> None:
         1e-8,
         1e-10,
         5e-3,
+        np.zeros(1),
     )
     m, H, K, _, mp = model
     mx._total_energy(1.0, start[2], m, H, K, mp)  # the per-run path's transitions (FastPath)

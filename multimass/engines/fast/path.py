@@ -147,6 +147,9 @@ class FastPath:
     contact: ContactModes | None = None  # full contact in closed form (`._contact_kernel`)
     rocking: RockingModes | None = None  # rocking by the exponential method (`._exp_kernel`)
     exp_cache: tuple | None = None  # its φ-tables and last step, kept between phases
+    # the Runge–Kutta kernel's next step in full contact and while rocking, kept between
+    # phases (`._kernel.integrate_phase`'s hint)
+    rk_hints: tuple = field(default_factory=lambda: (np.zeros(1), np.zeros(1)))
 
     @classmethod
     def of(
@@ -221,6 +224,12 @@ class FastPath:
             rocking=rocking,
         )
 
+    def _hint(self, phase: int) -> np.ndarray:
+        """`integrate_phase`'s hint: a column's segments start at the step the last one
+        of the same kind ended with; a rigid block's start from their own guess, as
+        solve_ivp's do (the same steps, to the right-hand side call)."""
+        return self.rk_hints[0 if phase == 0 else 1] if self.m.size else np.zeros(1)
+
     # -- the run's energies and momenta, as the compiled whole runs form them --------------------
     def energy(self, phase: int, y: np.ndarray) -> float:
         """T + V_g + U of state `y` in `phase` (`multimass.model.kinematics.total_energy`, compiled:
@@ -290,6 +299,7 @@ class FastPath:
                 max(float(ivp["rtol"]), _RTOL_MIN),
                 float(ivp["atol"]),
                 float(ivp["max_step"]),
+                self._hint(s.phase),
             )
         status, t, y, ev, nfev, samples, _, nt_t, nt_y = out
         run.n_rhs += int(nfev)

@@ -233,10 +233,58 @@ def test_many_non_terminal_roots_in_one_segment():
         1e-8,
         1e-10,
         5e-3,
+        np.zeros(1),
     )
     assert ref.t_events[0].size > 8
     np.testing.assert_allclose(out[7], ref.t_events[0], atol=1e-9)
     np.testing.assert_allclose(out[5][-1], ref.y[:, -1], rtol=1e-6, atol=1e-9)
+
+
+def test_a_segment_restarts_at_the_step_the_last_one_ended_with():
+    # S1 rocking under El Centro (DD2's force off): one segment of 0.2 s from a fresh guess
+    # (HNW's, which here proposes the 5 ms cap: the controller cuts it down to the
+    # stiffest mode's ~1 ms by rejections), then the next 0.2 s twice: from a fresh
+    # guess and from the step the first segment ended with (`integrate_phase`'s hint).
+    # The hinted restart is within a factor 3 of the steps the segment takes, saves the
+    # rejected attempts, and lands on the same state to the tolerance of the reference
+    # (solve_ivp DOP853 at rtol 1e-12).
+    from scipy.integrate import solve_ivp
+
+    from multimass.engines.fast._kernel import integrate_phase
+    from multimass.engines.fast.path import FastPath
+    from multimass.impact_models import impact_model
+    from multimass.model._phase import Model, rocking_rhs
+
+    st = multimass.column("S1")
+    n = st.n
+    rec = multimass.read_record("examples/data/elcentro_1940_NS_15s.dat", units="g")
+    fast = FastPath.of(st, impact_model("CIM", st.specimen), rec, "DOP853", 1e-9)
+    y0 = np.zeros(2 * n + 5)
+    y0[n] = 0.01  # rocking on the right pivot at t = 2 s
+
+    def segment(t0, y, hint):
+        t1 = t0 + 0.2
+        out = integrate_phase(
+            t0, t1, y, np.array([t1]), 1, fast.m, fast.H, fast.K, fast.C, fast.mp,
+            np.zeros(mx.FP_SIZE), np.array([mx.EV_PEAK]), np.zeros(1), np.zeros(1, np.int64),
+            np.zeros(1), np.full(1, -np.inf), np.zeros(mx.EP_SIZE), fast.kind, fast.par,
+            fast.samples, 2, 1e-8, 1e-10, 5e-3, hint,
+        )  # fmt: skip
+        return out[5][-1], out[4]
+
+    hint = np.zeros(1)
+    y1, nfev0 = segment(2.0, y0, hint)
+    typical = 0.2 / (nfev0 / 12)  # DOP853: 12 calls per attempt
+    assert typical / 3 < hint[0] < 3 * typical
+    hinted, n_hinted = segment(2.2, y1, hint)
+    fresh, n_fresh = segment(2.2, y1, np.zeros(1))
+    assert n_hinted < n_fresh - 12  # at least one rejected attempt saved
+    ref = solve_ivp(
+        rocking_rhs(Model.of(st), 1, rec, None), (2.2, 2.4), y1, method="DOP853",
+        rtol=1e-12, atol=1e-14,
+    ).y[:, -1]  # fmt: skip
+    for got in (hinted, fresh):
+        np.testing.assert_allclose(got[: 2 * n + 2], ref[: 2 * n + 2], rtol=1e-6, atol=1e-9)
 
 
 def _same(a, b, detail="", event_dt=EVENT_DT):

@@ -188,7 +188,7 @@ def test_order_of_convergence_on_the_nonlinear_rocking():
     3.8 … 5.7), so the order is the least-squares slope over five step sizes."""
     st = multimass.column("S1")
     args, rock = _release_segment(st, 0.05, 0.1875)
-    ref = integrate_phase(*args, 2, 1e-13, 1e-15, np.inf)[5][-1]
+    ref = integrate_phase(*args, 2, 1e-13, 1e-15, np.inf, np.zeros(1))[5][-1]
     n = st.n
     scale = np.abs(ref[: 2 * n + 2])
     scale = np.maximum(scale, scale.max() * 1e-3)  # each coordinate in its own units
