@@ -1,7 +1,7 @@
 """The exponential rocking integrator against DOP853 on the compiled path: work and precision.
 
 Run:  python -m benchmarks.exponential_rocking [--repeat 3] [--rtols 1e-6 1e-8 1e-10]
-      [--quick] [--chart docs/spectra/exponential_wp.png] [--compile]
+      [--quick] [--chart docs/bench/exponential_wp.png] [--compile]
 
 Cases (each a whole compiled run, `multimass.simulation.outcome_summary`, the
 path of spectra and suites): S1, S2, S3 of paper 001 released from 0.11 rad (DD2,

@@ -4,7 +4,7 @@ References: the stiffness ratio S = min(2 ms, max_step) · ρ / 3.4 with ρ the 
 radius of the full-contact state matrix (`multimass.cost`), recomputed here with numpy
 from the structure's matrices; the work-precision table of the module docstring
 (benchmarks/exponential_rocking.py) places S1 (S ≈ 2) where DOP853 wins and the 20-node
-column (S ≈ 88) where the exponential method is 4-19 times faster.
+column (S ≈ 88) where the exponential method is 4-20 times faster.
 """
 
 import math
