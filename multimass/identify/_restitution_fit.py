@@ -19,6 +19,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy import stats
 
 from ._calibration_fit import _T_MARGIN, Problem, Unknown, solve
 from ._calibration_model import Simulator, TrialRejected
@@ -33,6 +34,10 @@ __all__ = [
     "align",
     "fit_impacts",
     "MODEL_PARAMETERS",
+    "theta_misfit",
+    "MISFIT_P",
+    "THETA_MODEL_FLOOR",
+    "NOISE_TOL",
 ]
 
 R_LOW = 0.05  # lowest coefficient tried (PerImpact's clip)
@@ -73,6 +78,22 @@ _FIRST_NFEV = 8  # evaluations of that impact's least squares with the model par
 #: … in passes of least squares (each re-weighting the channels) of this many evaluations
 _MODEL_NFEV = (6, 6)
 _MEAN = {"right": "r_er", "left": "r_el"}
+#: The goodness-of-fit test of θ (`theta_misfit`): a fit whose θ residual's mean square
+#: over a span exceeds the trace's noise variance by more than the χ² quantile of this
+#: upper tail probability (and `NOISE_TOL`) does not reproduce the trace there. Its
+#: covariance, a curvature at a point that is not the trace's, says nothing of the
+#: error: on synthetic S2 (C_p 1.02 × Table 2's, 233 Hz, 2 % noise) a fit stuck with C_p
+#: 11 % high left θ residuals 2.3–7 × the noise's RMS from the second impact on, and its
+#: r 0.02–0.04 off with r_std 6e-4; at the truth the same spans were at 0.94–1.10 ×.
+MISFIT_P = 1e-3
+#: … the relative tolerance on the noise variance the trace gives (`Segments.noise`,
+#: a robust spread of θ less its low-passed self; 0.88–1.22 × at the truth over single
+#: half-cycles of that trace, within the χ² quantile of their 116–230 samples)
+NOISE_TOL = 0.1
+#: … and the θ error of the model at the truth (rad), added in quadrature to the noise:
+#: the runs recorded at 10 × the trace's rate, the synthetic traces at 40 × (noiseless
+#: S1, 200 Hz: measured in `tests/multimass/identify/test_restitution_misfit.py`)
+THETA_MODEL_FLOOR = 1e-5
 
 
 @dataclass(eq=False)
@@ -109,6 +130,8 @@ class Track:
         correlated beyond `LIMITS["correlation"]`.
     covariance : dict
         After `fit_impacts`: (label, label) → covariance of the last fit's unknowns.
+    misfit : tuple
+        After `fit_impacts`: (ratio, limit) of `theta_misfit` over the whole span fitted.
     """
 
     sim: Simulator
@@ -122,6 +145,8 @@ class Track:
     std: dict = field(default_factory=dict)
     correlation: dict = field(default_factory=dict)
     covariance: dict = field(default_factory=dict)  # (label, label) → of the last fit
+    #: After `fit_impacts`: (ratio, limit) of `theta_misfit` over the whole span fitted
+    misfit: tuple = (math.nan, math.inf)
 
     @property
     def t(self) -> np.ndarray:
@@ -280,6 +305,28 @@ class ImpactFit:
     r_std: float = math.nan
     rms: float = math.nan
     bounce: bool = False  # the run lands in full contact before the next impact
+    #: θ residual's mean square over the two half-cycles after the impact (they set its
+    #: r: the next impact's time) / the noise's variance, and the largest a fit that
+    #: reproduces the trace leaves (`theta_misfit`)
+    misfit: float = math.nan
+    misfit_limit: float = math.inf
+
+
+def theta_misfit(e: np.ndarray, noise: float) -> tuple[float, float]:
+    """(ratio, limit): the mean square of the θ residuals `e` over the noise's variance
+    (`noise` the trace's, with `THETA_MODEL_FLOOR` in quadrature), and the largest ratio
+    a model that reproduces the trace leaves with probability 1 − `MISFIT_P`: the χ²
+    quantile of the residuals' count over that count (white noise: each residual is one
+    sample of it), times 1 + `NOISE_TOL` for the noise's estimate.
+
+    A ratio above its limit says the fit is not at the trace's parameters (or the model
+    cannot follow it) there; its covariance then does not bound the error."""
+    e = np.asarray(e, dtype=float)
+    n = max(e.size, 1)
+    var = noise**2 + THETA_MODEL_FLOOR**2
+    ratio = float(np.mean(e * e)) / var if e.size else 0.0
+    limit = float(stats.chi2.ppf(1.0 - MISFIT_P, n) / n) * (1.0 + NOISE_TOL)
+    return ratio, limit
 
 
 def _match(track: Track, m, tol: float, t_stop: float = 0.0):
@@ -381,7 +428,10 @@ def _fit_one(track: Track, i: int, seq: _Sequence, warnings: list) -> None:
     t_end = t_next + (_PAST / seg.fs if track.sim.impact == "CIM" else -edge)
     own = track.span(m.t - edge, t_next + _PAST / seg.fs)  # the next impact's step too
     t_own = t[own.stop - 1] - track.nuis["t_offset"] + _T_MARGIN
-    track.values[k] = coarse = _scan(track, k, own, t_own)
+    if k in track.values and not seq.scan_cp:  # refitted after the model stage: from there
+        coarse = track.values[k]
+    else:
+        track.values[k] = coarse = _scan(track, k, own, t_own)
     if (
         not fitted and seq.scan_cp and "cp" in track.estimate
     ):  # C_p's valley first, then r_k's again
@@ -570,4 +620,13 @@ def fit_impacts(track: Track, n_fit: int, bar, warnings: list) -> dict:
         idx = track.span(m.t, t_next)
         e = track.residuals(rec, idx, track.nuis, weighted=False)["theta"]
         f.rms = float(np.sqrt(np.mean(e * e)))
+        # the test over what sets r: its half-cycle and the next one (the next impact's
+        # time), within the span fitted
+        t_two = impacts[i + 2].t if i + 2 < len(impacts) else half[impacts[-1].after].t_stop
+        two = track.span(m.t, max(min(t_two, seq.t_end), t_next))
+        e = track.residuals(rec, two, track.nuis, weighted=False)["theta"]
+        f.misfit, f.misfit_limit = theta_misfit(e, seg.noise)
+    # the whole span fitted: the test of the model parameters and the nuisance ones
+    e = track.residuals(rec, p.idx, track.nuis, weighted=False)["theta"]
+    track.misfit = theta_misfit(e, seg.noise)
     return fitted
