@@ -100,16 +100,16 @@ def _damping_shown(track: Track, out: dict) -> None:
 
 
 def _misfit(track: Track, out: dict) -> None:
-    """Every parameter estimated is ill-posed where the fit does not reproduce θ over the
-    span fitted (`Track.misfit`, `_restitution_fit.theta_misfit`): the least squares
+    """Every parameter estimated is ill-posed where the fit does not reproduce the trace
+    over the span fitted (`Track.misfit`, `_restitution_fit.misfit_test`): the least squares
     stopped away from the trace's parameters, and the covariance at that point does
     not bound their error."""
-    ratio, limit = track.misfit
-    if not ratio > limit:
+    worst, channel = track.misfit
+    if not worst > 1.0:
         return
     reason = (
-        f"the fit does not reproduce θ (residual mean square {ratio:.3g} × the trace's "
-        f"noise variance over the span fitted, above the χ² limit {limit:.3g})"
+        f"the fit does not reproduce the trace over the span fitted ({channel}'s "
+        f"residual mean square {worst:.3g} × the most its noise leaves)"
     )
     for p in out.values():
         if p["status"] in (ps.ESTIMATED, ps.ILL_POSED):

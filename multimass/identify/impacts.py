@@ -189,10 +189,12 @@ class RestitutionEstimate:
         it, rad), ``estimated`` (both peaks ≥ `theta_min` and r fitted to a standard
         error ≤ 0.02), ``model_impact`` (the index of the simulated impact it matched,
         −1 if none), ``rms`` (the θ misfit over the half-cycle after it, rad),
-        ``misfit`` (the θ residuals' mean square over the two half-cycles after it,
-        which set its r, over the trace's θ noise variance: an impact whose
-        ratio is above the χ² limit of `_restitution_fit.theta_misfit` is not
-        estimated: the fit does not reproduce the trace after it),
+        ``misfit`` (over the two half-cycles after it, which set its r, the worst
+        channel's residual mean square over the most the noise leaves:
+        `_restitution_fit.misfit_test`, θ against the trace's noise, each
+        accelerometer against its residuals before the first impact; above 1 the fit
+        does not reproduce the trace there, and the impact is not estimated),
+        ``misfit_channel`` (that worst channel),
         ``r_std`` (the standard error of ``r``: see the module docstring).
     r_mean_right, r_mean_left : float or None
         Means of `r` over the estimated impacts on each corner (paper 001's r̄_er,
@@ -572,13 +574,13 @@ def restitution(
     # a fit that does not reproduce the trace after an impact: its r is no estimate
     # (`_restitution_fit.theta_misfit`: the χ² test of θ against the trace's noise)
     off = [i for i, f in fitted.items() if estimated[i] and i not in loose and
-           not f.misfit <= f.misfit_limit]  # fmt: skip
+           not f.misfit <= 1.0]  # fmt: skip
     if off:
         warnings.append(
             "impact(s) at t = " + ", ".join(f"{seg.impacts[i].t:.4g}" for i in off) + " s: "
-            "the fit does not reproduce θ after them (residual mean square "
-            + ", ".join(f"{fitted[i].misfit:.3g}" for i in off)
-            + " × the trace's noise variance, above the χ² limit); not estimated"
+            "the fit does not reproduce the trace after them (residual mean square "
+            + ", ".join(f"{fitted[i].misfit:.3g} × ({fitted[i].misfit_channel})" for i in off)
+            + " the most the noise leaves); not estimated"
         )
     rows = []
     for i, m in enumerate(seg.impacts):
@@ -595,6 +597,7 @@ def restitution(
                 "model_impact": f.model_impact if f else -1,
                 "rms": f.rms if f else math.nan,
                 "misfit": f.misfit if f else math.nan,
+                "misfit_channel": f.misfit_channel if f else "",
                 "r_std": f.r_std if f else math.nan,
             }
         )

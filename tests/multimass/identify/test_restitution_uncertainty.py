@@ -13,7 +13,7 @@ from scipy import stats
 from multimass import FreeRelease
 from multimass.identify import _parameter_status as ps
 from multimass.identify import synthetic_trace
-from multimass.identify._restitution_fit import MISFIT_P, NOISE_TOL, theta_misfit
+from multimass.identify._restitution_fit import MISFIT_P, NOISE_TOL, misfit_test, theta_misfit
 from multimass.identify._restitution_report import _misfit, sigma_interval
 from multimass.identify.calibration import Calibration
 from multimass.identify.impacts import restitution
@@ -67,11 +67,11 @@ def test_an_impact_whose_half_cycle_the_model_cannot_follow_is_not_estimated():
     bumped = int(np.argmin(np.abs(rows["t"].to_numpy() - a)))
     # the bumped half-cycle follows impact 2 and is the second of impact 1's test span
     assert not rows["estimated"].iloc[bumped] and not rows["estimated"].iloc[bumped - 1]
-    assert rows["misfit"].iloc[bumped] > 2.0
+    assert rows["misfit"].iloc[bumped] > 1.0 and rows["misfit_channel"].iloc[bumped] == "theta"
     assert rows["estimated"].iloc[[0, bumped + 1, bumped + 2]].all()
-    assert any("does not reproduce θ" in w for w in est.warnings)
+    assert any("does not reproduce the trace" in w for w in est.warnings)
     assert est.status == ps.ILL_POSED
-    assert "does not reproduce θ" in est.parameters["theta0"]["reason"]
+    assert "does not reproduce the trace" in est.parameters["theta0"]["reason"]
 
 
 def test_a_run_that_fails_the_misfit_test_makes_its_estimates_ill_posed():
@@ -80,12 +80,28 @@ def test_a_run_that_fails_the_misfit_test_makes_its_estimates_ill_posed():
         "zeta1": ps.given(0.005),
         "theta0": ps.estimated(0.1, 1e-4),
     }
-    _misfit(SimpleNamespace(misfit=(1.0, 1.2)), out)  # passes: nothing changes
+    _misfit(SimpleNamespace(misfit=(0.9, "theta")), out)  # passes: nothing changes
     assert out["cp"]["status"] == ps.ESTIMATED
-    _misfit(SimpleNamespace(misfit=(4.0, 1.2)), out)
+    _misfit(SimpleNamespace(misfit=(4.0, "a_A1")), out)
     assert out["cp"]["status"] == ps.ILL_POSED and out["theta0"]["status"] == ps.ILL_POSED
-    assert "4 × the trace's noise variance" in out["cp"]["reason"]
+    assert "a_A1's residual mean square 4 ×" in out["cp"]["reason"]
     assert out["zeta1"]["status"] == ps.GIVEN  # given stays given
+
+
+def test_an_accelerometer_is_tested_against_its_own_residuals_before_the_first_impact():
+    # both spans white noise of one variance: the ratio of their mean squares is
+    # F(n, n_ref) (closed form), above the limit with probability MISFIT_P
+    rng = np.random.default_rng(3)
+    n, n_ref, trials, flagged = 150, 60, 4000, 0
+    for _ in range(trials):
+        ref = rng.normal(0.0, 0.3, n_ref)
+        ratio, limit = misfit_test(rng.normal(0.0, 0.3, n), float(np.mean(ref**2)), n_ref)
+        flagged += ratio > limit
+    assert flagged / trials <= 3 * MISFIT_P
+    assert limit == pytest.approx(stats.f.ppf(1 - MISFIT_P, n, n_ref))
+    # twice the noise's RMS after the impact: far above
+    ratio, limit = misfit_test(rng.normal(0.0, 0.6, n), 0.09, n_ref)
+    assert ratio > limit
 
 
 def test_sigma_interval_covers_the_spread_95_percent_of_the_time():
