@@ -31,10 +31,12 @@ Eq 15; not for CIM, which has none) and the Rayleigh damping ratios ζ1, ζ2 —
 unknowns too, estimated from the same trace; neither Table 2's C_p nor the specimen
 file's damping stands in for them (they only start the search):
 
-1. *Alignment*: the release angle θ0 and the clock offset by least squares on the
+1. *Alignment*: the release time scanned on θ in steps of 10 ms (θ0 held at the first
+   peak), then the release angle θ0 and the clock offset by least squares on the
    samples before the first impact (no restitution acts there), θ first, then every
    channel: the accelerations' step at the release fixes the clock (to 0.1 ms; θ alone
-   left it 4 ms off on S2).
+   left it 4 ms off on S2). (From the first guess alone, where θ leaves its held
+   value, a noisy hold sent the fit 0.1 s early from an angle 0.025 rad too large.)
 2. *Impact by impact*: impact k is matched to a simulated impact (nearest in time, on
    its corner); its r_k is scanned alone in steps of 0.015 within 0.075 of its corner's
    mean so far, on every channel from impact k to just past the next impact (whose
@@ -117,9 +119,21 @@ what the trace does not fix, else ``estimated``. The written specimen takes the
 estimated damping (its ``[damping]``), and names C_p in its comment (a specimen file
 holds no C_p).
 
+**Does the fit reproduce the trace?** The covariance is a curvature at the point the
+least squares stopped; where that point is not the trace's (a valley of C_p 10 % off
+whose r make up for it), the r came out 0.02–0.04 off with r_std 6e-4, and nothing in
+the covariance says so. Each impact is therefore tested over the two half-cycles that
+set its r (`_restitution_fit.misfit_test`, probability 1e-3 of failing a fit that
+reproduces the trace): θ's residual mean square against the trace's noise variance
+(χ²), each accelerometer's against its own before the first impact (F). An impact
+that fails is *not estimated* (``misfit`` above 1, the channel named, a warning); the
+whole span fitted failing makes every estimated parameter *ill-posed*, saying why.
+
 Impacts between half-cycles whose peaks are both ≥ `theta_min` (0.01 rad, the
-paper's rule) and whose r the trace fixes (r_std ≤ 0.02) are *estimated*; the
-per-corner means r̄_er, r̄_el and σ_r are taken over them. Smaller ones are fitted
+paper's rule), whose r the trace fixes (r_std ≤ 0.02) and whose half-cycles the fit
+reproduces are *estimated*; the per-corner means r̄_er, r̄_el and σ_r are taken over
+them, σ_r with its 95 % interval (`RestitutionEstimate.sigma_r_interval`: χ² of their
+scatter, their r_std's share removed). Smaller ones are fitted
 while the simulation must stay on the trace, and reported, but the specimen fragment
 gives them the corner means, as the paper did. A corner without an estimated impact has
 no mean, and fewer than three estimated impacts no σ_r: the result says *not estimated*
