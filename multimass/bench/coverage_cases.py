@@ -143,6 +143,9 @@ def _uncertainties(est) -> dict:
         lo, hi = _getter(est, f"{q}_lo"), _getter(est, f"{q}_hi")
         if std is not None or lo is not None:
             out[q] = {"std": std, "lo": lo, "hi": hi}
+    iv = getattr(est, "sigma_r_interval", None)  # [lo, hi] of σ_r, or None
+    if isinstance(iv, (list, tuple)) and len(iv) == 2:
+        out["sigma_r"] = {"std": None, "lo": iv[0], "hi": iv[1]}
     per_corner = getattr(est, "r_mean_std", None)  # corner → {std, interval, n} or None
     if isinstance(per_corner, dict):
         for corner in ("right", "left"):

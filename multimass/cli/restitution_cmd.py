@@ -76,6 +76,11 @@ def _value(x) -> str:
     return "not estimated" if x is None else f"{x:.4f}"
 
 
+def _interval(iv) -> str:
+    """`` (95 %: lo … hi)`` of an interval, empty for None."""
+    return "" if iv is None else f" (95 %: {iv[0]:.4f} … {iv[1]:.4f})"
+
+
 def run(args) -> int:
     from multimass.identify._parameter_status import lines
     from multimass.identify.impacts import restitution
@@ -121,7 +126,8 @@ def run(args) -> int:
     e = est.energy_means
     print(
         f"r̄_er = {_value(est.r_mean_right)}, r̄_el = {_value(est.r_mean_left)}, "
-        f"σ_r = {_value(est.sigma_r)} (energy estimate: {_value(e['r_mean_right'])}, "
+        f"σ_r = {_value(est.sigma_r)}{_interval(est.sigma_r_interval)} (energy estimate: "
+        f"{_value(e['r_mean_right'])}, "
         f"{_value(e['r_mean_left'])}, {_value(e['sigma_r'])})"
     )
     used = est.values_used()

@@ -19,6 +19,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy import stats
 
 from ._calibration_fit import _T_MARGIN, Problem, Unknown, solve
 from ._calibration_model import Simulator, TrialRejected
@@ -33,6 +34,11 @@ __all__ = [
     "align",
     "fit_impacts",
     "MODEL_PARAMETERS",
+    "theta_misfit",
+    "misfit_test",
+    "MISFIT_P",
+    "THETA_MODEL_FLOOR",
+    "NOISE_TOL",
 ]
 
 R_LOW = 0.05  # lowest coefficient tried (PerImpact's clip)
@@ -54,6 +60,8 @@ _PAIR_NFEV = 4  # evaluations of a window's least squares …
 #: … and of the last one, over everything: with accelerations, and θ alone (its clock
 #: and θ0 trade off with every r, a longer valley)
 _GLOBAL_NFEV = {True: 5, False: 15}
+_REF_MIN = 20  # the fewest samples before the first impact that test the accelerometers
+_RELEASE_STEP = 0.01  # s: the release time is scanned in these steps (`_scan_release`)
 _OVERSAMPLE = 10  # the recording rate of the runs, × the trace's (calibrate's default)
 #: The model parameters a trace can show besides the coefficients: the Dirac-delta
 #: force's C_p (paper 001 Eq 15) and the Rayleigh damping ratios.
@@ -73,6 +81,26 @@ _FIRST_NFEV = 8  # evaluations of that impact's least squares with the model par
 #: … in passes of least squares (each re-weighting the channels) of this many evaluations
 _MODEL_NFEV = (6, 6)
 _MEAN = {"right": "r_er", "left": "r_el"}
+#: The goodness-of-fit test (`misfit_test`): a fit whose θ residual's mean square over
+#: a span exceeds the trace's noise variance by more than the χ² quantile of this upper
+#: tail probability (and `NOISE_TOL`), or an accelerometer's exceeds its mean square
+#: before the first impact by more than the F quantile, does not reproduce the trace
+#: there. Its
+#: covariance, a curvature at a point that is not the trace's, says nothing of the
+#: error: on synthetic S2 (C_p 1.02 × Table 2's, 233 Hz, 2 % noise) a fit stuck with C_p
+#: 11 % high left θ residuals 2.3–7 × the noise's RMS from the second impact on, and its
+#: r 0.02–0.04 off with r_std 6e-4; at the truth the same spans were at 0.94–1.10 ×
+#: (the accelerometers' too: 0.33–0.35 m/s² for a noise of 0.33 on a_A1).
+MISFIT_P = 1e-3
+#: … the relative tolerance on the noise variance the trace gives (`Segments.noise`,
+#: a robust spread of θ less its low-passed self; 0.88–1.22 × at the truth over single
+#: half-cycles of that trace, within the χ² quantile of their 116–230 samples)
+NOISE_TOL = 0.1
+#: … and a floor of the θ noise (rad), added in quadrature, that keeps the test of a
+#: noiseless trace finite: the fit's θ error there is the model's alone (runs recorded
+#: at 10 × the trace's rate, the synthetic traces at 40 ×), 3e-8 rad RMS on noiseless
+#: S1 (DD2, 0.11 rad, 200 Hz, 4 s)
+THETA_MODEL_FLOOR = 1e-5
 
 
 @dataclass(eq=False)
@@ -109,6 +137,10 @@ class Track:
         correlated beyond `LIMITS["correlation"]`.
     covariance : dict
         After `fit_impacts`: (label, label) → covariance of the last fit's unknowns.
+    misfit : tuple
+        After `fit_impacts`: (the worst channel's residual mean square over its limit,
+        the channel) of `misfit_test` over the whole span fitted; above 1 the fit does
+        not reproduce the trace.
     """
 
     sim: Simulator
@@ -122,6 +154,9 @@ class Track:
     std: dict = field(default_factory=dict)
     correlation: dict = field(default_factory=dict)
     covariance: dict = field(default_factory=dict)  # (label, label) → of the last fit
+    #: After `fit_impacts`: `misfit_test` over the whole span fitted: (the worst
+    #: channel's mean square over its limit, that channel)
+    misfit: tuple = (math.nan, "")
 
     @property
     def t(self) -> np.ndarray:
@@ -263,12 +298,40 @@ def align(track: Track, t_first: float) -> None:
     seg = track.case.segments
     t0, t1 = track.t[0], t_first - EDGE / seg.fs
     if track.case.free:
+        _scan_release(track, track.span(t0, t1))
         for _ in range(2):
             p = _window(track, ("theta0", "t_offset"), t0, t1)
             p.accept(solve(p, 20).x)
             track.rescale(p.idx)
     else:
         track.rescale(track.span(t0, t1))
+
+
+def _scan_release(track: Track, idx: slice) -> None:
+    """The clock offset (`Track.nuis`) the best of a scan over the trace's samples `idx`
+    before the first impact, on θ, in steps of `_RELEASE_STEP` from the first sample to
+    the last (and the start's guess), θ0 held at its start (the first half-cycle's peak).
+
+    The least squares of θ0 and the clock from the first guess alone (where θ leaves
+    its held value, less the time to fall by the quiet band) stopped in another valley
+    where the hold is noisy: synthetic S3, θ0 0.0767 rad, released at 0.284 s, 4.6 %
+    noise, 263 Hz: the guess was the trace's first sample (0 s) and the fit released
+    the model from 0.091 rad at 0.19 s, its θ held 0.014 rad off the trace's (4 × the
+    noise) before; the later coefficients then made up for it.
+    """
+    t = track.t
+    taus = [*np.arange(t[idx.start], t[idx.stop - 1], _RELEASE_STEP), track.nuis["t_offset"]]
+    costs = {}
+    for tau in taus:
+        nuis = track.nuis | {"t_offset": float(tau)}
+        try:
+            rec = track.run({}, t[idx.stop - 1] - tau + _T_MARGIN)
+        except TrialRejected:
+            continue
+        e = track.residuals(rec, idx, nuis)["theta"]
+        costs[float(tau)] = float(e @ e)
+    if costs:
+        track.nuis["t_offset"] = min(costs, key=costs.get)
 
 
 @dataclass
@@ -280,6 +343,70 @@ class ImpactFit:
     r_std: float = math.nan
     rms: float = math.nan
     bounce: bool = False  # the run lands in full contact before the next impact
+    #: `misfit_test` over the two half-cycles after the impact (they set its r: the
+    #: next impact's time): the worst channel's mean square over its limit (above 1 the
+    #: fit does not reproduce the trace there), and that channel
+    misfit: float = math.nan
+    misfit_channel: str = ""
+
+
+def theta_misfit(e: np.ndarray, noise: float) -> tuple[float, float]:
+    """`misfit_test` of the θ residuals `e` against the trace's noise `noise` (rad, with
+    `THETA_MODEL_FLOOR` in quadrature).
+
+    A ratio above its limit says the fit is not at the trace's parameters (or the model
+    cannot follow it) there; its covariance then does not bound the error."""
+    return misfit_test(e, noise**2 + THETA_MODEL_FLOOR**2)
+
+
+def misfit_test(e: np.ndarray, var: float, n_ref: int | None = None) -> tuple[float, float]:
+    """(ratio, limit): the mean square of the residuals `e` over the variance `var` of
+    a fit that reproduces the trace, and the largest ratio such a fit leaves with
+    probability 1 − `MISFIT_P` (white noise: each residual one sample of it).
+
+    `var` known (the trace's noise, `n_ref` None): the χ² quantile of the residuals'
+    count n over n, times 1 + `NOISE_TOL` for the noise's estimate. `var` itself a mean
+    square of `n_ref` residuals of the same fit (an accelerometer before the first
+    impact, where no restitution acts): the F(n, n_ref) quantile.
+    """
+    e = np.asarray(e, dtype=float)
+    n = max(e.size, 1)
+    ratio = float(np.mean(e * e)) / var if e.size else 0.0
+    if n_ref is None:
+        limit = float(stats.chi2.ppf(1.0 - MISFIT_P, n) / n) * (1.0 + NOISE_TOL)
+    else:
+        limit = float(stats.f.ppf(1.0 - MISFIT_P, n, max(n_ref, 1)))
+    return ratio, limit
+
+
+def _misfit(track: Track, rec, idx: slice, ref: dict) -> tuple[float, str]:
+    """(worst ratio / limit, its channel) of `misfit_test` over the samples `idx`: θ
+    against the trace's noise, each accelerometer against its residuals `ref` (channel
+    → (mean square, count)) before the first impact."""
+    res = track.residuals(rec, idx, track.nuis, weighted=False)
+    worst = (0.0, "")
+    for ch, e in res.items():
+        if ch == "theta":
+            ratio, limit = theta_misfit(e, track.case.segments.noise)
+        elif ch in ref:
+            ratio, limit = misfit_test(e, *ref[ch])
+        else:
+            continue
+        worst = max(worst, (ratio / limit, ch))
+    return worst
+
+
+def _reference(track: Track, rec, t_first: float) -> dict:
+    """Accelerometer → (residual mean square, count) over the samples before the first
+    impact less the filter's reach (none where fewer than `_REF_MIN` samples): the
+    fit's noise there, where no restitution and no C_p act."""
+    seg = track.case.segments
+    idx = track.span(track.t[0], t_first - EDGE / seg.fs)
+    n = idx.stop - idx.start
+    if n < _REF_MIN:
+        return {}
+    res = track.residuals(rec, idx, track.nuis, weighted=False)
+    return {ch: (max(float(np.mean(e * e)), 1e-300), n) for ch, e in res.items() if ch != "theta"}
 
 
 def _match(track: Track, m, tol: float, t_stop: float = 0.0):
@@ -381,7 +508,10 @@ def _fit_one(track: Track, i: int, seq: _Sequence, warnings: list) -> None:
     t_end = t_next + (_PAST / seg.fs if track.sim.impact == "CIM" else -edge)
     own = track.span(m.t - edge, t_next + _PAST / seg.fs)  # the next impact's step too
     t_own = t[own.stop - 1] - track.nuis["t_offset"] + _T_MARGIN
-    track.values[k] = coarse = _scan(track, k, own, t_own)
+    if k in track.values and not seq.scan_cp:  # refitted after the model stage: from there
+        coarse = track.values[k]
+    else:
+        track.values[k] = coarse = _scan(track, k, own, t_own)
     if (
         not fitted and seq.scan_cp and "cp" in track.estimate
     ):  # C_p's valley first, then r_k's again
@@ -560,6 +690,7 @@ def fit_impacts(track: Track, n_fit: int, bar, warnings: list) -> dict:
         if i < j and math.isfinite(corr[i, j]) and abs(corr[i, j]) > LIMITS["correlation"]
     }
     rec = track.run(track.values, p.t_stop)
+    ref = _reference(track, rec, impacts[0].t)
     for i, f in fitted.items():
         m = impacts[i]
         f.r = track.values[f.model_impact]
@@ -570,4 +701,11 @@ def fit_impacts(track: Track, n_fit: int, bar, warnings: list) -> dict:
         idx = track.span(m.t, t_next)
         e = track.residuals(rec, idx, track.nuis, weighted=False)["theta"]
         f.rms = float(np.sqrt(np.mean(e * e)))
+        # the test over what sets r: its half-cycle and the next one (the next impact's
+        # time), within the span fitted
+        t_two = impacts[i + 2].t if i + 2 < len(impacts) else half[impacts[-1].after].t_stop
+        two = track.span(m.t, max(min(t_two, seq.t_end), t_next))
+        f.misfit, f.misfit_channel = _misfit(track, rec, two, ref)
+    # the whole span fitted: the test of the model parameters and the nuisance ones
+    track.misfit = _misfit(track, rec, p.idx, ref)
     return fitted

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy import stats
 
 from . import _parameter_status as ps
 from ._calibration_fit import _T_MARGIN
@@ -19,7 +20,7 @@ from ._calibration_setup import modes_shown
 from ._calibration_stats import LIMITS, MODEL_REL_FLOOR
 from ._restitution_fit import MODEL_PARAMETERS, Track
 
-__all__ = ["parameter_report", "mean_std"]
+__all__ = ["parameter_report", "mean_std", "sigma_interval"]
 
 
 def _label_name(label: str, times: dict) -> str:
@@ -67,6 +68,7 @@ def parameter_report(track: Track, given: dict, fitted: dict, spec) -> dict:
         else:
             out[name] = ps.fixed(track.nuis[name], what, "not fitted")
     _damping_shown(track, out)
+    _misfit(track, out)
     out["sensor_bias"] = _sensor_biases(track)
     out["structure"] = ps.fixed(
         ps.structure_fixed(spec), "the column's geometry, masses, stiffnesses and sensors"
@@ -95,6 +97,24 @@ def _damping_shown(track: Track, out: dict) -> None:
             f"the next, {name}: {why}"
         )
         out[n]["reason"] = "; ".join(x for x in (out[n].get("reason"), reason) if x)
+
+
+def _misfit(track: Track, out: dict) -> None:
+    """Every parameter estimated is ill-posed where the fit does not reproduce the trace
+    over the span fitted (`Track.misfit`, `_restitution_fit.misfit_test`): the least squares
+    stopped away from the trace's parameters, and the covariance at that point does
+    not bound their error."""
+    worst, channel = track.misfit
+    if not worst > 1.0:
+        return
+    reason = (
+        f"the fit does not reproduce the trace over the span fitted ({channel}'s "
+        f"residual mean square {worst:.3g} × the most its noise leaves)"
+    )
+    for p in out.values():
+        if p["status"] in (ps.ESTIMATED, ps.ILL_POSED):
+            p["status"] = ps.ILL_POSED
+            p["reason"] = "; ".join(x for x in (p.get("reason"), reason) if x)
 
 
 def _entry(track: Track, name: str, log: bool, limit, partners: dict, what: str) -> dict:
@@ -146,3 +166,24 @@ def mean_std(track: Track, rows, weights) -> float:
             if i != j:
                 c[i, j] = track.covariance.get((f"r[{a}]", f"r[{b}]"), 0.0)
     return float(math.sqrt(max(w @ c @ w, 0.0)) / w.sum())
+
+
+def sigma_interval(deviations, r_std, n_corners: int) -> list[float] | None:
+    """The 95 % interval of σ_r, the spread of the coefficients from impact to impact,
+    from the estimated impacts' `deviations` about their corner means (`n_corners`
+    means fitted) and their standard errors `r_std`.
+
+    The pooled sum of squares S = Σ d² has E[S] = ν (σ_r² + mean r_std²), ν = n −
+    `n_corners` degrees of freedom, and S / (σ_r² + mean r_std²) is χ²_ν for normal
+    coefficients (paper 001 Table 1's σ_r is such a spread): the interval of σ_r² is
+    S / χ²_ν(0.975) … S / χ²_ν(0.025) less mean r_std² (the estimates' own share),
+    clipped at 0. None with no degree of freedom.
+    """
+    d = np.asarray(deviations, dtype=float)
+    nu = d.size - n_corners
+    if nu < 1:
+        return None
+    ss = float(d @ d)
+    own = float(np.mean(np.square(np.asarray(r_std, dtype=float))))
+    lo, hi = (ss / stats.chi2.ppf(q, nu) - own for q in (0.975, 0.025))
+    return [math.sqrt(max(lo, 0.0)), math.sqrt(max(hi, 0.0))]

@@ -133,6 +133,7 @@ from ._calibration_params import (
 from ._calibration_setup import cases, showable, structure_of
 from ._calibration_stages import HISTORY, stage1, stage2
 from ._calibration_stats import LIMITS, STATUSES
+from .impacts import MIN_SIGMA_IMPACTS
 from .segments import THETA_MIN
 
 __all__ = ["calibrate", "Calibration", "FITTABLE", "STATUSES", "LIMITS"]
@@ -309,16 +310,21 @@ class Calibration:
         tables, comments = {}, {}
         if {"r_er", "r_el"} & set(self.parameters):
             n = sum(len(v["impacts"]) for v in self.nuisance.values())
+            sigma = self._sigma_r()
             tables["restitution"] = {
                 "mean_right": round(vals["r_er"], 6),
                 "mean_left": round(vals["r_el"], 6),
-                "sigma": round(self._sigma_r(), 6),
+                "sigma": round(spec.sigma_r if sigma is None else sigma, 6),
             }
             comments["restitution"] = {
                 "mean_right": "r_er: mean coefficient of impacts on the right corner",
                 "mean_left": "r_el: mean coefficient of impacts on the left corner",
-                "sigma": f"sigma_r: spread of the {n} impacts fitted" if n >= 3 else "sigma_r",
-            }
+                "sigma": (
+                    f"sigma_r: spread of the {n} impacts fitted" if sigma is not None else
+                    f"sigma_r NOT ESTIMATED ({n} impact{'s' if n != 1 else ''} fitted; σ_r "
+                    f"needs at least {MIN_SIGMA_IMPACTS}): the specimen's value"
+                ),
+            }  # fmt: skip
         if {"zeta1", "zeta2"} & set(self.parameters):
             tables["damping"] = {
                 "zeta_1": float(f"{vals['zeta1']:.6g}"),
@@ -332,12 +338,13 @@ class Calibration:
             spec, tables, note=note, comments=comments, name=name, path=self.specimen_file
         )
 
-    def _sigma_r(self) -> float:
-        """Pooled spread of the fitted per-impact values about their corner means (the
-        specimen's σ_r with fewer than 3 impacts)."""
+    def _sigma_r(self) -> float | None:
+        """Pooled spread of the fitted per-impact values about their corner means; None
+        (not estimated) from fewer than `MIN_SIGMA_IMPACTS` impacts, as `restitution`
+        says."""
         dev = [i["deviation"] for n in self.nuisance.values() for i in n["impacts"]]
-        if len(dev) < 3:
-            return float(self.structure.specimen.sigma_r)
+        if len(dev) < MIN_SIGMA_IMPACTS:
+            return None
         return float(math.sqrt(sum(d * d for d in dev) / max(len(dev) - 2, 1)))
 
     def write_specimen(self, path, name: str | None = None):

@@ -31,10 +31,12 @@ Eq 15; not for CIM, which has none) and the Rayleigh damping ratios ζ1, ζ2 —
 unknowns too, estimated from the same trace; neither Table 2's C_p nor the specimen
 file's damping stands in for them (they only start the search):
 
-1. *Alignment*: the release angle θ0 and the clock offset by least squares on the
+1. *Alignment*: the release time scanned on θ in steps of 10 ms (θ0 held at the first
+   peak), then the release angle θ0 and the clock offset by least squares on the
    samples before the first impact (no restitution acts there), θ first, then every
    channel: the accelerations' step at the release fixes the clock (to 0.1 ms; θ alone
-   left it 4 ms off on S2).
+   left it 4 ms off on S2). (From the first guess alone, where θ leaves its held
+   value, a noisy hold sent the fit 0.1 s early from an angle 0.025 rad too large.)
 2. *Impact by impact*: impact k is matched to a simulated impact (nearest in time, on
    its corner); its r_k is scanned alone in steps of 0.015 within 0.075 of its corner's
    mean so far, on every channel from impact k to just past the next impact (whose
@@ -117,9 +119,21 @@ what the trace does not fix, else ``estimated``. The written specimen takes the
 estimated damping (its ``[damping]``), and names C_p in its comment (a specimen file
 holds no C_p).
 
+**Does the fit reproduce the trace?** The covariance is a curvature at the point the
+least squares stopped; where that point is not the trace's (a valley of C_p 10 % off
+whose r make up for it), the r came out 0.02–0.04 off with r_std 6e-4, and nothing in
+the covariance says so. Each impact is therefore tested over the two half-cycles that
+set its r (`_restitution_fit.misfit_test`, probability 1e-3 of failing a fit that
+reproduces the trace): θ's residual mean square against the trace's noise variance
+(χ²), each accelerometer's against its own before the first impact (F). An impact
+that fails is *not estimated* (``misfit`` above 1, the channel named, a warning); the
+whole span fitted failing makes every estimated parameter *ill-posed*, saying why.
+
 Impacts between half-cycles whose peaks are both ≥ `theta_min` (0.01 rad, the
-paper's rule) and whose r the trace fixes (r_std ≤ 0.02) are *estimated*; the
-per-corner means r̄_er, r̄_el and σ_r are taken over them. Smaller ones are fitted
+paper's rule), whose r the trace fixes (r_std ≤ 0.02) and whose half-cycles the fit
+reproduces are *estimated*; the per-corner means r̄_er, r̄_el and σ_r are taken over
+them, σ_r with its 95 % interval (`RestitutionEstimate.sigma_r_interval`: χ² of their
+scatter, their r_std's share removed). Smaller ones are fitted
 while the simulation must stay on the trace, and reported, but the specimen fragment
 gives them the corner means, as the paper did. A corner without an estimated impact has
 no mean, and fewer than three estimated impacts no σ_r: the result says *not estimated*
@@ -189,6 +203,12 @@ class RestitutionEstimate:
         it, rad), ``estimated`` (both peaks ≥ `theta_min` and r fitted to a standard
         error ≤ 0.02), ``model_impact`` (the index of the simulated impact it matched,
         −1 if none), ``rms`` (the θ misfit over the half-cycle after it, rad),
+        ``misfit`` (over the two half-cycles after it, which set its r, the worst
+        channel's residual mean square over the most the noise leaves:
+        `_restitution_fit.misfit_test`, θ against the trace's noise, each
+        accelerometer against its residuals before the first impact; above 1 the fit
+        does not reproduce the trace there, and the impact is not estimated),
+        ``misfit_channel`` (that worst channel),
         ``r_std`` (the standard error of ``r``: see the module docstring).
     r_mean_right, r_mean_left : float or None
         Means of `r` over the estimated impacts on each corner (paper 001's r̄_er,
@@ -228,6 +248,10 @@ class RestitutionEstimate:
         ``right``, ``left`` → ``std`` of the corner mean as the mean of the impacts it
         averages (from the fit's covariance, C_p's and ζ's uncertainty in it),
         ``interval`` (95 %), ``n``; None for a corner without an estimated impact.
+    sigma_r_interval : list or None
+        The 95 % interval [low, high] of the spread σ_r of the coefficients themselves
+        (χ² of the estimated impacts' scatter, their r_std's share removed:
+        `_restitution_report.sigma_interval`); None where `sigma_r` is.
     """
 
     impacts: pd.DataFrame
@@ -258,6 +282,7 @@ class RestitutionEstimate:
     status: str = "estimated"
     message: str = ""
     r_mean_std: dict = field(default_factory=dict)
+    sigma_r_interval: list | None = None
 
     def model_values(self) -> dict:
         """The values of C_p and the damping ratios the coefficients are for (given,
@@ -301,6 +326,9 @@ class RestitutionEstimate:
         for key, name in _TABLE_KEYS.items():
             why = self.not_estimated.get(name)
             out[key] = f"NOT ESTIMATED ({why}): the specimen's value" if why else "estimated"
+        if self.sigma_r_interval is not None and "sigma_r" not in self.not_estimated:
+            lo, hi = self.sigma_r_interval
+            out["sigma"] = f"estimated (95 %: {lo:.4f} … {hi:.4f})"
         return out
 
     def fragment(self) -> str:
@@ -383,6 +411,7 @@ class RestitutionEstimate:
                 "r_mean_right": self.r_mean_right,
                 "r_mean_left": self.r_mean_left,
                 "sigma_r": self.sigma_r,
+                "sigma_r_interval": self.sigma_r_interval,
                 "r_mean_std": self.r_mean_std,
                 "energy": self.energy_means,
                 "n_estimated": int(self.impacts["estimated"].sum()),
@@ -556,6 +585,17 @@ def restitution(
             f"the trace does not fix r to {LIMITS['r_std']:g} (r_std above it); not "
             "estimated (the fragment gives them the corner means)"
         )
+    # a fit that does not reproduce the trace after an impact: its r is no estimate
+    # (`_restitution_fit.theta_misfit`: the χ² test of θ against the trace's noise)
+    off = [i for i, f in fitted.items() if estimated[i] and i not in loose and
+           not f.misfit <= 1.0]  # fmt: skip
+    if off:
+        warnings.append(
+            "impact(s) at t = " + ", ".join(f"{seg.impacts[i].t:.4g}" for i in off) + " s: "
+            "the fit does not reproduce the trace after them (residual mean square "
+            + ", ".join(f"{fitted[i].misfit:.3g} × ({fitted[i].misfit_channel})" for i in off)
+            + " the most the noise leaves); not estimated"
+        )
     rows = []
     for i, m in enumerate(seg.impacts):
         f = fitted.get(i)
@@ -567,15 +607,17 @@ def restitution(
                 "r_energy": float(r_energy[i]),
                 "theta_before": half[m.before].peak,
                 "theta_after": half[m.after].peak,
-                "estimated": estimated[i] and f is not None and i not in loose,
+                "estimated": estimated[i] and f is not None and i not in loose + off,
                 "model_impact": f.model_impact if f else -1,
                 "rms": f.rms if f else math.nan,
+                "misfit": f.misfit if f else math.nan,
+                "misfit_channel": f.misfit_channel if f else "",
                 "r_std": f.r_std if f else math.nan,
             }
         )
     table = pd.DataFrame(rows)
-    means, missing = _means(table, "r", st)
-    energy, _ = _means(table, "r_energy", st)
+    means, missing, sigma_r_interval = _means(table, "r", st)
+    energy, _, _ = _means(table, "r_energy", st)
     # the response of the specimen fragment: the estimated impacts' r, then the corner means
     # (the specimen's where a corner has none)
     est = table[table["estimated"]]
@@ -596,6 +638,7 @@ def restitution(
         response=final.response, warnings=tuple(warnings), not_estimated=missing,
         parameters=parameters,
         status=status, message=message, r_mean_std=mean_std,
+        sigma_r_interval=sigma_r_interval,
     )  # fmt: skip
 
 
@@ -653,8 +696,10 @@ def _given(st, impact: str, cp, zeta1, zeta2) -> dict:
     return out
 
 
-def _means(table: pd.DataFrame, column: str, st) -> tuple[list, dict]:
-    """([right mean, left mean, pooled σ], reasons) of `column` over the estimated impacts.
+def _means(table: pd.DataFrame, column: str, st) -> tuple[list, dict, list | None]:
+    """([right mean, left mean, pooled σ], reasons, σ's 95 % interval) of `column` over
+    the estimated impacts (the interval: `_restitution_report.sigma_interval`, None
+    where σ is).
 
     The coefficients vary from impact to impact (the spread σ, paper 001 Table 1's σ_r)
     and each is known to its r_std: the means weigh each impact by 1 / (σ² + r_std²),
@@ -681,8 +726,11 @@ def _means(table: pd.DataFrame, column: str, st) -> tuple[list, dict]:
             f"{n} estimated impact{'s' if n != 1 else ''}; σ_r needs at least {MIN_SIGMA_IMPACTS}"
         )
 
+    def deviations(means) -> np.ndarray:
+        return np.concatenate([x - m for (x, _), m in zip(groups, means) if x.size])
+
     def pooled(means) -> float:
-        d = np.concatenate([x - m for (x, _), m in zip(groups, means) if x.size])
+        d = deviations(means)
         return float(math.sqrt(d @ d / (d.size - sum(1 for x, _ in groups if x.size))))
 
     means = [float(x.mean()) if x.size else None for x, _ in groups]
@@ -691,4 +739,9 @@ def _means(table: pd.DataFrame, column: str, st) -> tuple[list, dict]:
         w = np.where(np.isfinite(std), 1.0 / (sigma**2 + std**2 + 1e-12), 0.0)
         if x.size and w.sum() > 0.0:
             means[j] = float(np.average(x, weights=w))
-    return [*means, pooled(means) if n >= MIN_SIGMA_IMPACTS else None], reasons
+    if n < MIN_SIGMA_IMPACTS:
+        return [*means, None], reasons, None
+    stds = np.concatenate([std for x, std in groups if x.size])
+    n_corners = sum(1 for x, _ in groups if x.size)
+    interval = report.sigma_interval(deviations(means), stds, n_corners)
+    return [*means, pooled(means)], reasons, interval

@@ -236,6 +236,12 @@ def test_cli_json_has_the_named_keys(s1_dd2, tmp_path, capsys):
     assert main(["restitution", str(trace_file)]) == 0
     text = capsys.readouterr().out
     assert "r_std" in text and "NaN" not in text and "nan" not in text
+    # σ_r with its 95 % interval (χ² of the impacts' scatter) in the JSON, text, fragment
+    lo, hi = info["sigma_r_interval"]
+    assert lo <= info["sigma_r"] <= hi
+    assert f"σ_r = {info['sigma_r']:.4f} (95 %: {lo:.4f} … {hi:.4f})" in text
+    fragment = (tmp_path / "o" / "S1_restitution.toml").read_text()
+    assert f"estimated (95 %: {lo:.4f} … {hi:.4f})" in fragment
 
 
 def test_cli_unknown_model_is_one_line(tmp_path, s1_dd2, capsys):

@@ -1,0 +1,184 @@
+"""What the restitution estimate says of its own uncertainty: the χ² test of the fit
+against the trace's noise (an impact whose half-cycle the fit does not reproduce is
+not estimated, a run that does not reproduce the trace makes its parameters
+ill-posed), the 95 % interval of σ_r, and calibrate's σ_r from too few impacts."""
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from multimass import FreeRelease
+from multimass.identify import _parameter_status as ps
+from multimass.identify import synthetic_trace
+from multimass.identify._restitution_fit import MISFIT_P, NOISE_TOL, misfit_test, theta_misfit
+from multimass.identify._restitution_report import _misfit, sigma_interval
+from multimass.identify.calibration import Calibration
+from multimass.identify.impacts import restitution
+from multimass.inputs.traces import Trace
+
+
+def test_white_noise_passes_the_misfit_test_at_its_false_alarm_rate():
+    # residuals that are the noise itself: mean square / σ² is χ²_n / n (closed form),
+    # above the limit with probability below MISFIT_P (the noise tolerance makes it less)
+    rng = np.random.default_rng(0)
+    sigma, n, trials = 0.002, 120, 4000
+    flagged = 0
+    for _ in range(trials):
+        ratio, limit = theta_misfit(rng.normal(0.0, sigma, n), sigma)
+        flagged += ratio > limit
+    assert flagged / trials <= 3 * MISFIT_P
+    # the limit is the χ² quantile (scipy's, an independent implementation) with the tolerance
+    _, limit = theta_misfit(np.zeros(n), sigma)
+    assert limit == pytest.approx(stats.chi2.ppf(1 - MISFIT_P, n) / n * (1 + NOISE_TOL))
+
+
+def test_a_residual_the_noise_cannot_make_fails_the_misfit_test():
+    # the noise plus an offset of one σ doubles the mean square: far above the limit
+    rng = np.random.default_rng(1)
+    sigma, n = 0.002, 200
+    ratio, limit = theta_misfit(rng.normal(sigma, sigma, n), sigma)
+    assert ratio == pytest.approx(2.0, rel=0.25) and ratio > limit
+
+
+def test_an_impact_whose_half_cycle_the_model_cannot_follow_is_not_estimated():
+    """S1 DD2, 3 s at 200 Hz, 2 % noise (σ_θ 0.0022 rad): a bump of ±0.008 rad added to θ
+    over the half-cycle after the third impact, which no coefficient of the model makes.
+    Measured over that half-cycle alone: its mean square 4.5 × the noise variance (the
+    others 0.8–0.9), its r_std still 5e-4 — the covariance at the fit knows nothing of
+    the bump. The χ² test over the two half-cycles that set an r takes that impact
+    and the one before out of the estimated impacts, and the run's parameters are
+    ill-posed (the whole span fails the test too)."""
+    syn = synthetic_trace("S1", FreeRelease(theta0=0.11), "DD2", 3.0, seed=1)
+    tr = syn.trace
+    hits = [e["t"] for e in syn.truth["impacts"]]
+    t = np.asarray(tr.time)
+    th = np.array(tr.channels["theta"], dtype=float)
+    a, b = hits[2], hits[3]
+    m = (t > a) & (t < b)
+    u = (t[m] - a) / (b - a)
+    th[m] += 0.008 * np.sin(np.pi * u) ** 2 * np.sign(np.sin(2 * np.pi * u))
+    trace = Trace(tr.time, dict(tr.channels) | {"theta": th}, dict(tr.units),
+                  source="bump.csv", specimen="S1")  # fmt: skip
+    est = restitution(trace, "S1", "DD", progress=False, C_p=1750.0, zeta1=0.005, zeta2=0.015)
+    rows = est.impacts
+    bumped = int(np.argmin(np.abs(rows["t"].to_numpy() - a)))
+    # the bumped half-cycle follows impact 2 and is the second of impact 1's test span
+    assert not rows["estimated"].iloc[bumped] and not rows["estimated"].iloc[bumped - 1]
+    assert rows["misfit"].iloc[bumped] > 1.0 and rows["misfit_channel"].iloc[bumped] == "theta"
+    assert rows["estimated"].iloc[[0, bumped + 1, bumped + 2]].all()
+    assert any("does not reproduce the trace" in w for w in est.warnings)
+    assert est.status == ps.ILL_POSED
+    assert "does not reproduce the trace" in est.parameters["theta0"]["reason"]
+
+
+def test_a_run_that_fails_the_misfit_test_makes_its_estimates_ill_posed():
+    out = {
+        "cp": ps.estimated(1750.0, 0.01, log=True),
+        "zeta1": ps.given(0.005),
+        "theta0": ps.estimated(0.1, 1e-4),
+    }
+    _misfit(SimpleNamespace(misfit=(0.9, "theta")), out)  # passes: nothing changes
+    assert out["cp"]["status"] == ps.ESTIMATED
+    _misfit(SimpleNamespace(misfit=(4.0, "a_A1")), out)
+    assert out["cp"]["status"] == ps.ILL_POSED and out["theta0"]["status"] == ps.ILL_POSED
+    assert "a_A1's residual mean square 4 ×" in out["cp"]["reason"]
+    assert out["zeta1"]["status"] == ps.GIVEN  # given stays given
+
+
+def test_an_accelerometer_is_tested_against_its_own_residuals_before_the_first_impact():
+    # both spans white noise of one variance: the ratio of their mean squares is
+    # F(n, n_ref) (closed form), above the limit with probability MISFIT_P
+    rng = np.random.default_rng(3)
+    n, n_ref, trials, flagged = 150, 60, 4000, 0
+    for _ in range(trials):
+        ref = rng.normal(0.0, 0.3, n_ref)
+        ratio, limit = misfit_test(rng.normal(0.0, 0.3, n), float(np.mean(ref**2)), n_ref)
+        flagged += ratio > limit
+    assert flagged / trials <= 3 * MISFIT_P
+    assert limit == pytest.approx(stats.f.ppf(1 - MISFIT_P, n, n_ref))
+    # twice the noise's RMS after the impact: far above
+    ratio, limit = misfit_test(rng.normal(0.0, 0.6, n), 0.09, n_ref)
+    assert ratio > limit
+
+
+def test_sigma_interval_covers_the_spread_95_percent_of_the_time():
+    # n coefficients on two corners, each drawn about its corner mean with spread σ and
+    # estimated with its own error s: the interval holds σ in 95 % of draws (Monte Carlo)
+    rng = np.random.default_rng(2)
+    sigma, s, trials, held = 0.02, 0.006, 2000, 0
+    for _ in range(trials):
+        right = 0.93 + rng.normal(0, sigma, 5) + rng.normal(0, s, 5)
+        left = 0.89 + rng.normal(0, sigma, 4) + rng.normal(0, s, 4)
+        dev = np.concatenate([right - right.mean(), left - left.mean()])
+        lo, hi = sigma_interval(dev, np.full(9, s), 2)
+        held += lo <= sigma <= hi
+    assert 0.93 <= held / trials <= 0.97
+    # without the estimates' own share the interval is too high: it misses σ more often
+    dev = np.array([0.02, -0.02] * 4 + [0.0])
+    lo, hi = sigma_interval(dev, np.zeros(9), 2)
+    lo_own, hi_own = sigma_interval(dev, np.full(9, 0.01), 2)
+    assert hi_own < hi and lo_own < lo
+
+
+def test_sigma_interval_needs_a_degree_of_freedom():
+    assert sigma_interval([0.01, -0.01], [0.001, 0.001], 2) is None
+    lo, hi = sigma_interval([0.01, -0.01, 0.0], [0.0, 0.0, 0.0], 1)
+    # ν = 2, S = 2e-4: S / χ²₂(0.975) … S / χ²₂(0.025), χ²₂ quantiles −2 ln(1 − q)
+    assert lo == pytest.approx(math.sqrt(2e-4 / (-2 * math.log(0.025))))
+    assert hi == pytest.approx(math.sqrt(2e-4 / (-2 * math.log(0.975))))
+
+
+def test_calibrate_sigma_r_from_fewer_than_three_impacts_is_not_estimated():
+    two = SimpleNamespace(nuisance={"a": {"impacts": [{"deviation": 0.01}, {"deviation": -0.02}]}})
+    assert Calibration._sigma_r(two) is None
+    three = SimpleNamespace(
+        nuisance={"a": {"impacts": [{"deviation": d} for d in (0.01, -0.02, 0.01)]}}
+    )
+    # pooled about the two corner means: sqrt(Σ d² / (n − 2))
+    assert Calibration._sigma_r(three) == pytest.approx(math.sqrt(6e-4 / 1))
+
+
+def test_a_noisy_hold_before_the_release_does_not_misplace_the_release():
+    """The coverage benchmark's case S3-006 (seed 0, `multimass.bench.coverage_draws`):
+    S3 held at 0.0767 rad until 0.284 s, 4.6 % noise, 263 Hz. The release time's first
+    guess is the trace's first sample; least squares from there alone released the model
+    from 0.100 rad at 0.184 s and left the r 0.02–0.06 off (r_std 1e-3). The scan of the
+    release time finds it (measured: θ0 0.07681, clock 0.28388 s, every r within 0.0011)."""
+    from multimass.bench.coverage_draws import draw_case, make_trace
+
+    draw = draw_case("S3", 6, seed=0, family="DD", records=False)
+    syn, _ = make_trace(draw)
+    est = restitution(syn.trace, "S3", "DD", progress=False)
+    assert est.alignment["theta0"] == pytest.approx(draw.theta0, abs=1e-3)
+    assert est.alignment["t_offset"] == pytest.approx(draw.t_offset, abs=2e-3)
+    truth = [(e["t"], e["corner"], 1.0 if e["r"] is None else e["r"]) for e in syn.truth["impacts"]]
+    rows = est.impacts[est.impacts["estimated"]]
+    assert len(rows) >= 8
+    for _, row in rows.iterrows():
+        near = min((x for x in truth if x[1] == row["corner"]), key=lambda x: abs(x[0] - row["t"]))
+        assert abs(row["r"] - near[2]) <= 0.005
+
+
+def test_an_accelerometer_the_model_cannot_follow_takes_its_impact_out():
+    """The same S1 trace with θ as recorded and a_A1 disturbed instead over the
+    half-cycle after the third impact (a 5 Hz sine of 0.75 m/s², 5 × its noise): θ passes, the
+    F test of a_A1 against its residuals before the first impact does not."""
+    syn = synthetic_trace("S1", FreeRelease(theta0=0.11), "DD2", 3.0, seed=1)
+    tr = syn.trace
+    hits = [e["t"] for e in syn.truth["impacts"]]
+    t = np.asarray(tr.time)
+    a1 = np.array(tr.channels["a_A1"], dtype=float)
+    a, b = hits[2], hits[3]
+    m = (t > a) & (t < b)
+    a1[m] += 0.75 * np.sin(2 * np.pi * 5.0 * (t[m] - a))
+    trace = Trace(tr.time, dict(tr.channels) | {"a_A1": a1}, dict(tr.units),
+                  source="bump.csv", specimen="S1")  # fmt: skip
+    est = restitution(trace, "S1", "DD", progress=False, C_p=1750.0, zeta1=0.005, zeta2=0.015)
+    rows = est.impacts
+    bumped = int(np.argmin(np.abs(rows["t"].to_numpy() - a)))
+    assert not rows["estimated"].iloc[bumped]
+    assert rows["misfit_channel"].iloc[bumped] == "a_A1"
+    assert rows["estimated"].iloc[0]
