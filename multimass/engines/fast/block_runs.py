@@ -547,8 +547,12 @@ def run_excitations(runs: BlockRuns, excitations, t_end, r_pairs=None) -> Excita
 # ---------------------------------------------------------------------------- compile once
 _READY: float | None = None
 _REPORT = None  # the CompileReport of ensure_ready
-_MODULES = ("_maths", "_rk", "_kernel", "_block_uplift", "_block_kernel")
-_OWN = ("_block_uplift", "_block_kernel")  # the cache files this module drops when stale
+_MODULES = ("_maths", "_rk", "_kernel", "_block_uplift", "_block_segment", "_block_kernel")
+_OWN = (
+    "_block_uplift",
+    "_block_segment",
+    "_block_kernel",
+)  # the cache files this module drops when stale
 _STAMP = "multimass_fast_blocks.sources"
 
 
@@ -580,7 +584,11 @@ def ensure_ready(progress: bool | None = None):
         _REPORT = compile_once(
             "the batched map kernels",
             warm_up_blocks,
-            (f"{__package__}._block_uplift", f"{__package__}._block_kernel"),
+            (
+                f"{__package__}._block_uplift",
+                f"{__package__}._block_segment",
+                f"{__package__}._block_kernel",
+            ),
             progress=progress,
             estimate=25.0,
             load=0.1,

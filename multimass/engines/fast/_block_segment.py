@@ -1,0 +1,253 @@
+"""One rocking segment of a rigid block: `._kernel.integrate_phase` for its five states.
+
+A rigid block (N = 0) rocks with the state y = [θ, θ̇, D, W_g, W_F]. `rocking_segment`
+integrates it from one restart to the first of θ = 0, overturning or the segment's stop,
+as ``integrate_phase(t0, t_stop, y0, [t_stop], side, …)`` with the events of a rocking
+phase does — the same tableau (`._kernel._tableau`), first step (`._rk._first_step`),
+step-size control, error norm (`._rk._error_norm`), dense output (`._rk._dense_prepare`,
+`._rk._dense_eval`), event functions (`._maths.event_value`) and root finder
+(`._rk._brent`), in the same order, so the same steps, roots and states bit for bit —
+with what a block does not need taken out:
+
+* the state's length is the constant `NY`, so the stage sums of the step are unrolled;
+* every buffer is made once (`workspace`) and reused by every segment of every cell;
+* the only output sample is the state at t_stop, and the θ̇ = 0 roots (the half-cycle
+  peaks) give their |θ| only.
+
+The right-hand side is `._maths.rocking_rhs` (paper 001, Eqs 4–5 with N = 0), inlined
+here once.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ._kernel import _active, _sorted_roots, _tableau
+from ._maths import FP_SIZE, event_value, rhs_call, rocking_rhs
+from ._rk import (
+    _MAX_FACTOR,
+    _MIN_FACTOR,
+    _SAFETY,
+    EVENT,
+    FAILED,
+    OK,
+    _dense_eval,
+    _dense_prepare,
+    _error_norm,
+    _first_step,
+)
+
+__all__ = ["NY", "workspace", "rocking_segment"]
+
+#: The state's length for a rigid block: θ, θ̇ and the ledger's D, W_g, W_F.
+NY = 5
+_ROWS, _DENSE = 16, 7  # rows of the stages (DOP853's extended tableau), of the interpolant
+
+
+@njit(cache=True, error_model="numpy")
+def workspace(n_events):
+    """The buffers of `rocking_segment`, made once per batch of cells.
+
+    (stages, y_new, y_tmp, f, scale, interpolant, y, y_old, g, g_new, active, roots,
+    t_on, sample, fp, none): `none` = (empty node array, empty matrix), a rigid body's
+    elastic nodes; `fp` the Dirac-delta force, off.
+    """
+    return (
+        np.empty((_ROWS, NY)), np.empty(NY), np.empty(NY), np.empty(NY), np.empty(NY),
+        np.empty((_DENSE, NY)), np.empty(NY), np.empty(NY), np.empty(n_events),
+        np.empty(n_events), np.empty(n_events, np.int64), np.empty(n_events),
+        np.empty(n_events), np.empty(NY), np.zeros(FP_SIZE), (np.empty(0), np.empty((0, 0))),
+    )  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy")
+def _stages(t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, none, mp, fp, kind, par, smp):
+    """`._rk._rk_step` for NY states: stages in Kst[0..ns], the solution in ynew.
+
+    The sums run over k in order, component by component, as `_rk_step`'s do.
+    """
+    for j in range(NY):
+        Kst[0, j] = f[j]
+    for s in range(1, ns + 1):
+        if s < ns:
+            for j in range(NY):
+                ytmp[j] = 0.0
+            for k in range(s):
+                a = A[s, k]
+                for j in range(NY):
+                    ytmp[j] += Kst[k, j] * a
+            for j in range(NY):
+                ytmp[j] = y[j] + ytmp[j] * h
+            ts, ys = t + C[s] * h, ytmp
+        else:
+            for j in range(NY):
+                ynew[j] = 0.0
+            for k in range(ns):
+                b = Bw[k]
+                for j in range(NY):
+                    ynew[j] += Kst[k, j] * b
+            for j in range(NY):
+                ynew[j] = y[j] + h * ynew[j]
+            ts, ys = t + h, ynew
+        m, mat = none
+        rocking_rhs(ts, ys, Kst[s], side, m, m, mat, mat, mp, fp, kind, par, smp)
+
+
+@njit(cache=True, error_model="numpy")
+def _accepted_step(t, y, f, h_abs, t_stop, cfg, method, tab, ws, model):
+    """`._kernel._accepted_step` for NY states: (ok, t_new, h, next |h|, RHS calls)."""
+    A, Bw, C, ns, exponent = tab
+    Kst, ynew, ytmp, scale = ws[0], ws[1], ws[2], ws[4]
+    side, none, mp, fp, kind, par, smp = model
+    rtol, atol, max_step = cfg
+    nfev = 0
+    min_step = 10.0 * abs(np.nextafter(t, np.inf) - t)
+    if h_abs > max_step:
+        h_abs = max_step
+    elif h_abs < min_step:
+        h_abs = min_step
+    rejected = False
+    while True:
+        if h_abs < min_step:
+            return False, t, 0.0, h_abs, nfev
+        t_new = t + h_abs
+        if t_new - t_stop > 0.0:
+            t_new = t_stop
+        h = t_new - t
+        h_abs = abs(h)
+        _stages(t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, none, mp, fp, kind, par, smp)
+        nfev += ns
+        for j in range(NY):
+            scale[j] = atol + max(abs(y[j]), abs(ynew[j])) * rtol
+        err = _error_norm(method, Kst, h, scale, ns, ytmp)
+        if err < 1.0:
+            factor = _MAX_FACTOR if err == 0.0 else _SAFETY * err**exponent
+            if not (factor < _MAX_FACTOR):
+                factor = _MAX_FACTOR
+            if rejected and factor > 1.0:
+                factor = 1.0
+            return True, t_new, h, h_abs * factor, nfev
+        factor = _SAFETY * err**exponent
+        if not (factor > _MIN_FACTOR):
+            factor = _MIN_FACTOR
+        h_abs *= factor
+        rejected = True
+
+
+@njit(cache=True, error_model="numpy")
+def _event_values(t, y, out, events, ep, t_on, model):
+    codes, quiet = events[0], events[3]
+    side, none, mp, _, kind, par, smp = model
+    m, mat = none
+    for k in range(codes.size):
+        out[k] = event_value(
+            codes[k], t, y, t_on[k], quiet[k], side, m, m, mat, mat, mp, ep, kind, par, smp
+        )
+
+
+@njit(cache=True, error_model="numpy")
+def rocking_segment(t0, t_stop, y0, side, method, tol, events, ep, exc, mp, ws):
+    """Integrate rocking on pivot `side` from (t0, y0) towards t_stop with `events`.
+
+    Parameters
+    ----------
+    t0, t_stop : float
+        Start and stop (t_stop > t0).
+    y0 : ndarray (NY,)
+        The start state; on OK or EVENT it becomes the end state (on OK the dense output
+        at t_stop, as `integrate_phase`'s sample there), on FAILED it is left as it was.
+    side : int
+        The pivot, ±1.
+    method : int
+        `._rk.METHOD_CODES`.
+    tol : tuple
+        (rtol, atol, max_step), as in solve_ivp.
+    events : tuple
+        Codes, directions, terminal flags, quiet values, and the times each is held quiet
+        until (`integrate_phase`'s ev_code, ev_dir, ev_term, ev_quiet, ev_ton).
+    ep, mp : ndarray
+        Event parameters and model scalars (`._maths`).
+    exc : tuple
+        The excitation (kind, par, samples).
+    ws : tuple
+        `workspace`.
+
+    Returns
+    -------
+    status, t, event, nfev, peak
+        `status` OK, EVENT (terminal event `event` at t) or FAILED (step-size underflow,
+        or a state or sample that is not finite); RHS calls as `integrate_phase` counts
+        them; max |θ| of the θ̇ = 0 roots before the end.
+    """
+    Kst, ynew, ytmp, f, _, Q, y, y_old, g, g_new, active, roots, _, sample, fp, none = ws
+    codes, dirs, term, quiet, t_on = events
+    kind, par, smp = exc
+    A, Bw, C, ns, _, err_order, _ = _tableau(method)
+    model = (side, none, mp, fp, kind, par, smp)
+    tab = (A, Bw, C, ns, -1.0 / (err_order + 1))
+    m, mat = none
+    rtol, atol, max_step = tol
+    for j in range(NY):
+        y[j] = y0[j]
+    t, peak = t0, 0.0
+    rhs_call(t, y, f, side, m, m, mat, mat, mp, fp, kind, par, smp)
+    h_abs = _first_step(
+        t, y, f, t_stop, max_step, err_order, rtol, atol, ytmp, ynew, side, m, m, mat, mat,
+        mp, fp, kind, par, smp,
+    )  # fmt: skip
+    nfev = 2
+    _event_values(t, y, g, events, ep, t_on, model)
+    while True:
+        ok, t_new, h, h_abs, calls = _accepted_step(
+            t, y, f, h_abs, t_stop, tol, method, tab, ws, model
+        )
+        nfev += calls
+        if not ok:
+            return FAILED, t, -1, nfev, peak
+        t_old, t = t, t_new
+        for j in range(NY):
+            y_old[j] = y[j]
+            y[j] = ynew[j]
+            f[j] = Kst[ns, j]
+        finished = t - t_stop >= 0.0
+        dense, terminal = False, -1
+        _event_values(t, y, g_new, events, ep, t_on, model)
+        n_act = _active(g, g_new, dirs, active)
+        if n_act:
+            nfev += _dense_prepare(
+                method, t_old, h, y_old, ynew, Kst, ns, Q, ytmp, side, m, m, mat, mat, mp,
+                fp, kind, par, smp,
+            )  # fmt: skip
+            dense = True
+            _sorted_roots(
+                n_act, active, roots, t_old, t, h, y_old, Q, ytmp, method,
+                (codes, dirs, term, quiet, t_on), ep, (side, m, m, mat, mat, mp, fp, kind, par, smp),
+            )  # fmt: skip
+            for i in range(n_act):
+                if term[active[i]]:
+                    terminal, t = active[i], roots[i]
+                    _dense_eval(method, t, t_old, h, y_old, Q, y)
+                    break
+                _dense_eval(method, roots[i], t_old, h, y_old, Q, ytmp)  # a peak
+                peak = max(peak, abs(ytmp[0]))
+        for k in range(g.size):
+            g[k] = g_new[k]
+        sampled = t_stop <= t
+        if sampled:  # the output grid [t_stop]
+            if not dense:
+                nfev += _dense_prepare(
+                    method, t_old, h, y_old, ynew, Kst, ns, Q, ytmp, side, m, m, mat, mat,
+                    mp, fp, kind, par, smp,
+                )  # fmt: skip
+            _dense_eval(method, t_stop, t_old, h, y_old, Q, sample)
+        if terminal >= 0 or finished:
+            for j in range(NY):
+                if not (math.isfinite(y[j]) and (not sampled or math.isfinite(sample[j]))):
+                    return FAILED, t, -1, nfev, peak
+            end = y if terminal >= 0 else sample
+            for j in range(NY):
+                y0[j] = end[j]
+            return (EVENT if terminal >= 0 else OK), t, terminal, nfev, peak
