@@ -46,6 +46,10 @@ __all__ = ["NY", "workspace", "rocking_segment"]
 NY = 5
 _ROWS, _DENSE = 16, 7  # rows of the stages (DOP853's extended tableau), of the interpolant
 
+# `._maths.event_value` (the same function) inlined into the step loop: a call with its
+# fifteen arguments cost as much as the three events' work
+_event_value = njit(inline="always", error_model="numpy")(event_value.py_func)
+
 
 @njit(cache=True, error_model="numpy")
 def workspace(n_events):
@@ -67,32 +71,30 @@ def workspace(n_events):
 def _stages(t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, none, mp, fp, kind, par, smp):
     """`._rk._rk_step` for NY states: stages in Kst[0..ns], the solution in ynew.
 
-    The sums run over k in order, component by component, as `_rk_step`'s do.
+    Each component's sum runs over k in order, from 0.0, as `_rk_step`'s does (the same
+    rounding), in a local variable rather than in memory.
     """
+    m, mat = none
     for j in range(NY):
         Kst[0, j] = f[j]
     for s in range(1, ns + 1):
-        if s < ns:
-            for j in range(NY):
-                ytmp[j] = 0.0
-            for k in range(s):
-                a = A[s, k]
-                for j in range(NY):
-                    ytmp[j] += Kst[k, j] * a
-            for j in range(NY):
-                ytmp[j] = y[j] + ytmp[j] * h
-            ts, ys = t + C[s] * h, ytmp
-        else:
-            for j in range(NY):
-                ynew[j] = 0.0
-            for k in range(ns):
-                b = Bw[k]
-                for j in range(NY):
-                    ynew[j] += Kst[k, j] * b
-            for j in range(NY):
-                ynew[j] = y[j] + h * ynew[j]
-            ts, ys = t + h, ynew
-        m, mat = none
+        last = s == ns
+        s0 = s1 = s2 = s3 = s4 = 0.0
+        for k in range(s):
+            a = Bw[k] if last else A[s, k]
+            s0 += Kst[k, 0] * a
+            s1 += Kst[k, 1] * a
+            s2 += Kst[k, 2] * a
+            s3 += Kst[k, 3] * a
+            s4 += Kst[k, 4] * a
+        if last:  # the solution, y + h Σ b K
+            ys, ts = ynew, t + h
+            ys[0], ys[1], ys[2] = y[0] + h * s0, y[1] + h * s1, y[2] + h * s2
+            ys[3], ys[4] = y[3] + h * s3, y[4] + h * s4
+        else:  # a stage's argument, y + (Σ a K) h
+            ys, ts = ytmp, t + C[s] * h
+            ys[0], ys[1], ys[2] = y[0] + s0 * h, y[1] + s1 * h, y[2] + s2 * h
+            ys[3], ys[4] = y[3] + s3 * h, y[4] + s4 * h
         rocking_rhs(ts, ys, Kst[s], side, m, m, mat, mat, mp, fp, kind, par, smp)
 
 
@@ -143,7 +145,7 @@ def _event_values(t, y, out, events, ep, t_on, model):
     side, none, mp, _, kind, par, smp = model
     m, mat = none
     for k in range(codes.size):
-        out[k] = event_value(
+        out[k] = _event_value(
             codes[k], t, y, t_on[k], quiet[k], side, m, m, mat, mat, mp, ep, kind, par, smp
         )
 
