@@ -99,10 +99,10 @@ def _stages(t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, none, mp, fp, kind,
 
 
 @njit(cache=True, error_model="numpy")
-def _accepted_step(t, y, f, h_abs, t_stop, cfg, method, tab, ws, model):
+def _accepted_step(t, y, f, h_abs, t_stop, cfg, method, tab, work, model):
     """`._kernel._accepted_step` for NY states: (ok, t_new, h, next |h|, RHS calls)."""
     A, Bw, C, ns, exponent = tab
-    Kst, ynew, ytmp, scale = ws[0], ws[1], ws[2], ws[4]
+    Kst, ynew, ytmp, scale = work
     side, none, mp, fp, kind, par, smp = model
     rtol, atol, max_step = cfg
     nfev = 0
@@ -184,7 +184,7 @@ def rocking_segment(t0, t_stop, y0, side, method, tol, events, ep, exc, mp, ws):
         or a state or sample that is not finite); RHS calls as `integrate_phase` counts
         them; max |θ| of the θ̇ = 0 roots before the end.
     """
-    Kst, ynew, ytmp, f, _, Q, y, y_old, g, g_new, active, roots, _, sample, fp, none = ws
+    Kst, ynew, ytmp, f, scale, Q, y, y_old, g, g_new, active, roots, _, sample, fp, none = ws
     codes, dirs, term, quiet, t_on = events
     kind, par, smp = exc
     A, Bw, C, ns, _, err_order, _ = _tableau(method)
@@ -204,7 +204,7 @@ def rocking_segment(t0, t_stop, y0, side, method, tol, events, ep, exc, mp, ws):
     _event_values(t, y, g, events, ep, t_on, model)
     while True:
         ok, t_new, h, h_abs, calls = _accepted_step(
-            t, y, f, h_abs, t_stop, tol, method, tab, ws, model
+            t, y, f, h_abs, t_stop, tol, method, tab, (Kst, ynew, ytmp, scale), model
         )
         nfev += calls
         if not ok:
