@@ -18,9 +18,10 @@ does, which batches what it can and runs the rest (and any run the batch cannot
 finish) per run.
 
 The batch gives the per-run path's results bit for bit: the same compiled
-integrator and event code, the same transition rules and the same uplift search
-(`._block_uplift`); `tests/multimass/sweeps/test_batched_maps.py` and
-``test_batched_block_runs.py`` compare them run by run.
+integrator (its steps for the block's five states in `._block_segment`) and event
+code, the same transition rules and the same uplift search (`._block_uplift`);
+`tests/multimass/sweeps/test_batched_maps.py` and ``test_batched_block_runs.py``
+compare them run by run.
 """
 
 from __future__ import annotations
