@@ -14,7 +14,7 @@ with what a block does not need taken out:
 * the only output sample is the state at t_stop, and the θ̇ = 0 roots (the half-cycle
   peaks) give their |θ| only.
 
-The right-hand side is `._maths.rocking_rhs` (paper 001, Eqs 4–5 with N = 0), inlined
+The right-hand side is `._maths.rocking_rhs` (the equations of rocking with no elastic nodes), inlined
 here once.
 """
 
