@@ -294,7 +294,7 @@ def run_cells(
     """
     ring = np.empty(int(cfg[CFG_CHATTER]))
     ws = workspace(events[0].size)
-    none = ws[15]  # no elastic nodes
+    none = (np.empty(0), np.empty((0, 0)))  # no elastic nodes; mutable, as FastPath's arrays
     c = cfg.copy()
     for i in range(kinds.size):
         c[CFG_R_RIGHT], c[CFG_R_LEFT] = r_pairs[i, 0], r_pairs[i, 1]

@@ -11,9 +11,10 @@ with what a block does not need taken out:
 
 * the state's length is the constant `NY`, so the stage sums of the step are unrolled;
 * every buffer is made once (`workspace`) and reused by every segment of every cell;
-* the step, its stages and the event functions are inlined into the segment's loop, so
-  that numba drops the reference counting of the arrays they pass each other (atomic
-  operations that took a quarter of the time);
+* the step, its stages and the event functions are inlined into the segment's loop, and
+  the block's empty node arrays and its Dirac-delta force (off) are module constants, so
+  that no step counts references to arrays (atomic operations that took a quarter of the
+  time and more);
 * the only output sample is the state at t_stop, and the θ̇ = 0 roots (the half-cycle
   peaks) give their |θ| only.
 
@@ -48,6 +49,9 @@ __all__ = ["NY", "workspace", "rocking_segment"]
 #: The state's length for a rigid block: θ, θ̇ and the ledger's D, W_g, W_F.
 NY = 5
 _ROWS, _DENSE = 16, 7  # rows of the stages (DOP853's extended tableau), of the interpolant
+# a rigid body's elastic nodes (none) and its Dirac-delta force (off): module constants,
+# which numba freezes into the code, so that no step counts references to them
+_M, _MAT, _FP = np.empty(0), np.empty((0, 0)), np.zeros(FP_SIZE)
 
 # `._maths.event_value` (the same function) inlined into the step loop: a call with its
 # fifteen arguments cost as much as the three events' work
@@ -59,25 +63,23 @@ def workspace(n_events):
     """The buffers of `rocking_segment`, made once per batch of cells.
 
     (stages, y_new, y_tmp, f, scale, interpolant, y, y_old, g, g_new, active, roots,
-    t_on, sample, fp, none): `none` = (empty node array, empty matrix), a rigid body's
-    elastic nodes; `fp` the Dirac-delta force, off.
+    t_on, sample).
     """
     return (
         np.empty((_ROWS, NY)), np.empty(NY), np.empty(NY), np.empty(NY), np.empty(NY),
         np.empty((_DENSE, NY)), np.empty(NY), np.empty(NY), np.empty(n_events),
         np.empty(n_events), np.empty(n_events, np.int64), np.empty(n_events),
-        np.empty(n_events), np.empty(NY), np.zeros(FP_SIZE), (np.empty(0), np.empty((0, 0))),
+        np.empty(n_events), np.empty(NY),
     )  # fmt: skip
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _stages(t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, none, mp, fp, kind, par, smp):
+def _stages(t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, mp, kind, par, smp):
     """`._rk._rk_step` for NY states: stages in Kst[0..ns], the solution in ynew.
 
     Each component's sum runs over k in order, from 0.0, as `_rk_step`'s does (the same
     rounding), in a local variable rather than in memory.
     """
-    m, mat = none
     for j in range(NY):
         Kst[0, j] = f[j]
     for s in range(1, ns + 1):
@@ -98,7 +100,7 @@ def _stages(t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, none, mp, fp, kind,
             ys, ts = ytmp, t + C[s] * h
             ys[0], ys[1], ys[2] = y[0] + s0 * h, y[1] + s1 * h, y[2] + s2 * h
             ys[3], ys[4] = y[3] + s3 * h, y[4] + s4 * h
-        rocking_rhs(ts, ys, Kst[s], side, m, m, mat, mat, mp, fp, kind, par, smp)
+        rocking_rhs(ts, ys, Kst[s], side, _M, _M, _MAT, _MAT, mp, _FP, kind, par, smp)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -106,7 +108,7 @@ def _accepted_step(t, y, f, h_abs, t_stop, cfg, method, tab, work, model):
     """`._kernel._accepted_step` for NY states: (ok, t_new, h, next |h|, RHS calls)."""
     A, Bw, C, ns, exponent = tab
     Kst, ynew, ytmp, scale = work
-    side, none, mp, fp, kind, par, smp = model
+    side, mp, kind, par, smp = model
     rtol, atol, max_step = cfg
     nfev = 0
     min_step = 10.0 * abs(np.nextafter(t, np.inf) - t)
@@ -123,7 +125,7 @@ def _accepted_step(t, y, f, h_abs, t_stop, cfg, method, tab, work, model):
             t_new = t_stop
         h = t_new - t
         h_abs = abs(h)
-        _stages(t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, none, mp, fp, kind, par, smp)
+        _stages(t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, mp, kind, par, smp)
         nfev += ns
         for j in range(NY):
             scale[j] = atol + max(abs(y[j]), abs(ynew[j])) * rtol
@@ -145,11 +147,10 @@ def _accepted_step(t, y, f, h_abs, t_stop, cfg, method, tab, work, model):
 @njit(cache=True, error_model="numpy", inline="always")
 def _event_values(t, y, out, events, ep, t_on, model):
     codes, quiet = events[0], events[3]
-    side, none, mp, _, kind, par, smp = model
-    m, mat = none
+    side, mp, kind, par, smp = model
     for k in range(codes.size):
         out[k] = _event_value(
-            codes[k], t, y, t_on[k], quiet[k], side, m, m, mat, mat, mp, ep, kind, par, smp
+            codes[k], t, y, t_on[k], quiet[k], side, _M, _M, _MAT, _MAT, mp, ep, kind, par, smp
         )
 
 
@@ -187,13 +188,13 @@ def rocking_segment(t0, t_stop, y0, side, method, tol, events, ep, exc, mp, ws):
         or a state or sample that is not finite); RHS calls as `integrate_phase` counts
         them; max |θ| of the θ̇ = 0 roots before the end.
     """
-    Kst, ynew, ytmp, f, scale, Q, y, y_old, g, g_new, active, roots, _, sample, fp, none = ws
+    Kst, ynew, ytmp, f, scale, Q, y, y_old, g, g_new, active, roots, _, sample = ws
     codes, dirs, term, quiet, t_on = events
     kind, par, smp = exc
     A, Bw, C, ns, _, err_order, _ = _tableau(method)
-    model = (side, none, mp, fp, kind, par, smp)
+    model = (side, mp, kind, par, smp)
+    m, mat, fp = _M, _MAT, _FP
     tab = (A, Bw, C, ns, -1.0 / (err_order + 1))
-    m, mat = none
     rtol, atol, max_step = tol
     for j in range(NY):
         y[j] = y0[j]
