@@ -92,15 +92,18 @@ def _stages(t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, mp, kind, par, smp)
             s2 += Kst[k, 2] * a
             s3 += Kst[k, 3] * a
             s4 += Kst[k, 4] * a
-        if last:  # the solution, y + h Σ b K
-            ys, ts = ynew, t + h
-            ys[0], ys[1], ys[2] = y[0] + h * s0, y[1] + h * s1, y[2] + h * s2
-            ys[3], ys[4] = y[3] + h * s3, y[4] + h * s4
+        if last:  # the solution, y + h Σ b K, and the argument of its slope
+            ts = t + h
+            ynew[0], ynew[1], ynew[2] = y[0] + h * s0, y[1] + h * s1, y[2] + h * s2
+            ynew[3], ynew[4] = y[3] + h * s3, y[4] + h * s4
+            for j in range(NY):
+                ytmp[j] = ynew[j]
         else:  # a stage's argument, y + (Σ a K) h
-            ys, ts = ytmp, t + C[s] * h
-            ys[0], ys[1], ys[2] = y[0] + s0 * h, y[1] + s1 * h, y[2] + s2 * h
-            ys[3], ys[4] = y[3] + s3 * h, y[4] + s4 * h
-        rocking_rhs(ts, ys, Kst[s], side, _M, _M, _MAT, _MAT, mp, _FP, kind, par, smp)
+            ts = t + C[s] * h
+            ytmp[0], ytmp[1], ytmp[2] = y[0] + s0 * h, y[1] + s1 * h, y[2] + s2 * h
+            ytmp[3], ytmp[4] = y[3] + s3 * h, y[4] + s4 * h
+        # one array for every stage: an array chosen per branch would count references
+        rocking_rhs(ts, ytmp, Kst[s], side, _M, _M, _MAT, _MAT, mp, _FP, kind, par, smp)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
