@@ -11,15 +11,15 @@ with what a block does not need taken out:
 
 * the state's length is the constant `NY`, so the stage sums of the step are unrolled;
 * every buffer is made once (`workspace`) and reused by every segment of every cell;
-* the step, its stages and the event functions are inlined into the segment's loop, and
-  the block's empty node arrays and its Dirac-delta force (off) are module constants, so
-  that no step counts references to arrays (atomic operations that took a quarter of the
-  time and more);
+* the step, its stages and the event functions are inlined into the segment's loop,
+  every stage's RHS reads the same argument array, and the block's empty node arrays and
+  its Dirac-delta force (off) are module constants: numba's atomic reference counts of
+  the arrays passed between them took a quarter of the time and more;
 * the only output sample is the state at t_stop, and the θ̇ = 0 roots (the half-cycle
   peaks) give their |θ| only.
 
-The right-hand side is `._maths.rocking_rhs` (the equations of rocking with no elastic nodes), inlined
-here once.
+The right-hand side is `._maths.rocking_rhs` (the equations of rocking with no elastic
+nodes), inlined here once.
 """
 
 from __future__ import annotations
