@@ -41,7 +41,11 @@ def _blocks(progress):
     return compile_once(
         "the batched map kernels",
         block_runs.warm_up_blocks,
-        ("multimass.engines.fast._block_uplift", "multimass.engines.fast._block_kernel"),
+        (
+            "multimass.engines.fast._block_uplift",
+            "multimass.engines.fast._block_segment",
+            "multimass.engines.fast._block_kernel",
+        ),
         progress=progress,
         estimate=15.0,
         load=0.1,

@@ -9,7 +9,8 @@ without returning to Python:
 
 * at rest: the uplift search of `multimass.engines._rigid.next_uplift` (`._block_uplift`),
   then rocking with θ̇⁺ = 0 (paper 001, Sec 2.3);
-* rocking: one `._kernel.integrate_phase` call per segment, with the events of
+* rocking: one `._block_segment.rocking_segment` call per segment (`._kernel.integrate_phase`
+  for the block's five states, step for step), with the events of
   `multimass.engines.fast.path.FastPath.events` (θ = 0 and overturning, held quiet for
   `QUIET_DELAY` after a restart; θ̇ = 0 peaks); segments end at the breakpoints of
   `PhaseLoop`: the excitation's start and end (when within (0, t_end)) and t_end;
@@ -27,7 +28,7 @@ without returning to Python:
   peaks (as `Recorder.peaks`), the impacts, the RHS evaluations and the end-of-run
   energy balance error (`PhaseLoop.end_balance_error`).
 
-The physics is the compiled code of the per-cell path: `integrate_phase`, the
+The physics is the compiled code of the per-cell path: the steps of `integrate_phase`, the
 energies and momenta of `._maths`, and the transition rules of
 `multimass.impact_models.models`, compiled unchanged. A run the per-cell path would
 end with status "failed" (step-size underflow, a non-finite state, a root search
@@ -46,9 +47,9 @@ from numba.extending import register_jitable
 from ...checks import balance_error
 from ...impact_models.models import classical_rebound, next_phase_is_rocking
 from ...model import equations as eq
+from ._block_segment import rocking_segment, workspace
 from ._block_uplift import next_uplift
-from ._kernel import integrate_phase
-from ._maths import EV_OVERTURN, FP_SIZE, _pivot_momentum, _total_energy, ground_acc
+from ._maths import EV_OVERTURN, _pivot_momentum, _total_energy, ground_acc
 from ._rk import EVENT
 from ._rk import FAILED as KERNEL_FAILED
 
@@ -116,19 +117,6 @@ def _chatters(ring, state, t, window):
 
 
 @njit(cache=True, error_model="numpy")
-def _finite(samples, y):
-    """True if every sample and the end state are finite."""
-    for i in range(samples.shape[0]):
-        for j in range(samples.shape[1]):
-            if not math.isfinite(samples[i, j]):
-                return False
-    for j in range(y.size):
-        if not math.isfinite(y[j]):
-            return False
-    return True
-
-
-@njit(cache=True, error_model="numpy")
 def _at_zero(side_old, y, cfg, none, mp):
     """Paper 001, Eq 9, then Eq 11 or Eq 10, at θ = 0 (`multimass.engines._events._at_zero`).
 
@@ -175,30 +163,27 @@ def _uplift(t0, t1, duration, a_th, kind, par, smp):
 def _segment(t, t_stop, y, phase, ctx):
     """One rocking segment (`multimass.engines.fast.path.FastPath.integrate`).
 
-    Returns (end, t, y, RHS calls, max |θ| of the segment's peaks), `end` one of
-    _AT_STOP (t = t_stop), _AT_ZERO (θ = 0), _AT_OVERTURN or _BROKEN (a failed run).
+    Returns (end, t, RHS calls, max |θ| of the segment's peaks), `end` one of
+    _AT_STOP (t = t_stop), _AT_ZERO (θ = 0), _AT_OVERTURN or _BROKEN (a failed run);
+    `y` becomes the end state (unchanged for _BROKEN).
     """
-    cfg, mp, ep, events, kind, par, smp, none, work = ctx
+    cfg, mp, ep, events, kind, par, smp, none, ws = ctx
     codes, dirs, term, quiet, guarded = events
-    fp, t_eval, t_on = work
+    t_on = ws[12]
     for k in range(codes.size):  # the quiet guard after a restart
         t_on[k] = t + cfg[CFG_DELAY] if guarded[k] else -np.inf
-    t_eval[0] = t_stop
-    status, t_new, y_new, ev, nfev, samples, _, _, nt_y = integrate_phase(
-        t, t_stop, y, t_eval, np.int64(phase), none[0], none[0], none[1], none[1], mp, fp,
-        codes, dirs, term, quiet, t_on, ep, kind, par, smp, int(cfg[CFG_METHOD]),
-        cfg[CFG_RTOL], cfg[CFG_ATOL], cfg[CFG_MAX_STEP], np.zeros(1),
+    status, t_new, ev, nfev, top = rocking_segment(
+        t, t_stop, y, np.int64(phase), int(cfg[CFG_METHOD]),
+        (cfg[CFG_RTOL], cfg[CFG_ATOL], cfg[CFG_MAX_STEP]), (codes, dirs, term, quiet, t_on),
+        ep, (kind, par, smp), mp, ws,
     )  # fmt: skip
-    if status == KERNEL_FAILED or not _finite(samples, y_new):
-        return _BROKEN, t, y, nfev, 0.0
-    top = 0.0
-    for k in range(nt_y.shape[0]):  # θ̇ = 0 before the end: the half-cycle's peaks
-        top = max(top, abs(nt_y[k, 0]))
+    if status == KERNEL_FAILED:
+        return _BROKEN, t, nfev, 0.0
     if status != EVENT:
-        return _AT_STOP, t_stop, samples[samples.shape[0] - 1].copy(), nfev, top
+        return _AT_STOP, t_stop, nfev, top
     if codes[ev] == EV_OVERTURN:  # Recorder.end_phase at the overturning angle
-        return _AT_OVERTURN, t_new, y_new, nfev, max(top, abs(y_new[0]))
-    return _AT_ZERO, t_new, y_new, nfev, top
+        return _AT_OVERTURN, t_new, nfev, max(top, abs(y[0]))
+    return _AT_ZERO, t_new, nfev, top
 
 
 @njit(cache=True, error_model="numpy")
@@ -233,7 +218,7 @@ def _run(t_end, start, duration, ctx, ring):
                 t = t_stop
         else:
             integrated = True
-            end, t, y, nfev, peak = _segment(t, t_stop, y, phase, ctx)
+            end, t, nfev, peak = _segment(t, t_stop, y, phase, ctx)
             n_rhs, top = n_rhs + nfev, max(top, peak)
             if end == _BROKEN:
                 status = _FAIL
@@ -308,13 +293,13 @@ def run_cells(
         RHS calls — of the last run of each cell.
     """
     ring = np.empty(int(cfg[CFG_CHATTER]))
+    ws = workspace(events[0].size)
     none = (np.empty(0), np.empty((0, 0)))  # no elastic nodes; mutable, as FastPath's arrays
-    work = (np.zeros(FP_SIZE), np.empty(1), np.empty(events[0].size))  # fp, t_eval, t_on
     c = cfg.copy()
     for i in range(kinds.size):
         c[CFG_R_RIGHT], c[CFG_R_LEFT] = r_pairs[i, 0], r_pairs[i, 1]
         par, samples = pars[i], smp[spans[i, 0] : spans[i, 1]]
-        ctx = (c, mp, ep, events, kinds[i], par, samples, none, work)
+        ctx = (c, mp, ep, events, kinds[i], par, samples, none, ws)
         code, t_over, top, n_imp, n_rhs, err = UNDECIDED, math.nan, 0.0, 0, 0, 0.0
         for j in range(t_ends.shape[1]):
             if j > 0 and (code != UNDECIDED or not math.isfinite(t_ends[i, j])):

@@ -18,9 +18,10 @@ does, which batches what it can and runs the rest (and any run the batch cannot
 finish) per run.
 
 The batch gives the per-run path's results bit for bit: the same compiled
-integrator and event code, the same transition rules and the same uplift search
-(`._block_uplift`); `tests/multimass/sweeps/test_batched_maps.py` and
-``test_batched_block_runs.py`` compare them run by run.
+integrator (its steps for the block's five states in `._block_segment`) and event
+code, the same transition rules and the same uplift search (`._block_uplift`);
+`tests/multimass/sweeps/test_batched_maps.py` and ``test_batched_block_runs.py``
+compare them run by run.
 """
 
 from __future__ import annotations
@@ -547,8 +548,12 @@ def run_excitations(runs: BlockRuns, excitations, t_end, r_pairs=None) -> Excita
 # ---------------------------------------------------------------------------- compile once
 _READY: float | None = None
 _REPORT = None  # the CompileReport of ensure_ready
-_MODULES = ("_maths", "_rk", "_kernel", "_block_uplift", "_block_kernel")
-_OWN = ("_block_uplift", "_block_kernel")  # the cache files this module drops when stale
+_MODULES = ("_maths", "_rk", "_kernel", "_block_uplift", "_block_segment", "_block_kernel")
+_OWN = (
+    "_block_uplift",
+    "_block_segment",
+    "_block_kernel",
+)  # the cache files this module drops when stale
 _STAMP = "multimass_fast_blocks.sources"
 
 
@@ -580,7 +585,11 @@ def ensure_ready(progress: bool | None = None):
         _REPORT = compile_once(
             "the batched map kernels",
             warm_up_blocks,
-            (f"{__package__}._block_uplift", f"{__package__}._block_kernel"),
+            (
+                f"{__package__}._block_uplift",
+                f"{__package__}._block_segment",
+                f"{__package__}._block_kernel",
+            ),
             progress=progress,
             estimate=25.0,
             load=0.1,
