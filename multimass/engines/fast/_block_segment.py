@@ -30,11 +30,8 @@ import numpy as np
 from numba import njit
 
 from ._kernel import _active, _sorted_roots, _tableau
-from ._maths import FP_SIZE, event_value, rhs_call, rocking_rhs
+from ._maths import FP_SIZE, event_value, piece_end, rhs_call, rocking_rhs
 from ._rk import (
-    _MAX_FACTOR,
-    _MIN_FACTOR,
-    _SAFETY,
     EVENT,
     FAILED,
     OK,
@@ -42,6 +39,8 @@ from ._rk import (
     _dense_prepare,
     _error_norm,
     _first_step,
+    step_control,
+    trial_step,
 )
 
 __all__ = ["NY", "workspace", "rocking_segment"]
@@ -119,31 +118,21 @@ def _accepted_step(t, y, f, h_abs, t_stop, cfg, method, tab, work, model):
         h_abs = max_step
     elif h_abs < min_step:
         h_abs = min_step
+    piece = piece_end(t, kind, par)
+    t_end = min(t_stop, piece)
     rejected = False
     while True:
         if h_abs < min_step:
             return False, t, 0.0, h_abs, nfev
-        t_new = t + h_abs
-        if t_new - t_stop > 0.0:
-            t_new = t_stop
-        h = t_new - t
-        h_abs = abs(h)
+        h, t_new = trial_step(t, h_abs, t_end, piece)
         _stages(t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, mp, kind, par, smp)
         nfev += ns
         for j in range(NY):
             scale[j] = atol + max(abs(y[j]), abs(ynew[j])) * rtol
         err = _error_norm(method, Kst, h, scale, ns, ytmp)
-        if err < 1.0:
-            factor = _MAX_FACTOR if err == 0.0 else _SAFETY * err**exponent
-            if not (factor < _MAX_FACTOR):
-                factor = _MAX_FACTOR
-            if rejected and factor > 1.0:
-                factor = 1.0
-            return True, t_new, h, h_abs * factor, nfev
-        factor = _SAFETY * err**exponent
-        if not (factor > _MIN_FACTOR):
-            factor = _MIN_FACTOR
-        h_abs *= factor
+        accepted, h_abs = step_control(err, exponent, rejected, h, h_abs)
+        if accepted:
+            return True, t_new, h, h_abs, nfev
         rejected = True
 
 

@@ -9,8 +9,6 @@ end of the step (or the terminal root).
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numba import njit
 
@@ -26,11 +24,8 @@ from ._rk import (
     _C5,
     _C8,
     _DOP,
-    _MAX_FACTOR,
-    _MIN_FACTOR,
     _NEXT8,
     _NS8,
-    _SAFETY,
     EVENT,
     FAILED,
     OK,
@@ -40,6 +35,8 @@ from ._rk import (
     _error_norm,
     _first_step,
     _rk_step,
+    step_control,
+    trial_step,
 )
 
 __all__ = ["integrate_phase"]
@@ -83,14 +80,7 @@ def _accepted_step(t, y, f, h_abs, t_stop, max_step, rtol, atol, method, tab, wo
     while True:
         if h_abs < min_step:
             return False, t, 0.0, h_abs, nfev
-        rest = t_end - t
-        if h_abs >= rest:
-            h, t_new = rest, t_end
-        elif t_end == piece:  # equal steps to the sample
-            h = rest / math.ceil(rest / h_abs)
-            t_new = t + h
-        else:
-            h, t_new = h_abs, t + h_abs
+        h, t_new = trial_step(t, h_abs, t_end, piece)
         _rk_step(
             t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, m, H, K, C_, mp, fp, kind, par, smp
         )
@@ -98,17 +88,9 @@ def _accepted_step(t, y, f, h_abs, t_stop, max_step, rtol, atol, method, tab, wo
         for j in range(y.size):
             scale[j] = atol + max(abs(y[j]), abs(ynew[j])) * rtol
         err = _error_norm(method, Kst, h, scale, ns, ytmp)
-        if err < 1.0:
-            factor = _MAX_FACTOR if err == 0.0 else _SAFETY * err**exponent
-            if not (factor < _MAX_FACTOR):
-                factor = _MAX_FACTOR
-            if rejected and factor > 1.0:
-                factor = 1.0
-            return True, t_new, h, max(h * factor, h_abs * min(factor, 1.0)), nfev
-        factor = _SAFETY * err**exponent
-        if not (factor > _MIN_FACTOR):
-            factor = _MIN_FACTOR
-        h_abs = h * factor
+        accepted, h_abs = step_control(err, exponent, rejected, h, h_abs)
+        if accepted:
+            return True, t_new, h, h_abs, nfev
         rejected = True
 
 

@@ -47,7 +47,7 @@ from scipy.integrate._ivp.rk import RK23, RK45
 
 from ._maths import event_value, rhs, rhs_call
 
-__all__ = ["METHOD_CODES", "OK", "EVENT", "FAILED", "zeroin_next"]
+__all__ = ["METHOD_CODES", "OK", "EVENT", "FAILED", "zeroin_next", "trial_step", "step_control"]
 
 #: Methods the compiled path supports, by solve_ivp name.
 METHOD_CODES = {"RK23": 0, "RK45": 1, "DOP853": 2}
@@ -61,6 +61,42 @@ FAILED = -1  # the step size fell below the spacing of floats near t
 _SAFETY, _MIN_FACTOR, _MAX_FACTOR = 0.9, 0.2, 10.0
 _EPS = float(np.finfo(float).eps)
 _MAX_BRENT = 100
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def trial_step(t, h_abs, t_end, piece):
+    """(h, t_new): the step tried from t at the proposed size `h_abs` towards `t_end`
+    (the segment's stop, or a record's next sample `piece` if sooner): the rest when it
+    fits; equal steps to the sample when `t_end` is it (ü_g has a kink there, which an
+    explicit pair answers with a rejection and a run of short steps); else `h_abs`."""
+    rest = t_end - t
+    if h_abs >= rest:
+        return rest, t_end
+    if t_end == piece:
+        h = rest / math.ceil(rest / h_abs)
+        return h, t + h
+    return h_abs, t + h_abs
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def step_control(err, exponent, rejected, h, h_abs):
+    """SciPy's RungeKutta step-size control after a step `h` tried at the proposed size
+    `h_abs` with error norm `err`: (accepted, next proposed size). Accepted: grow by
+    0.9 err^exponent up to 10× (not at all after a rejection in the same step), and a
+    step shortened to fit a sample or the stop does not shorten the next proposal;
+    rejected: shrink by that factor, at least to 0.2 h."""
+    if err < 1.0:
+        factor = _MAX_FACTOR if err == 0.0 else _SAFETY * err**exponent
+        if not (factor < _MAX_FACTOR):
+            factor = _MAX_FACTOR
+        if rejected and factor > 1.0:
+            factor = 1.0
+        return True, max(h * factor, h_abs * min(factor, 1.0))
+    factor = _SAFETY * err**exponent
+    if not (factor > _MIN_FACTOR):
+        factor = _MIN_FACTOR
+    return False, h * factor
+
 
 # tableaus (SciPy's arrays; numba freezes module-level arrays as constants)
 _A3, _B3, _C3, _E3, _P3 = (

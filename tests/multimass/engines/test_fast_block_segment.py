@@ -43,7 +43,7 @@ def _both(method, t0, t_stop, y0, side, amp, tol=(1e-8, 1e-10, math.inf)):
     status, t, y, ev, nfev, samples, _, _, nt_y = integrate_phase(
         t0, t_stop, np.array(y0), np.array([t_stop]), side, none, none, np.empty((0, 0)),
         np.empty((0, 0)), mp, fp, codes, dirs, term, quiet, t_on, ep, kind, par, smp, code,
-        *tol,
+        *tol, np.zeros(1),
     )  # fmt: skip
     peak = max((abs(v) for v in nt_y[:, 0]), default=0.0)
     ref = (status, t, ev, nfev, peak, samples[-1] if status == OK else y)
