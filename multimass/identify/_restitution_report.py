@@ -69,9 +69,7 @@ def parameter_report(track: Track, given: dict, fitted: dict, spec) -> dict:
             out[name] = ps.fixed(track.nuis[name], what, "not fitted")
     _damping_shown(track, out)
     _misfit(track, out)
-    for name, p in out.items():  # what the data allow of those they do not fix
-        if p["status"] == ps.ILL_POSED and name in track.explored:
-            out[name] = ps.explored(p, *track.explored[name])
+    _explored(track, out)
     out["sensor_bias"] = _sensor_biases(track)
     out["structure"] = ps.fixed(
         ps.structure_fixed(spec), "the column's geometry, masses, stiffnesses and sensors"
@@ -141,6 +139,15 @@ def consider_std(track: Track, name: str) -> float:
         return math.sqrt(var)
     b = np.linalg.lstsq(spp, sxp, rcond=None)[0]  # Σ_pp symmetric: bᵀ = Σ_pp⁻¹ Σ_px
     return math.sqrt(var + MODEL_REL_FLOOR**2 * float(b @ b))
+
+
+def _explored(track: Track, out: dict) -> None:
+    """Every ill-posed parameter as what the data allow of it: the range its last fit
+    was allowed to explore (`Track.explored`), its value the best fit, not an estimate
+    (`_parameter_status.explored`)."""
+    for name, p in out.items():
+        if p["status"] == ps.ILL_POSED and name in track.explored:
+            out[name] = ps.explored(p, *track.explored[name])
 
 
 def _entry(track: Track, name: str, log: bool, limit, partners: dict, what: str) -> dict:
