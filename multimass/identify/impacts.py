@@ -112,8 +112,12 @@ the fragment's comments): each of C_p, ζ1, ζ2 is *given* (by the user: ``C_p=`
 95 % interval; C_p's and ζ's std with `_calibration_stats.MODEL_REL_FLOOR`, 1.5 %, for
 the model's error, measured) or *ill-posed* (std beyond 25 %, correlated beyond 0.98
 with a named unknown, or a damping ratio beyond the modes the trace shows below its
-anti-alias passband: S2 at 200 Hz shows its 20.5 Hz mode alone); θ0, the clock offset,
-the θ bias and each accelerometer's bias are estimated; the column's geometry, masses
+anti-alias passband: S2 at 200 Hz shows its 20.5 Hz mode alone: then no std and no
+95 % interval, but the range its fit was allowed to explore, ``interval_kind``
+"explored range", its value the best fit, not an estimate); θ0, the clock offset,
+the θ bias and each accelerometer's bias are estimated (θ0's, the clock's and the θ
+bias's std with the model parameters' floor carried through the joint covariance:
+`_restitution_report.consider_std`); the column's geometry, masses
 and stiffnesses are *fixed by the specimen file*. The status is ``ill-posed`` naming
 what the trace does not fix, else ``estimated``. The written specimen takes the
 estimated damping (its ``[damping]``), and names C_p in its comment (a specimen file
