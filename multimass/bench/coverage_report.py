@@ -72,8 +72,9 @@ def markdown(summary: pd.DataFrame, meta: pd.DataFrame, facts: dict) -> str:
             f"### `{est}`",
             "",
             "| specimen | quantity | n | median \\|err\\| | 95th pct | max | within "
-            "threshold | n with interval | coverage of the 95 % interval | coverage "
-            "(nominal truth) | ill-posed | coverage, not ill-posed |",
+            "threshold | n estimated, with a 95 % interval | coverage of the 95 % interval "
+            "| coverage (nominal truth) | ill-posed | ill-posed: truth within the explored "
+            "range |",
             "|---|---|---|---|---|---|---|---|---|---|---|---|",
         ]
         for _, r in part.iterrows():
@@ -88,7 +89,7 @@ def markdown(summary: pd.DataFrame, meta: pd.DataFrame, facts: dict) -> str:
                 f"{thr if not math.isnan(r['within']) else ''} | {r['n_interval']} "
                 f"| {_fmt(r['coverage'], kind='share')} "
                 f"| {_fmt(r['coverage_nominal'], kind='share')} | {r.get('n_ill_posed', 0)} "
-                f"| {_fmt(r.get('coverage_not_ill_posed', math.nan), kind='share')} |"
+                f"| {_fmt(r.get('coverage_ill_posed', math.nan), kind='share')} |"
             )
         lines.append("")
     lines += ["### Cases", ""]

@@ -100,7 +100,9 @@ def summarise(df: pd.DataFrame, by_specimen: bool = True) -> pd.DataFrame:
     without one), ``n_interval`` (estimates with an interval), ``coverage`` (share of
     those whose interval holds the truth), ``coverage_nominal``, ``n_ill_posed``
     (estimates whose result says the traces do not fix them: status "ill-posed") and
-    ``coverage_not_ill_posed`` (the coverage of the others).
+    ``coverage_ill_posed`` (the share of those whose reported range, the range the fit
+    explored, holds the truth). ``n_interval``, ``coverage`` and ``coverage_nominal``
+    count only the others: the 95 % intervals of what the result reports as estimated.
 
     `df` is a table from `add_errors`. Percentiles interpolate linearly
     (`numpy.percentile`'s default).
@@ -114,10 +116,10 @@ def summarise(df: pd.DataFrame, by_specimen: bool = True) -> pd.DataFrame:
     order = {q: i for i, q in enumerate(QUANTITIES)}
     for (est, spec, q), g in both.groupby(["estimator", "specimen", "quantity"], sort=False):
         e = g["abs_err"].to_numpy(float)
-        cov = g["covered"].dropna()
-        nom = g["covered_nominal"].dropna()
         ill = (g["status"] == "ill-posed") if "status" in g else pd.Series(False, index=g.index)
-        ok = g.loc[~ill, "covered"].dropna()
+        cov = g.loc[~ill, "covered"].dropna()
+        nom = g.loc[~ill, "covered_nominal"].dropna()
+        bad = g.loc[ill, "covered"].dropna()
         rows.append(
             {
                 "estimator": est,
@@ -132,7 +134,7 @@ def summarise(df: pd.DataFrame, by_specimen: bool = True) -> pd.DataFrame:
                 "coverage": float(cov.mean()) if cov.size else np.nan,
                 "coverage_nominal": float(nom.mean()) if nom.size else np.nan,
                 "n_ill_posed": int(ill.sum()),
-                "coverage_not_ill_posed": float(ok.mean()) if ok.size else np.nan,
+                "coverage_ill_posed": float(bad.mean()) if bad.size else np.nan,
                 "_order": order.get(q, len(order)),
             }
         )

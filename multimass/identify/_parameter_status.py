@@ -10,7 +10,9 @@ says, for each parameter of the model it fitted, where its value came from:
 * ``ill-posed`` — fitted, but the traces do not fix it: its std is beyond
   `LIMITS` (restitution 0.02, C_p and ζ 25 %), it is not finite, or it is correlated
   beyond `LIMITS["correlation"]` (0.98) with another unknown, which is named; its
-  value is then not an estimate;
+  value is then not an estimate: `explored` replaces its std and 95 % interval by the
+  range the fit was allowed to explore (``interval_kind`` "explored range", the value
+  "best fit, not an estimate"), all that the data say of it;
 * ``fixed by the specimen file`` — the column's geometry, masses and stiffnesses
   (and, where the user fixed the fit list, the parameters left out of it);
 * ``not used`` — a parameter the chosen model does not have (C_p of CIM).
@@ -22,7 +24,8 @@ import math
 
 __all__ = [
     "GIVEN", "ESTIMATED", "ILL_POSED", "FIXED", "NOT_USED", "STRUCTURE_FIELDS", "Z95",
-    "given", "estimated", "estimated_note", "fixed", "not_used", "structure_fixed", "ill_posed_reasons",
+    "INTERVAL_95", "EXPLORED", "given", "estimated", "estimated_note", "explored", "fixed",
+    "not_used", "structure_fixed", "ill_posed_reasons",
     "lines", "overall",
 ]  # fmt: skip
 
@@ -31,6 +34,9 @@ ESTIMATED = "estimated"
 ILL_POSED = "ill-posed"
 FIXED = "fixed by the specimen file"
 NOT_USED = "not used"
+#: ``interval_kind`` of an estimated parameter's interval and of an ill-posed one's.
+INTERVAL_95 = "95 %"
+EXPLORED = "explored range"
 #: The two-sided 95 % quantile of the normal distribution.
 Z95 = 1.959963984540054
 #: The specimen's fields that every identification takes as they are (its geometry,
@@ -76,8 +82,17 @@ def estimated(value: float, std: float, log: bool = False, what: str = "") -> di
     else:
         interval = [value - Z95 * s, value + Z95 * s]
         s_value = s
-    return {"status": ESTIMATED, "value": float(value), "std": s_value, "interval": interval,
-            "what": what}  # fmt: skip
+    out = {"status": ESTIMATED, "value": float(value), "std": s_value, "interval": interval,
+           "what": what}  # fmt: skip
+    return out | ({"interval_kind": INTERVAL_95} if interval is not None else {})
+
+
+def explored(entry: dict, low: float, high: float) -> dict:
+    """An ill-posed parameter's `entry` as what the data allow: no std, its interval the
+    range [`low`, `high`] the fit was allowed to explore (``interval_kind`` "explored
+    range"), its value kept as the best fit, not an estimate."""
+    return entry | {"std": None, "interval": [float(low), float(high)],
+                    "interval_kind": EXPLORED, "value_kind": "best fit, not an estimate"}  # fmt: skip
 
 
 def structure_fixed(spec) -> dict:
@@ -121,6 +136,12 @@ def overall(parameters: dict) -> tuple[str, str]:
 
 def _fmt(p: dict) -> str:
     v, s = p.get("value"), p.get("std")
+    if isinstance(v, float) and p.get("interval_kind") == EXPLORED:
+        lo, hi = p["interval"]
+        return (
+            f"not fixed by the traces: anywhere in {lo:.5g} … {hi:.5g} "
+            f"(best fit {v:.5g}, not an estimate)"
+        )
     if isinstance(v, float):
         text = f"{v:.5g}"
         if s is not None:

@@ -137,6 +137,11 @@ class Track:
         correlated beyond `LIMITS["correlation"]`.
     covariance : dict
         After `fit_impacts`: (label, label) → covariance of the last fit's unknowns.
+    explored : dict
+        After `fit_impacts`: each unknown of the last fit → (low, high), the bounds its
+        least squares was allowed to explore, in the parameter's own units (C_p and ζ:
+        calibration's bounds, which `_scan_cp` keeps to as well): what the data say of
+        an ill-posed one.
     misfit : tuple
         After `fit_impacts`: (the worst channel's residual mean square over its limit,
         the channel) of `misfit_test` over the whole span fitted; above 1 the fit does
@@ -154,6 +159,7 @@ class Track:
     std: dict = field(default_factory=dict)
     correlation: dict = field(default_factory=dict)
     covariance: dict = field(default_factory=dict)  # (label, label) → of the last fit
+    explored: dict = field(default_factory=dict)  # label → (low, high) of the last fit
     #: After `fit_impacts`: `misfit_test` over the whole span fitted: (the worst
     #: channel's mean square over its limit, that channel)
     misfit: tuple = (math.nan, "")
@@ -623,6 +629,14 @@ def _scan_cp(track: Track, k: int, idx: slice, t_stop: float, factors=None) -> N
     track.phys["cp"] = float(np.clip(start * best, *bounds))
 
 
+def _bounds(un: Unknown) -> tuple[float, float]:
+    """An unknown's bounds in its parameter's own units (C_p, ζ are fitted as logs)."""
+    if un.kind == "model":
+        to = PARAMETERS[un.label].to_value
+        return float(to(un.low)), float(to(un.high))
+    return float(un.low), float(un.high)
+
+
 def fit_impacts(track: Track, n_fit: int, bar, warnings: list) -> dict:
     """Fit the first `n_fit` impacts of the trace, impact by impact, then all at once.
 
@@ -676,6 +690,7 @@ def fit_impacts(track: Track, n_fit: int, bar, warnings: list) -> dict:
     rows = p.blocks(sol.x)
     cov, _ = covariance(sol.jac, rows, np.array([un.scale for un in p.unknowns]))
     labels = [un.label for un in p.unknowns]
+    track.explored = {un.label: _bounds(un) for un in p.unknowns}
     sd = np.sqrt(np.clip(np.diag(cov), 0.0, np.inf))
     track.std = {lab: float(x) for lab, x in zip(labels, sd)}
     track.covariance = {

@@ -20,7 +20,7 @@ from ._calibration_setup import modes_shown
 from ._calibration_stats import LIMITS, MODEL_REL_FLOOR
 from ._restitution_fit import MODEL_PARAMETERS, Track
 
-__all__ = ["parameter_report", "mean_std", "sigma_interval"]
+__all__ = ["parameter_report", "consider_std", "mean_std", "sigma_interval"]
 
 
 def _label_name(label: str, times: dict) -> str:
@@ -69,6 +69,7 @@ def parameter_report(track: Track, given: dict, fitted: dict, spec) -> dict:
             out[name] = ps.fixed(track.nuis[name], what, "not fitted")
     _damping_shown(track, out)
     _misfit(track, out)
+    _explored(track, out)
     out["sensor_bias"] = _sensor_biases(track)
     out["structure"] = ps.fixed(
         ps.structure_fixed(spec), "the column's geometry, masses, stiffnesses and sensors"
@@ -117,11 +118,45 @@ def _misfit(track: Track, out: dict) -> None:
             p["reason"] = "; ".join(x for x in (p.get("reason"), reason) if x)
 
 
+def consider_std(track: Track, name: str) -> float:
+    """The std of the unknown `name` with the model's error of the parameters estimated
+    (`Track.estimate`) carried into it.
+
+    `MODEL_REL_FLOOR` is an error of log C_p and log ζ the noise does not explain; the
+    fit leaves every other unknown at its best for the model parameters it found, so an
+    error δ of theirs moves `name` by b δ, b = Σ_xp Σ_pp⁻¹ its regression on them (from
+    the last fit's joint covariance). Its variance is Σ_xx + F b bᵀ, F =
+    `MODEL_REL_FLOOR`²: the "consider" covariance of a parameter held at an uncertain
+    value (Schmidt's consider filter; Tapley, Schutz & Born, Statistical Orbit
+    Determination, 2004, §6.3)."""
+    cov, est = track.covariance, [n for n in track.estimate if n != name]
+    var = cov.get((name, name), track.std.get(name, math.nan) ** 2)
+    if not est or not math.isfinite(var):
+        return math.sqrt(var) if math.isfinite(var) else math.inf
+    spp = np.array([[cov.get((a, b), math.nan) for b in est] for a in est])
+    sxp = np.array([cov.get((name, b), math.nan) for b in est])
+    if not (np.all(np.isfinite(spp)) and np.all(np.isfinite(sxp))):
+        return math.sqrt(var)
+    b = np.linalg.lstsq(spp, sxp, rcond=None)[0]  # Σ_pp symmetric: bᵀ = Σ_pp⁻¹ Σ_px
+    return math.sqrt(var + MODEL_REL_FLOOR**2 * float(b @ b))
+
+
+def _explored(track: Track, out: dict) -> None:
+    """Every ill-posed parameter as what the data allow of it: the range its last fit
+    was allowed to explore (`Track.explored`), its value the best fit, not an estimate
+    (`_parameter_status.explored`)."""
+    for name, p in out.items():
+        if p["status"] == ps.ILL_POSED and name in track.explored:
+            out[name] = ps.explored(p, *track.explored[name])
+
+
 def _entry(track: Track, name: str, log: bool, limit, partners: dict, what: str) -> dict:
     value = track.phys[name] if log else track.nuis[name]
     std = track.std[name]
     if log:  # C_p, ζ: the model's error, beyond the noise's (measured: `MODEL_REL_FLOOR`)
         std = math.hypot(std, MODEL_REL_FLOOR)
+    else:  # θ0, the clock, the θ bias: that error carried into them
+        std = consider_std(track, name)
     entry = ps.estimated(value, std, log=log, what=what)
     why = ps.ill_posed_reasons(std, limit, partners.get(name, {}), log=log)
     if why:

@@ -112,8 +112,12 @@ the fragment's comments): each of C_p, ζ1, ζ2 is *given* (by the user: ``C_p=`
 95 % interval; C_p's and ζ's std with `_calibration_stats.MODEL_REL_FLOOR`, 1.5 %, for
 the model's error, measured) or *ill-posed* (std beyond 25 %, correlated beyond 0.98
 with a named unknown, or a damping ratio beyond the modes the trace shows below its
-anti-alias passband: S2 at 200 Hz shows its 20.5 Hz mode alone); θ0, the clock offset,
-the θ bias and each accelerometer's bias are estimated; the column's geometry, masses
+anti-alias passband: S2 at 200 Hz shows its 20.5 Hz mode alone: then no std and no
+95 % interval, but the range its fit was allowed to explore, ``interval_kind``
+"explored range", its value the best fit, not an estimate); θ0, the clock offset,
+the θ bias and each accelerometer's bias are estimated (θ0's, the clock's and the θ
+bias's std with the model parameters' floor carried through the joint covariance:
+`_restitution_report.consider_std`); the column's geometry, masses
 and stiffnesses are *fixed by the specimen file*. The status is ``ill-posed`` naming
 what the trace does not fix, else ``estimated``. The written specimen takes the
 estimated damping (its ``[damping]``), and names C_p in its comment (a specimen file
@@ -171,7 +175,7 @@ from . import _restitution_report as report
 from ._calibration_model import TrialRejected
 from ._calibration_params import PARAMETERS
 from ._calibration_stats import LIMITS
-from ._parameter_status import Z95, overall
+from ._parameter_status import EXPLORED, Z95, overall
 from ._trace_checks import check_ag, check_frozen, check_theta, no_rocking
 from .segments import THETA_MIN, Segments, require_trace, segment_trace
 
@@ -371,7 +375,10 @@ class RestitutionEstimate:
         note = f"identified from {self.segments.trace.source} for {self.impact}"
         vals = self.model_values()
         if "cp" in vals and self.impact != "CIM":  # a specimen file holds no C_p
-            note += f" with C_p = {vals['cp']:.6g} kg m/rad/s ({self.parameters['cp']['status']})"
+            note += (
+                f" with C_p = {vals['cp']:.6g} kg m/rad/s "
+                f"({_status_comment(self.parameters['cp'])})"
+            )
         tables, comments = {"restitution": self.table()}, {"restitution": self.comments()}
         zs = [self.parameters.get(n, {}).get("status") for n in ("zeta1", "zeta2")]
         if any(z in ("estimated", "ill-posed") for z in zs):  # the damping the r are for
@@ -379,7 +386,10 @@ class RestitutionEstimate:
                 "zeta_1": float(f"{vals['zeta1']:.6g}"),
                 "zeta_2": float(f"{vals['zeta2']:.6g}"),
             }
-            comments["damping"] = {"zeta_1": zs[0], "zeta_2": zs[1]}
+            comments["damping"] = {
+                f"zeta_{n[-1]}": _status_comment(self.parameters.get(n, {}))
+                for n in ("zeta1", "zeta2")
+            }
         return specimen_text(
             self.structure.specimen, tables, note=note, comments=comments, name=name,
             path=path,
@@ -745,3 +755,16 @@ def _means(table: pd.DataFrame, column: str, st) -> tuple[list, dict, list | Non
     n_corners = sum(1 for x, _ in groups if x.size)
     interval = report.sigma_interval(deviations(means), stds, n_corners)
     return [*means, pooled(means)], reasons, interval
+
+
+def _status_comment(p: dict) -> str:
+    """A parameter's status for a comment; an ill-posed one's value is its best fit, not
+    an estimate, and its range the one its fit explored (`_parameter_status.explored`)."""
+    status = p.get("status")
+    if p.get("interval_kind") == EXPLORED:
+        lo, hi = p["interval"]
+        return (
+            f"{status}: best fit, not an estimate; not fixed by the traces: anywhere in "
+            f"{lo:.5g} … {hi:.5g}"
+        )
+    return str(status)

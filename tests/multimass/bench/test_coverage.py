@@ -101,7 +101,7 @@ def test_errors_and_coverage_of_a_hand_made_table():
     assert r["p95"] == pytest.approx(0.01775) and r["max"] == pytest.approx(0.02)
     assert r["within"] == pytest.approx(3 / 4)
     assert r["n_interval"] == 3 and r["coverage"] == pytest.approx(2 / 3)
-    assert r["coverage_not_ill_posed"] == r["coverage"]  # no status: none is ill-posed
+    assert math.isnan(r["coverage_ill_posed"])  # no status: none is ill-posed
     assert s.loc[("S1", "r"), "coverage"] == pytest.approx(1 / 2)
     assert s.loc[("S2", "r"), "coverage"] == 1.0 and s.loc[("S2", "r"), "n_interval"] == 1
     cp = s.loc[("S1", "cp")]  # relative errors −5 % and +15 %
@@ -227,8 +227,10 @@ def test_parameters_the_estimate_reports_are_compared_with_their_truth():
     assert rows.loc["theta0", "value"] == 0.0995 and rows.loc["theta0", "hi"] == 0.0997
     s = summarise(add_errors(rows.reset_index().assign(specimen="S1", estimator="restitution")))
     s = s.set_index(["specimen", "quantity"])
-    assert s.loc[("S1", "cp"), "n_ill_posed"] == 1 and s.loc[("S1", "cp"), "coverage"] == 1.0
-    assert math.isnan(s.loc[("S1", "cp"), "coverage_not_ill_posed"])  # its only one is
+    # the ill-posed C_p counts in its own column, not in the 95 % coverage
+    assert s.loc[("S1", "cp"), "n_ill_posed"] == 1 and s.loc[("S1", "cp"), "n_interval"] == 0
+    assert s.loc[("S1", "cp"), "coverage_ill_posed"] == 1.0  # 2000 in [1500, 2900]
+    assert math.isnan(s.loc[("S1", "cp"), "coverage"])  # its only one is ill-posed
     assert s.loc[("S1", "theta0"), "coverage"] == 0.0  # 0.1 is outside [0.0993, 0.0997]
     # the corner means' std and interval, where the estimate reports them
     est.r_mean_std = {"right": None, "left": {"std": 0.01, "interval": [0.835, 0.875], "n": 2}}

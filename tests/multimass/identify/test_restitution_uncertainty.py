@@ -13,8 +13,15 @@ from scipy import stats
 from multimass import FreeRelease
 from multimass.identify import _parameter_status as ps
 from multimass.identify import synthetic_trace
+from multimass.identify._calibration_stats import MODEL_REL_FLOOR
 from multimass.identify._restitution_fit import MISFIT_P, NOISE_TOL, misfit_test, theta_misfit
-from multimass.identify._restitution_report import _misfit, sigma_interval
+from multimass.identify._restitution_report import (
+    _entry,
+    _explored,
+    _misfit,
+    consider_std,
+    sigma_interval,
+)
 from multimass.identify.calibration import Calibration
 from multimass.identify.impacts import restitution
 from multimass.inputs.traces import Trace
@@ -182,3 +189,57 @@ def test_an_accelerometer_the_model_cannot_follow_takes_its_impact_out():
     assert not rows["estimated"].iloc[bumped]
     assert rows["misfit_channel"].iloc[bumped] == "a_A1"
     assert rows["estimated"].iloc[0]
+
+
+def test_an_ill_posed_parameter_reports_the_range_its_fit_explored_not_a_95_interval():
+    # ill-posed C_p (std beyond LIMITS) and θ0 (its run's misfit): each reports the bounds
+    # of its least squares, no std; the estimated ζ1 keeps its 95 % interval
+    track = SimpleNamespace(explored={"cp": (500.0, 1e4), "theta0": (0.07, 0.13),
+                                      "zeta1": (1e-4, 0.2)})  # fmt: skip
+    bad = ps.estimated(2100.0, 0.6, log=True, what="C_p") | {"status": ps.ILL_POSED,
+                                                             "reason": "relative std 0.6"}  # fmt: skip
+    th0 = ps.estimated(0.1003, 2e-5, what="θ0") | {"status": ps.ILL_POSED, "reason": "misfit"}
+    out = {"cp": bad, "theta0": th0, "zeta1": ps.estimated(0.005, 0.02, log=True)}
+    _explored(track, out)
+    assert out["cp"]["interval"] == [500.0, 1e4] and out["cp"]["std"] is None
+    assert out["cp"]["interval_kind"] == ps.EXPLORED == "explored range"
+    assert out["cp"]["value"] == 2100.0 and "not an estimate" in out["cp"]["value_kind"]
+    assert out["theta0"]["interval"] == [0.07, 0.13] and out["theta0"]["std"] is None
+    assert out["zeta1"]["interval_kind"] == "95 %" and out["zeta1"]["std"] > 0
+    # ζ1's 95 %: exp(log 0.005 ± 1.96 × 0.02) (the log-normal interval)
+    assert out["zeta1"]["interval"][1] == pytest.approx(0.005 * math.exp(ps.Z95 * 0.02))
+    text = ps.lines(out)
+    assert "not fixed by the traces: anywhere in 500 … 10000" in text[0]
+    assert "best fit 2100, not an estimate" in text[0] and "±" not in text[0]
+    assert "95 %" in text[2] and "anywhere" not in text[2]
+
+
+def test_theta0_carries_the_model_parameters_error_floor_through_their_covariance():
+    # θ0 correlated with log ζ1 in the fit's covariance: an error δ of log ζ1 the noise
+    # does not explain (MODEL_REL_FLOOR) moves θ0 by b δ, b = Σ_θζ / Σ_ζζ, so its
+    # variance is Σ_θθ + b² F (the consider covariance, closed form for one parameter)
+    s_th, s_z, rho = 5e-6, 4e-3, 0.8
+    cov = {("theta0", "theta0"): s_th**2, ("zeta1", "zeta1"): s_z**2,
+           ("theta0", "zeta1"): rho * s_th * s_z, ("zeta1", "theta0"): rho * s_th * s_z}  # fmt: skip
+    track = SimpleNamespace(covariance=cov, estimate=("zeta1",), nuis={"theta0": 0.1},
+                            std={"theta0": s_th, "zeta1": s_z})  # fmt: skip
+    b = rho * s_th / s_z
+    want = math.sqrt(s_th**2 + (b * MODEL_REL_FLOOR) ** 2)
+    entry = _entry(track, "theta0", False, None, {}, "θ0")
+    assert entry["std"] == pytest.approx(want, rel=1e-9) and want > 2 * s_th
+    # an independent calculation (Monte Carlo): linear least squares y = θ0 + s ζ + noise
+    # with the parameter's total error e ~ N(0, Σ_ζζ + F) (its reported std, the floor
+    # with it) and θ0 refitted with ζ held there: the spread of θ0 against consider_std
+    rng = np.random.default_rng(3)
+    n, sigma, floor = 50, 0.01, MODEL_REL_FLOOR
+    A = np.column_stack([np.ones(n), np.linspace(0.0, 1.0, n)])
+    joint = np.linalg.inv(A.T @ A) * sigma**2
+    c = {("theta0", "theta0"): joint[0, 0], ("zeta1", "zeta1"): joint[1, 1],
+         ("theta0", "zeta1"): joint[0, 1], ("zeta1", "theta0"): joint[0, 1]}  # fmt: skip
+    tr = SimpleNamespace(covariance=c, estimate=("zeta1",), nuis={}, std={})
+    m = 20000
+    e = rng.normal(0.0, math.sqrt(joint[1, 1] + floor**2), m)
+    noise = rng.normal(0.0, sigma, (m, n))
+    x = (noise - np.outer(e, A[:, 1])).mean(axis=1)  # θ0's least squares, ζ held at e
+    assert consider_std(tr, "theta0") == pytest.approx(np.std(x), rel=0.03)  # MC: 0.5 %
+    assert np.std(x) > 1.5 * math.sqrt(joint[0, 0])  # the floor matters here

@@ -16,6 +16,7 @@ from multimass import FreeRelease
 from multimass.cli import main
 from multimass.errors import InputError
 from multimass.identify import operational_modes, synthetic_trace
+from multimass.identify._calibration_params import PARAMETERS
 from multimass.identify.calibration import calibrate
 from multimass.identify.impacts import restitution
 from multimass.inputs.traces import Trace
@@ -98,6 +99,14 @@ def test_theta_alone_cannot_separate_the_damping_and_says_ill_posed(s1_cp_high):
     assert est.parameters["zeta2"]["status"] == "ill-posed"
     assert "zeta2" in est.message and est.parameters["zeta2"]["reason"]
     assert "ill-posed" in est.fragment()
+    # what the data allow of it: the range its least squares explored (calibration's
+    # bounds of ζ, `PARAMETERS`), no std, the value a best fit and not an estimate
+    z2, bounds = est.parameters["zeta2"], PARAMETERS["zeta2"]
+    assert z2["interval_kind"] == "explored range" and z2["std"] is None
+    assert z2["interval"] == pytest.approx([bounds.low, bounds.high])
+    assert z2["value_kind"] == "best fit, not an estimate"
+    assert "not fixed by the traces: anywhere in" in est.fragment()
+    assert "best fit, not an estimate" in est.specimen_text()
 
 
 def test_given_parameters_are_checked(s1_cp_high):
