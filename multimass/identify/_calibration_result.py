@@ -281,9 +281,11 @@ def failed(st, impact, pset, cs, before, message, sim, wall) -> dict:
     )
 
 
-def provenance(fields: dict, impact: str, given: dict, dropped: dict, st) -> dict:
+def provenance(fields: dict, impact: str, given: dict, dropped: dict, st, bounds=None) -> dict:
     """Where each parameter's value came from (`_parameter_status`): the fitted ones
-    estimated (their std, 95 % interval) or ill-posed (the reason), the `given` ones, those
+    estimated (their std, 95 % interval) or ill-posed (the reason, and instead of an
+    interval the range the fit was allowed to explore, its `bounds`: name → (low, high);
+    the value then the best fit, not an estimate), the `given` ones, those
     the traces could not show (`dropped`: fixed by the specimen file, with why), those
     left out of an explicit fit list, C_p of CIM (not used), the traces' nuisance
     parameters (estimated, per trace in `Calibration.nuisance`) and the structure."""
@@ -302,6 +304,8 @@ def provenance(fields: dict, impact: str, given: dict, dropped: dict, st) -> dic
             if not f["constrained"]:
                 entry["status"] = ps.ILL_POSED
                 entry["reason"] = f["reason"]
+                if bounds and name in bounds:
+                    entry = ps.explored(entry, *bounds[name])
             out[name] = entry
         else:
             note = dropped.get(name, "not in the fit list")

@@ -299,12 +299,16 @@ class Calibration:
         cp = f"; C_p = {vals['cp']:.6g} kg m/rad/s" if self.impact != "CIM" else ""
         note = f"calibrated ({self.impact}{cp}; status {self.status}) against {sources}"
         given = [n for n, p in self.provenance.items() if p["status"] == "given"]
-        est = [n for n, p in self.provenance.items() if p["status"] in ("estimated", "ill-posed")]
+        est = [n for n, p in self.provenance.items() if p["status"] == "estimated"]
+        ill = [n for n, p in self.provenance.items() if p["status"] == "ill-posed"]
         spec_fixed = [
             n for n, p in self.provenance.items()
             if p["status"] == "fixed by the specimen file" and n != "structure"
         ]  # fmt: skip
-        for label, names in (("given", given), ("estimated", est), ("fixed", spec_fixed)):
+        for label, names in (
+            ("given", given), ("estimated", est),
+            ("ill-posed (best fits, not estimates)", ill), ("fixed", spec_fixed),
+        ):  # fmt: skip
             if names:
                 note += f"; {label}: {', '.join(names)}"
         tables, comments = {}, {}
@@ -334,6 +338,18 @@ class Calibration:
                 "zeta_1": "fraction of critical, full-contact mode 1",
                 "zeta_2": "fraction of critical, full-contact mode 2",
             }
+        for table, keys in (
+            ("restitution", {"mean_right": "r_er", "mean_left": "r_el"}),
+            ("damping", {"zeta_1": "zeta1", "zeta_2": "zeta2"}),
+        ):  # an ill-posed value is written, and said to be what the traces do not fix
+            for key, par in keys.items():
+                p = self.provenance.get(par, {})
+                if table in comments and p.get("status") == "ill-posed" and p.get("interval"):
+                    lo, hi = p["interval"]
+                    comments[table][key] += (
+                        f"; ILL-POSED, not fixed by the traces: anywhere in {lo:.4g} … {hi:.4g}"
+                        " (best fit, not an estimate)"
+                    )
         return specimen_text(
             spec, tables, note=note, comments=comments, name=name, path=self.specimen_file
         )
@@ -505,11 +521,13 @@ def calibrate(
             s2 = stage2(sim, pset, cs, per_impact, sigma_r, s1.values, _MAX_NFEV[2], history)
         except (SolverError, TrialRejected) as err:
             fields = result.failed(st, impact, pset, cs, before, str(err), sim, wall)
-            fields["provenance"] = result.provenance(fields, impact, given, dropped, st)
+            fields["provenance"] = result.provenance(
+                fields, impact, given, dropped, st, pset.bounds
+            )
             return Calibration(**fields, specimen_file=_specimen_file(structure, loaded))
         bar.update(n_est)
     fields = result.assemble(st, impact, pset, cs, before, (s1, s2), sim, wall)
-    fields["provenance"] = result.provenance(fields, impact, given, dropped, st)
+    fields["provenance"] = result.provenance(fields, impact, given, dropped, st, pset.bounds)
     return Calibration(**fields, specimen_file=_specimen_file(structure, loaded))
 
 

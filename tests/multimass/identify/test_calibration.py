@@ -8,6 +8,7 @@ S1–S3 are in benchmarks/calibration.py.
 
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -163,6 +164,16 @@ def test_unconstrained_parameter_is_flagged(syn):
     assert cal.status == "ill-posed" and not z["constrained"] and z["reason"]
     assert "zeta2" in cal.message
     assert not math.isfinite(z["std"]) or z["std"] > 0.25 * z["value"]
+    # what it reports is the range the fit explored (the fit's bounds), not a 95 % interval
+    p = cal.provenance["zeta2"]
+    assert p["status"] == "ill-posed" and p["interval_kind"] == "explored range"
+    assert p["std"] is None and p["value_kind"] == "best fit, not an estimate"
+    lo, hi = p["interval"]
+    assert lo <= p["value"] <= hi and hi / lo > 2.0
+    text = cal.specimen_text()
+    zeta_2 = next(line for line in text.splitlines() if line.startswith("zeta_2"))
+    assert "ILL-POSED" in zeta_2 and "best fit, not an estimate" in zeta_2
+    assert re.search(r"ill-posed \(best fits, not estimates\): [^;]*zeta2", text)
 
 
 # ---------------------------------------------------------------------------- bad input
