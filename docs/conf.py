@@ -35,6 +35,7 @@ from sphinx.util import logging as sphinx_logging
 from sphinx.util.docutils import SphinxDirective
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE / "_ext"))  # local extensions (mathjax_offline)
 ROOT = HERE.parent  # the repository's root: examples/, README.md
 
 # -- project ---------------------------------------------------------------------------
@@ -49,7 +50,7 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "sphinx.ext.mathjax",
-    "sphinx-mathjax-offline",  # MathJax 3 copied into _static: equations render offline
+    "mathjax_offline",  # docs/_ext: MathJax 3 copied into _static, equations render offline
     "numpydoc",
     "myst_parser",
     "sphinx_gallery.gen_gallery",
