@@ -5,7 +5,7 @@ Run:  python -m benchmarks.exponential_rocking [--repeat 3] [--rtols 1e-6 1e-8 1
 
 Cases (each a whole compiled run, `multimass.simulation.outcome_summary`, the
 path of spectra and suites): S1, S2, S3 of paper 001 released from 0.11 rad (DD2,
-10 s) and under El Centro 1940 NS (``/work/shared/data/ground_motions``, units g,
+10 s) and under El Centro 1940 NS (``../shared/data/ground_motions`` beside the repository, units g,
 DD5 with seed 3, 20 s: the issue's case), a uniform 20-node column like S1 released
 (`multimass.bench.scaling.uniform_column`) and a near-rigid column (S1 with E_s,
 K_rot, K_fp × 100, `multimass.bench.cases.scaled_column`) released. Each case runs at
@@ -40,12 +40,15 @@ import subprocess
 import sys
 import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 
 __all__ = ["main", "cases", "measure", "physical_limit", "compile_times"]
 
-ELCENTRO = "/work/shared/data/ground_motions/elcentro_1940_NS.dat"
+#: ../shared beside the repository (the read-only data of the tests)
+SHARED = Path(__file__).resolve().parents[2] / "shared"
+ELCENTRO = str(SHARED / "data" / "ground_motions" / "elcentro_1940_NS.dat")
 METHODS = ("DOP853", "exponential")
 REF = dict(method="DOP853", rtol=1e-12, atol=1e-14)
 
