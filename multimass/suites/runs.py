@@ -37,7 +37,7 @@ from ..inputs.excitations import TWO_PI, MPShape
 from ..progress import RunCost, budget_seconds, format_duration
 from ..simulation import estimate, outcome_summaries, outcome_summary
 from ..sweeps.base import available_workers, validate_workers
-from ..sweeps.engine import _Bar, batch_plan, run_jobs
+from ..sweeps.engine import _Bar, run_batches, run_jobs
 from ..sweeps.kernel_pools import kernel_session, preload_modules
 from ..sweeps.maps import default_backend
 from ..sweeps.method_choice import AUTO, resolve
@@ -608,18 +608,7 @@ def run_suite(
                     for b, part_results in enumerate(parts_):
                         results[b::k] = part_results
                 elif columns and COLUMNS_BATCHED:  # a task per batch of the plan, prepared together
-                    plan = batch_plan(len(jobs), ex.workers)
-                    got = run_jobs(
-                        suite_columns,
-                        [[jobs[i] for i in b] for b in plan],
-                        executor=ex,
-                        batch_size=1,
-                        progress=False,
-                    )
-                    results = [None] * len(jobs)
-                    for b, part_results in zip(plan, got):
-                        for i, r in zip(b, part_results):
-                            results[i] = r
+                    results = run_batches(suite_columns, jobs, executor=ex, progress=False)
                 else:
                     results = run_jobs(suite_run, jobs, executor=ex, progress=False)
                 tables[c] = rows(index, jobs, results)

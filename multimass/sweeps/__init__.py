@@ -19,12 +19,13 @@ Several sweeps on one pool (it starts once)::
 
 from .base import Executor, available_workers
 from .dask_executor import DaskExecutor
-from .engine import ExecutorError, JobError, batch_plan, run_jobs
+from .engine import ExecutorError, JobError, batch_plan, run_batches, run_jobs
 from .executors import EXECUTORS, ProcessExecutor, SerialExecutor, get_executor
 from .seeding import job_seed, job_seeds
 
 __all__ = [
     "run_jobs",
+    "run_batches",
     "job_seeds",
     "job_seed",
     "get_executor",

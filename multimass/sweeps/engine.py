@@ -24,7 +24,7 @@ from ..errors import InputError, SolverError
 from .base import Executor
 from .executors import get_executor
 
-__all__ = ["run_jobs", "batch_plan", "JobError", "ExecutorError"]
+__all__ = ["run_jobs", "run_batches", "batch_plan", "JobError", "ExecutorError"]
 
 #: Default plan, guided self-scheduling (Polychronopoulos & Kuck, IEEE Trans.
 #: Computers C-36(12), 1987) over strided stripes: the jobs are dealt into
@@ -297,6 +297,38 @@ def run_jobs(
     finally:
         if owned:
             ex.close()
+
+
+def run_batches(
+    func: Callable[[list], list],
+    jobs: Iterable[Any],
+    *,
+    executor: Executor,
+    progress: bool | None = None,
+    desc: str | None = None,
+    unit: str = "job",
+) -> list:
+    """`run_jobs` for a `func` that takes a whole batch: one task per batch of
+    `batch_plan` (``func(list of jobs) -> list of their results``, so what the batch's
+    jobs share is prepared once), the progress bar counting jobs; the results in the order
+    of `jobs`."""
+    jobs = list(jobs)
+    plan = batch_plan(len(jobs), executor.workers)
+    got = run_jobs(
+        func,
+        [[jobs[i] for i in b] for b in plan],
+        executor=executor,
+        batch_size=1,
+        progress=progress,
+        desc=desc,
+        weights=[len(b) for b in plan],
+        unit=unit,
+    )
+    out: list = [None] * len(jobs)
+    for b, results in zip(plan, got):
+        for i, r in zip(b, results):
+            out[i] = r
+    return out
 
 
 def _validate_weights(weights, n_jobs: int) -> list:

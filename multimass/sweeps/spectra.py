@@ -21,7 +21,7 @@ from ..inputs.excitations import pulse as make_pulse
 from ..inputs.records import Record
 from ..model.structure import Structure, from_specimen
 from ..simulation import estimate, outcome_summaries, outcome_summary
-from .engine import batch_plan, run_jobs
+from .engine import run_batches
 from .kernel_pools import kernel_session, preload_modules
 from .map_cells import pulse_label
 from .maps import default_backend
@@ -162,21 +162,9 @@ def _run(st, points, sweep_cols, executor, workers, progress, desc, kind, option
     """The spectrum of `points`; its wall time counts from `started`."""
     with kernel_session(executor, workers, _preload(st, kind, options)) as ex:
         # one task per batch of the engine's plan, its runs prepared together
-        plan = batch_plan(len(points), ex.workers)
-        res = run_jobs(
-            spectrum_points,
-            [[points[i] for i in index] for index in plan],
-            executor=ex,
-            batch_size=1,
-            progress=progress,
-            desc=desc,
-            weights=[len(index) for index in plan],
-            unit="run",
+        results = run_batches(
+            spectrum_points, points, executor=ex, progress=progress, desc=desc, unit="run"
         )
-    results: list = [None] * len(points)
-    for index, got in zip(plan, res):
-        for i, r in zip(index, got):
-            results[i] = r
     table = _table(sweep_cols, results)
     return Spectrum(st.name, kind, table, options, time.perf_counter() - started)
 

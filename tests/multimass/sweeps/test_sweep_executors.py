@@ -29,6 +29,7 @@ from multimass.sweeps import (
     get_executor,
     job_seed,
     job_seeds,
+    run_batches,
     run_jobs,
 )
 from tests.conftest import unavailable
@@ -51,6 +52,12 @@ def slow_first(job):
     i, n = job
     time.sleep(0.002 * (n - i))
     return i
+
+
+def squares_of_a_batch(batch):
+    """A batch job: a list of jobs in, their results in the same order out."""
+    assert isinstance(batch, list)
+    return [x * x for x in batch]
 
 
 def fail_at_seven(x):
@@ -232,6 +239,13 @@ def test_results_come_back_in_job_order_although_batches_finish_out_of_order(poo
     assert run_jobs(slow_first, [(i, n) for i in range(n)], executor=pool2, batch_size=1) == list(
         range(n)
     )
+
+
+@pytest.mark.parametrize("n", [0, 1, 5, 37])
+def test_run_batches_hands_whole_batches_and_returns_job_order(pool2, n):
+    want = [x * x for x in range(n)]  # squares, by hand
+    assert run_batches(squares_of_a_batch, range(n), executor=SerialExecutor()) == want
+    assert run_batches(squares_of_a_batch, range(n), executor=pool2) == want
 
 
 def test_numba_compiled_function_runs_in_workers(pool2):
