@@ -131,7 +131,7 @@ from ._calibration_params import (
     parameter_set,
 )
 from ._calibration_setup import cases, showable, structure_of
-from ._calibration_stages import HISTORY, stage1, stage2
+from ._calibration_stages import HISTORY, align_releases, stage1, stage2
 from ._calibration_stats import LIMITS, STATUSES
 from .impacts import MIN_SIGMA_IMPACTS
 from .segments import THETA_MIN
@@ -517,6 +517,7 @@ def calibrate(
     with Progress(n_est, f"calibrate {st.name} ({impact})", show=show, unit="runs") as bar:
         sim.listener = bar.update
         try:
+            cs = align_releases(sim, pset, cs)
             s1 = stage1(sim, pset, cs, sigma_r, _MAX_NFEV[1])
             s2 = stage2(sim, pset, cs, per_impact, sigma_r, s1.values, _MAX_NFEV[2], history)
         except (SolverError, TrialRejected) as err:
