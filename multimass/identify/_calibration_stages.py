@@ -110,8 +110,8 @@ def align_releases(sim, pset, cases) -> list:
     seed 0, released 0.006–0.274 s into the trace) the guess was the first sample on 7
     (0.04–0.27 s early) and 0.03–0.09 s early on 5 more; 8 of these 12 calibrated
     ill-posed, with restitution means down to 0.3 for 0.82–0.98. Aligned, every clock
-    came within 2e-4 s of the truth and θ0 within 0.0011 rad, in 0.6–2.6 s a trace. Table-motion traces (clock fixed at their first sample) are
-    returned as they are.
+    came within 2e-4 s of the truth and θ0 within 0.0011 rad, in 0.6–2.6 s a trace.
+    Table-motion traces (clock fixed at their first sample) are returned as they are.
     """
     out = []
     for c in cases:
