@@ -200,7 +200,10 @@ class Calibration:
         errors over the large half-cycles (the window's for ``fit``).
     residuals : dict
         Per "label:channel": ``scale`` (residual RMS, SI), ``rho1`` (lag-1
-        autocorrelation of the residuals), ``inflation`` (applied to the covariance).
+        autocorrelation of the residuals), ``inflation`` (applied to the covariance),
+        ``misfit`` (the residual mean square over the most a fit that reproduces the
+        trace leaves, `_calibration_result.misfit`; above 1 in any channel no fitted
+        parameter is estimated; NaN: an accelerometer not tested).
     covariance : pandas.DataFrame
         Of the fitted parameters, in their fitted units (log for C_p and ζ).
     stages : dict
