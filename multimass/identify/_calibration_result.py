@@ -274,7 +274,7 @@ def assemble(st, impact, pset, cs, before, stages, sim, wall) -> dict:
         f"{label}:{ch}": {
             "scale": p2.scales[(label, ch)],
             **info[(label, ch)],
-            "misfit": tested.get((label, ch), math.nan),
+            "misfit": tested.get((label, ch)),
         }
         for (label, ch) in p2.scales
     }

@@ -203,7 +203,7 @@ class Calibration:
         autocorrelation of the residuals), ``inflation`` (applied to the covariance),
         ``misfit`` (the residual mean square over the most a fit that reproduces the
         trace leaves, `_calibration_result.misfit`; above 1 in any channel no fitted
-        parameter is estimated; NaN: an accelerometer not tested).
+        parameter is estimated; None: an accelerometer not tested).
     covariance : pandas.DataFrame
         Of the fitted parameters, in their fitted units (log for C_p and ζ).
     stages : dict
