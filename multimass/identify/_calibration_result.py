@@ -14,8 +14,10 @@ from ._calibration_fit import Problem
 from ._calibration_params import PARAMETERS
 from ._calibration_stats import MODEL_REL_FLOOR, covariance, flags, status_of
 from ._calibration_views import channel_metrics, feature_errors, view
+from ._misfit import REF_MIN, misfit_test, theta_misfit
+from ._restitution_fit import EDGE
 
-__all__ = ["assemble", "failed", "views", "provenance"]
+__all__ = ["assemble", "failed", "views", "provenance", "misfit"]
 
 
 def views(sim, p: Problem, x, cases, st, full: bool) -> dict:
@@ -88,7 +90,62 @@ def roughness(p, x, f0, J, cov, pset) -> dict:
     return out
 
 
-def _parameters(pset, p2, x, cov, rough) -> tuple[dict, dict]:
+def misfit(p: Problem, x) -> dict:
+    """(case label, channel) → `misfit_test` of stage 2's fit over its window, as the
+    residual mean square over the most a fit that reproduces the trace leaves (above 1:
+    it does not) — `restitution`'s test (`_misfit`), over the whole window fitted.
+
+    Each accelerometer is tested against its own residuals before the first impact less
+    the anti-alias filter's reach (F; not tested with fewer than `REF_MIN` samples
+    there), θ against the trace's noise (`theta_misfit`, χ²) — or, where its residuals
+    before the first impact pass that test yet exceed the noise, against them (F):
+    `Segments.noise` can be low, 0.00189 rad on the 2 % noise (0.00220 rad) of a
+    synthetic S1 trace (0.11 rad, DD2, 2.6 s, seed 11), and a fit at the truth (every
+    impact's r within 0.0014, C_p within 0.3 %) then failed at 1.02 × the limit.
+    """
+    out = {}
+    for (label, ch), (e, _) in p.raw(x).items():
+        c = next(s for s in p.cases if s.label == label)
+        impacts = c.segments.impacts
+        t_ref = impacts[0].t - EDGE / c.segments.fs if impacts else -math.inf
+        n_ref = int(np.searchsorted(c.t[c.idx], t_ref))
+        ref = e[:n_ref] if ch == "theta" else e[:n_ref] - np.mean(e[:n_ref])
+        ms_ref = max(float(np.mean(ref * ref)), 1e-300) if n_ref else math.nan
+        if ch == "theta":
+            ratio, limit = theta_misfit(e, c.segments.noise)
+            if n_ref >= REF_MIN:
+                r0, l0 = theta_misfit(ref, c.segments.noise)
+                if r0 > l0:  # the release itself is not reproduced
+                    ratio, limit = max((ratio, limit), (r0, l0), key=lambda q: q[0] / q[1])
+                elif r0 > 1.0:  # the noise is larger than its estimate
+                    ratio, limit = misfit_test(e, ms_ref, n_ref)
+        elif n_ref >= REF_MIN:
+            ratio, limit = misfit_test(e, ms_ref, n_ref)
+        else:
+            continue
+        out[(label, ch)] = ratio / limit
+    return out
+
+
+def _not_reproduced(flagged: dict, tested: dict) -> None:
+    """Every fitted parameter not constrained where the fit does not reproduce a trace
+    (`misfit` above 1 in some channel): the least squares stopped away from the traces'
+    parameters (or the model cannot follow them), and the covariance at that point does
+    not bound their error."""
+    worst = max(tested.items(), key=lambda kv: kv[1], default=(None, 0.0))
+    if not worst[1] > 1.0:
+        return
+    (label, ch) = worst[0]
+    why = (
+        f"the fit does not reproduce the trace over the window fitted ({label}:{ch}'s "
+        f"residual mean square {worst[1]:.3g} × the most its noise leaves)"
+    )
+    for f in flagged.values():
+        f["constrained"] = False
+        f["reason"] = "; ".join(x for x in (f["reason"], why) if x)
+
+
+def _parameters(pset, p2, x, cov, rough, tested=None) -> tuple[dict, dict]:
     n = len(pset.fit)
     std = np.sqrt(np.clip(np.diag(cov)[:n], 0.0, np.inf))
     for i, name in enumerate(pset.fit):  # a rough cost: at least the probe's distance
@@ -112,6 +169,7 @@ def _parameters(pset, p2, x, cov, rough) -> tuple[dict, dict]:
             )
             f["constrained"] = False
             f["reason"] = "; ".join(x for x in (f["reason"], why) if x)
+    _not_reproduced(flagged, tested or {})
     out = {}
     for i, name in enumerate(pset.fit):
         p = PARAMETERS[name]
@@ -204,7 +262,8 @@ def assemble(st, impact, pset, cs, before, stages, sim, wall) -> dict:
     scales = np.array([un.scale for un in p2.unknowns])
     cov, info = covariance(J, blocks, scales)
     rough = roughness(p2, x, f0, J0, cov, pset)
-    params, flagged = _parameters(pset, p2, x, cov, rough)
+    tested = misfit(p2, x)
+    params, flagged = _parameters(pset, p2, x, cov, rough, tested)
     rho = {key: i["rho1"] for key, i in info.items() if key[1] != "prior"}
     status, message = status_of(s2.ok, flagged, rho)
     fit_views = views(sim, p2, x, cs, st, full=False)
@@ -212,7 +271,11 @@ def assemble(st, impact, pset, cs, before, stages, sim, wall) -> dict:
     n = len(pset.fit)
     names = list(pset.fit)
     residuals = {
-        f"{label}:{ch}": {"scale": p2.scales[(label, ch)], **info[(label, ch)]}
+        f"{label}:{ch}": {
+            "scale": p2.scales[(label, ch)],
+            **info[(label, ch)],
+            "misfit": tested.get((label, ch)),
+        }
         for (label, ch) in p2.scales
     }
     phys, _ = p2.decode(x)
@@ -236,7 +299,7 @@ def assemble(st, impact, pset, cs, before, stages, sim, wall) -> dict:
         traces=tuple(cs),
         n_simulations=sim.n_runs,
         wall_time_s=time.perf_counter() - wall,
-        warnings=tuple(_warnings(cs, status)),
+        warnings=tuple(_warnings(cs, status) + _misfit_warnings(tested)),
     )  # fmt: skip
 
 
@@ -251,6 +314,18 @@ def _warnings(cs, status) -> list[str]:
         if c.n_impacts < 2:
             out.append(f"{c.label}: fewer than 2 impacts between large half-cycles")
     return out
+
+
+def _misfit_warnings(tested: dict) -> list[str]:
+    off = sorted((k for k, r in tested.items() if r > 1.0), key=lambda k: -tested[k])
+    if not off:
+        return []
+    return [
+        "the fit does not reproduce the trace over the window fitted (residual mean square "
+        + ", ".join(f"{tested[k]:.3g} × ({k[0]}:{k[1]})" for k in off)
+        + " the most the noise leaves): every fitted parameter is ill-posed, its value the "
+        "best fit, not an estimate"
+    ]
 
 
 def failed(st, impact, pset, cs, before, message, sim, wall) -> dict:

@@ -30,7 +30,8 @@ STATUSES = {
     "model can do, not the test's truth",
     "ill-posed": "some fitted parameter is not constrained by the traces (its "
     "uncertainty is too large, it sits on a bound, or it is nearly collinear with "
-    "another): see each parameter's `constrained` flag; fix it or give better traces",
+    "another), or the fit does not reproduce the traces within their noise (then none "
+    "is): see each parameter's `constrained` flag; fix it or give better traces",
     "failed": "a simulation failed or could not be run; `message` says why (the values "
     "are the starts)",
 }

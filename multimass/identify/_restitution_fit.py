@@ -19,13 +19,13 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import stats
 
 from ._calibration_fit import _T_MARGIN, Problem, Unknown, solve
 from ._calibration_model import Simulator, TrialRejected
 from ._calibration_params import PARAMETERS, parameter_set
 from ._calibration_setup import Case, cases
 from ._calibration_stats import LIMITS, covariance
+from ._misfit import MISFIT_P, NOISE_TOL, REF_MIN, THETA_MODEL_FLOOR, misfit_test, theta_misfit
 
 __all__ = [
     "Track",
@@ -60,7 +60,6 @@ _PAIR_NFEV = 4  # evaluations of a window's least squares …
 #: … and of the last one, over everything: with accelerations, and θ alone (its clock
 #: and θ0 trade off with every r, a longer valley)
 _GLOBAL_NFEV = {True: 5, False: 15}
-_REF_MIN = 20  # the fewest samples before the first impact that test the accelerometers
 _RELEASE_STEP = 0.01  # s: the release time is scanned in these steps (`_scan_release`)
 _OVERSAMPLE = 10  # the recording rate of the runs, × the trace's (calibrate's default)
 #: The model parameters a trace can show besides the coefficients: the Dirac-delta
@@ -81,26 +80,6 @@ _FIRST_NFEV = 8  # evaluations of that impact's least squares with the model par
 #: … in passes of least squares (each re-weighting the channels) of this many evaluations
 _MODEL_NFEV = (6, 6)
 _MEAN = {"right": "r_er", "left": "r_el"}
-#: The goodness-of-fit test (`misfit_test`): a fit whose θ residual's mean square over
-#: a span exceeds the trace's noise variance by more than the χ² quantile of this upper
-#: tail probability (and `NOISE_TOL`), or an accelerometer's exceeds its mean square
-#: before the first impact by more than the F quantile, does not reproduce the trace
-#: there. Its
-#: covariance, a curvature at a point that is not the trace's, says nothing of the
-#: error: on synthetic S2 (C_p 1.02 × Table 2's, 233 Hz, 2 % noise) a fit stuck with C_p
-#: 11 % high left θ residuals 2.3–7 × the noise's RMS from the second impact on, and its
-#: r 0.02–0.04 off with r_std 6e-4; at the truth the same spans were at 0.94–1.10 ×
-#: (the accelerometers' too: 0.33–0.35 m/s² for a noise of 0.33 on a_A1).
-MISFIT_P = 1e-3
-#: … the relative tolerance on the noise variance the trace gives (`Segments.noise`,
-#: a robust spread of θ less its low-passed self; 0.88–1.22 × at the truth over single
-#: half-cycles of that trace, within the χ² quantile of their 116–230 samples)
-NOISE_TOL = 0.1
-#: … and a floor of the θ noise (rad), added in quadrature, that keeps the test of a
-#: noiseless trace finite: the fit's θ error there is the model's alone (runs recorded
-#: at 10 × the trace's rate, the synthetic traces at 40 ×), 3e-8 rad RMS on noiseless
-#: S1 (DD2, 0.11 rad, 200 Hz, 4 s)
-THETA_MODEL_FLOOR = 1e-5
 
 
 @dataclass(eq=False)
@@ -356,35 +335,6 @@ class ImpactFit:
     misfit_channel: str = ""
 
 
-def theta_misfit(e: np.ndarray, noise: float) -> tuple[float, float]:
-    """`misfit_test` of the θ residuals `e` against the trace's noise `noise` (rad, with
-    `THETA_MODEL_FLOOR` in quadrature).
-
-    A ratio above its limit says the fit is not at the trace's parameters (or the model
-    cannot follow it) there; its covariance then does not bound the error."""
-    return misfit_test(e, noise**2 + THETA_MODEL_FLOOR**2)
-
-
-def misfit_test(e: np.ndarray, var: float, n_ref: int | None = None) -> tuple[float, float]:
-    """(ratio, limit): the mean square of the residuals `e` over the variance `var` of
-    a fit that reproduces the trace, and the largest ratio such a fit leaves with
-    probability 1 − `MISFIT_P` (white noise: each residual one sample of it).
-
-    `var` known (the trace's noise, `n_ref` None): the χ² quantile of the residuals'
-    count n over n, times 1 + `NOISE_TOL` for the noise's estimate. `var` itself a mean
-    square of `n_ref` residuals of the same fit (an accelerometer before the first
-    impact, where no restitution acts): the F(n, n_ref) quantile.
-    """
-    e = np.asarray(e, dtype=float)
-    n = max(e.size, 1)
-    ratio = float(np.mean(e * e)) / var if e.size else 0.0
-    if n_ref is None:
-        limit = float(stats.chi2.ppf(1.0 - MISFIT_P, n) / n) * (1.0 + NOISE_TOL)
-    else:
-        limit = float(stats.f.ppf(1.0 - MISFIT_P, n, max(n_ref, 1)))
-    return ratio, limit
-
-
 def _misfit(track: Track, rec, idx: slice, ref: dict) -> tuple[float, str]:
     """(worst ratio / limit, its channel) of `misfit_test` over the samples `idx`: θ
     against the trace's noise, each accelerometer against its residuals `ref` (channel
@@ -404,12 +354,12 @@ def _misfit(track: Track, rec, idx: slice, ref: dict) -> tuple[float, str]:
 
 def _reference(track: Track, rec, t_first: float) -> dict:
     """Accelerometer → (residual mean square, count) over the samples before the first
-    impact less the filter's reach (none where fewer than `_REF_MIN` samples): the
+    impact less the filter's reach (none where fewer than `REF_MIN` samples): the
     fit's noise there, where no restitution and no C_p act."""
     seg = track.case.segments
     idx = track.span(track.t[0], t_first - EDGE / seg.fs)
     n = idx.stop - idx.start
-    if n < _REF_MIN:
+    if n < REF_MIN:
         return {}
     res = track.residuals(rec, idx, track.nuis, weighted=False)
     return {ch: (max(float(np.mean(e * e)), 1e-300), n) for ch, e in res.items() if ch != "theta"}

@@ -9,17 +9,26 @@ S1–S3 are in benchmarks/calibration.py.
 import json
 import math
 import re
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from scipy import stats
 
 import multimass
 from multimass import FreeRelease
 from multimass.errors import InputError
 from multimass.identify import synthetic_trace
+from multimass.identify._calibration_model import Simulator
+from multimass.identify._calibration_params import parameter_set
+from multimass.identify._calibration_result import _not_reproduced, misfit
+from multimass.identify._calibration_setup import cases
+from multimass.identify._calibration_stages import align_releases
+from multimass.identify._misfit import MISFIT_P, NOISE_TOL, theta_misfit
 from multimass.identify.calibration import FITTABLE, STATUSES, Calibration, calibrate
 from multimass.identify.calibration_report import markdown, write_report
 from multimass.inputs.traces import Trace, parse_trace
+from multimass.model.structure import from_specimen
 
 THETA0 = 0.11  # rad: paper 001 Section 4.3's large free-vibration test of S1
 T_END = 2.6  # s: five impacts of S1 released from 0.11 rad
@@ -118,6 +127,106 @@ def test_cim_on_a_dd2_trace_reports_its_misfit(cim, dd2, tmp_path):
     assert (tmp_path / f"{label}_residuals.png").is_file()
     assert cim.status in (tmp_path / "calibration.md").read_text()
     assert {p.suffix for p in files} == {".png", ".md", ".json", ".toml"}
+
+
+def test_a_fit_that_does_not_reproduce_the_trace_estimates_nothing(cim):
+    # CIM cannot follow a DD2 trace (paper 001 Section 4.3): the fit fails restitution's
+    # test (θ against the trace's noise, χ²; each accelerometer against its residuals
+    # before the first impact, F), and no parameter is reported as estimated
+    assert max(r["misfit"] or 0.0 for r in cim.residuals.values()) > 1.0
+    assert cim.status == "ill-posed" and "does not reproduce the trace" in cim.message
+    for name in ("r_er", "r_el"):
+        p = cim.provenance[name]
+        assert p["status"] == "ill-posed" and "does not reproduce the trace" in p["reason"]
+        assert p["interval_kind"] == "explored range" and p["std"] is None
+        assert not cim.parameters[name]["constrained"]
+    data = json.loads(cim.to_json())
+    assert data["provenance"]["r_er"]["status"] == "ill-posed"
+    assert any("does not reproduce the trace" in w for w in data["warnings"])
+    text = cim.specimen_text()
+    mean_right = next(line for line in text.splitlines() if line.startswith("mean_right"))
+    assert "ILL-POSED" in mean_right and "best fit, not an estimate" in mean_right
+    assert "does not reproduce the trace" in "\n".join(markdown(cim).splitlines())
+
+
+def test_a_fit_that_reproduces_the_trace_is_estimated(dd2):
+    tested = [r["misfit"] for r in dd2.residuals.values()]
+    assert len(tested) == 5 and all(r is not None and r <= 1.0 for r in tested), tested
+    for name in ("r_er", "r_el", "cp"):
+        assert dd2.provenance[name]["status"] == "estimated"
+    assert not any("does not reproduce" in w for w in dd2.warnings)
+
+
+def _fake_problem(theta, accel, noise, fs=200.0, t_impact=0.5):
+    """A stage-2 problem's stand-in for `misfit`: one trace, residuals given."""
+    t = np.arange(theta.size) / fs
+    case = SimpleNamespace(
+        label="a", t=t, idx=slice(0, t.size),
+        segments=SimpleNamespace(noise=noise, fs=fs, impacts=[SimpleNamespace(t=t_impact)]),
+    )  # fmt: skip
+    raw = {("a", "theta"): (theta, 0.0), ("a", "a_A1"): (accel, 0.0)}
+    return SimpleNamespace(cases=[case], raw=lambda x: raw)
+
+
+def test_the_misfit_test_of_calibrate_is_restitutions():
+    rng = np.random.default_rng(5)
+    sigma, n = 1e-3, 600  # 200 Hz: the first impact at 0.5 s, 87 samples before its reach
+
+    def tested(theta, accel):
+        return misfit(_fake_problem(theta, accel, sigma), None)
+
+    white = tested(rng.normal(0, sigma, n), rng.normal(0, 0.3, n))
+    assert set(white) == {("a", "theta"), ("a", "a_A1")}
+    assert max(white.values()) <= 1.0  # white noise at the trace's level passes
+    # θ against the trace's noise: the χ² limit of its count (closed form, `theta_misfit`)
+    theta = rng.normal(0, sigma, n)
+    theta[100:] += 2 * sigma
+    ratio, limit = theta_misfit(theta, sigma)
+    assert limit == pytest.approx(stats.chi2.ppf(1 - MISFIT_P, n) / n * (1 + NOISE_TOL))
+    assert tested(theta, rng.normal(0, 0.3, n))[("a", "theta")] == pytest.approx(ratio / limit)
+    assert ratio / limit > 1.0
+    # noise 25 % above the trace's estimate, the same before and after the first impact:
+    # its residuals before it are the reference (F), and the fit passes
+    assert tested(rng.normal(0, 1.25 * sigma, n), rng.normal(0, 0.3, n))[("a", "theta")] <= 1.0
+    # a release the fit does not reproduce fails, whatever follows
+    theta = rng.normal(0, sigma, n)
+    theta[:50] += 5 * sigma
+    assert tested(theta, rng.normal(0, 0.3, n))[("a", "theta")] > 1.0
+    # an accelerometer whose residuals grow after the first impact (less the filter's
+    # reach) fails against its own residuals before it
+    accel = rng.normal(0, 0.3, n)
+    accel[100:] *= 3.0
+    loud = tested(rng.normal(0, sigma, n), accel)
+    assert loud[("a", "theta")] <= 1.0 and loud[("a", "a_A1")] > 1.0
+
+
+def test_the_misfit_test_makes_every_fitted_parameter_not_constrained():
+    flagged = {
+        "r_er": {"bound_hit": None, "constrained": True, "reason": ""},
+        "cp": {"bound_hit": "lower", "constrained": False, "reason": "on its lower bound"},
+    }
+    _not_reproduced(flagged, {("a", "theta"): 0.9})  # passes: nothing changes
+    assert flagged["r_er"]["constrained"] and flagged["r_er"]["reason"] == ""
+    _not_reproduced(flagged, {("a", "theta"): 0.9, ("a", "a_A1"): 3.0})
+    assert not flagged["r_er"]["constrained"] and not flagged["cp"]["constrained"]
+    assert "a:a_A1's residual mean square 3 ×" in flagged["r_er"]["reason"]
+    assert flagged["cp"]["reason"].startswith("on its lower bound; the fit does not")
+
+
+def test_the_release_is_aligned_before_the_first_stage():
+    # released 0.21 s into a trace whose hold is noisy: the first guess of the clock is
+    # the trace's first sample (seed 2), stage 1's bounds ±0.2 s about it; restitution's
+    # alignment finds the synthetic truth
+    syn = synthetic_trace("S1", FreeRelease(theta0=0.07), "DD2", 2.6, seed=2, t_offset=0.21,
+                          noise=0.015)  # fmt: skip
+    st = from_specimen("S1")
+    cs = cases([syn.trace], st, (), None, 0.01)
+    assert abs(cs[0].tau - 0.21) > 0.2  # the guess alone is out of reach
+    aligned = align_releases(
+        Simulator(st, "DD2", 10, {}), parameter_set(None, "DD2", st.specimen), cs
+    )
+    assert aligned[0].tau == pytest.approx(syn.truth["t_offset"], abs=1e-3)
+    assert aligned[0].theta0 == pytest.approx(0.07, abs=1e-3)
 
 
 def test_json_table_and_specimen_round_trip(dd2, tmp_path):
