@@ -175,7 +175,9 @@ class OverturningMap:
         ``amp``, ``outcome``, ``overturn_time``, ``theta_max_over_alpha``,
         ``n_impacts``, ``accurate`` (False if the run's accuracy check failed; its
         outcome is kept and counted in the summary's ``inaccurate``), ``grid``
-        (True on the base grid).
+        (True on the base grid). Built at its first read, as is `boundaries`: the map holds
+        its columns until then, and `summary` reads those (pandas is imported with the
+        first table).
     boundaries : pandas.DataFrame
         Refined boundary segments per ω/p: ``omega_p``, ``amp_low``,
         ``amp_high``, ``low_outcome``, ``high_outcome``.
