@@ -22,8 +22,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg as sla
-import scipy.optimize as so
 
 from .complementarity import LCPError, lemke
 
@@ -99,6 +97,8 @@ def _matrix(name: str, value, shape=None) -> np.ndarray:
 
 
 def _validate(M, W_N, W_T, u_minus, eps_p):
+    import scipy.linalg as sla  # SciPy in each function: loading this module needs none
+
     M = _matrix("M", M)
     if M.ndim != 2 or M.shape[0] != M.shape[1] or M.shape[0] == 0:
         raise LCPError(f"`M` has shape {M.shape}: expected a square (n, n) mass matrix")
@@ -141,6 +141,8 @@ def _validate(M, W_N, W_T, u_minus, eps_p):
 
 def _delassus(chol, W_N, W_T):
     """G matrices of Eq 4 and the condensed normal matrix of Eqs 6 and 11."""
+    import scipy.linalg as sla
+
     MiN = sla.cho_solve(chol, W_N)
     MiT = sla.cho_solve(chol, W_T)
     G_NN, G_NT, G_TT = W_N.T @ MiN, W_N.T @ MiT, W_T.T @ MiT  # paper 000, Eq 4
@@ -181,6 +183,8 @@ def _solve(A: np.ndarray, q: np.ndarray, vtol: float) -> tuple[np.ndarray, str]:
         keep = lam > 1e-12 * max(lam.max(), 1e-300)
         B = np.sqrt(lam[keep])[:, None] * V[:, keep].T
         c = (V[:, keep].T @ q) / np.sqrt(lam[keep])
+        import scipy.optimize as so
+
         z = so.nnls(B, -c, maxiter=50 * q.size + 100)[0]
         w = A @ z + q
         if w.min() < -1e3 * vtol or np.abs(w * z).max() > 1e3 * vtol * max(z.max(), 1e-300):
@@ -220,6 +224,8 @@ def poisson_impact(M, W_N, W_T, u_minus, eps_p, *, tol: float = 1e-9) -> Poisson
         M not symmetric positive definite, inconsistent sizes, ε_P outside
         [0, 1], dependent tangential directions, or an LCP without solution.
     """
+    import scipy.linalg as sla
+
     chol, M, W_N, W_T, u, eps = _validate(M, W_N, W_T, u_minus, eps_p)
     MiN, MiT, G_NT, cT, K, A = _delassus(chol, W_N, W_T)
     gN_m, gT_m = W_N.T @ u, W_T.T @ u

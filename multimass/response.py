@@ -8,13 +8,25 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 
 from .result import Event, Result
 
+if TYPE_CHECKING:
+    import pandas as pd
+
 __all__ = ["Event", "Response", "Outcome", "ENERGY_COLUMNS"]
+
+
+def _empty(columns: list) -> pd.DataFrame:
+    """An empty table with these columns (pandas imported here, at the first table: a run
+    read only through its summary needs none)."""
+    import pandas as pd
+
+    return pd.DataFrame(columns=columns)
+
 
 #: The energy-ledger columns of a `Response`'s series (J; `multimass.result.LEDGER_NAMES`).
 ENERGY_COLUMNS = (
@@ -116,7 +128,7 @@ class Response(Result):
         """The energy ledger at the samples: ``t``, `ENERGY_COLUMNS` and their ``energy``
         = kinetic + gravitational + elastic (J)."""
         if "kinetic" not in self.series:
-            return pd.DataFrame(columns=["t", "energy", *ENERGY_COLUMNS])
+            return _empty(["t", "energy", *ENERGY_COLUMNS])
         led = self.series[["t", *ENERGY_COLUMNS]].copy()
         led.insert(1, "energy", led["kinetic"] + led["gravitational"] + led["elastic"])
         return led
@@ -193,11 +205,9 @@ class Outcome(Result):
 
     t = property(lambda self: np.zeros(0), doc="Empty: an Outcome holds no samples.")
     theta = property(lambda self: np.zeros(0), doc="Empty: an Outcome holds no samples.")
-    series = property(
-        lambda self: pd.DataFrame(columns=["t", "theta", "thetadot"]), doc="Empty (no samples)."
-    )
+    series = property(lambda self: _empty(["t", "theta", "thetadot"]), doc="Empty (no samples).")
     ledger = property(
-        lambda self: pd.DataFrame(columns=["t", "energy", *ENERGY_COLUMNS]),
+        lambda self: _empty(["t", "energy", *ENERGY_COLUMNS]),
         doc="Empty (no samples); `energy_balance_error` holds the end-of-run balance.",
     )
 

@@ -30,9 +30,12 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 __all__ = [
     "STATUSES",
@@ -180,6 +183,8 @@ class Result:
 
     def events_frame(self) -> pd.DataFrame:
         """The event log as a table (one row per event; the `Event` fields as columns)."""
+        import pandas as pd  # here: a run summarised without tables needs no pandas
+
         cols = list(Event.__dataclass_fields__)
         return pd.DataFrame([[getattr(e, c) for c in cols] for e in self.events], columns=cols)
 

@@ -12,8 +12,6 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
-import scipy.integrate
-
 from . import validation as v
 from .errors import InputError
 from .progress import budget_seconds
@@ -48,6 +46,15 @@ COMPILED_METHODS = {
     "exponential": "rocking phases by an exponential Runge–Kutta method that advances the "
     "linearised column exactly (multimass.engines.fast._exp_kernel); full contact as with DOP853",
 }
+
+
+def _is_ode_solver(method) -> bool:
+    """`method` is a ``scipy.integrate.OdeSolver`` subclass (SciPy imported only then)."""
+    if not isinstance(method, type):
+        return False
+    import scipy.integrate
+
+    return issubclass(method, scipy.integrate.OdeSolver)
 
 
 @dataclass(frozen=True)
@@ -186,10 +193,7 @@ class SimulationOptions:
                     f"{self.backend!r}, integrator {self.integrator!r}); pass "
                     "backend='compiled' or use one of " + ", ".join(METHODS)
                 )
-        elif not (
-            (isinstance(method, str) and method in METHODS)
-            or (isinstance(method, type) and issubclass(method, scipy.integrate.OdeSolver))
-        ):
+        elif not ((isinstance(method, str) and method in METHODS) or _is_ode_solver(method)):
             raise InputError(
                 f"`method` = {method!r}: use one of {', '.join(METHODS)}, an OdeSolver "
                 f"subclass, or with backend='compiled' {', '.join(COMPILED_METHODS)}"

@@ -20,7 +20,8 @@ Three figures, each a ratio measured within one run, repeated (median, min, max)
 ``breakdown_s`` splits the command's time (spawn and exit, start-up to the map, the map
 outside its cells, the cells outside the kernel); ``start_up_floor_s`` times, in a
 fresh process, what every run pays before its first cell: the interpreter, the imports
-of numpy, scipy, pandas, numba and multimass, and loading the kernel from numba's cache.
+of numpy, numba and multimass, numba's target start-up and loading the kernel from its
+cache.
 
 ``python -m benchmarks.stability_command`` or ``multimass bench --command --out DIR``.
 """
@@ -83,34 +84,42 @@ def run_command(argv: list[str]) -> dict:
 
 
 _FLOOR = """
-import json, time
+import json, sys, time
 from multimass.cli._clock import process_start
 t = [process_start(), time.perf_counter()]
 import numpy
 t.append(time.perf_counter())
-import scipy.integrate
-t.append(time.perf_counter())
-import pandas
-t.append(time.perf_counter())
 import numba
 t.append(time.perf_counter())
-import multimass.sweeps.maps
+import multimass.cli.stability_cmd, multimass.sweeps.maps, multimass.engines.fast.block_runs
+t.append(time.perf_counter())
+from numba.core.registry import cpu_target
+cpu_target.target_context.refresh()  # numba's own start-up before any kernel runs or loads
 t.append(time.perf_counter())
 from multimass.engines.fast.block_runs import ensure_ready
 ensure_ready()
 t.append(time.perf_counter())
-names = ["interpreter", "numpy", "scipy", "pandas", "numba", "multimass", "kernel_cache_load"]
+names = ["interpreter", "numpy", "numba", "multimass", "numba_target", "kernel_cache_load"]
 out = dict(zip(names, [b - a for a, b in zip(t, t[1:])]))
 out["cpu_total"] = time.process_time()  # the process's CPU time so far, start-up included
+out["command_imports"] = [m for m in ("scipy.integrate", "pandas") if m in sys.modules]
+t0 = time.perf_counter()
+import scipy.integrate
+t1 = time.perf_counter()
+import pandas
+out["not_imported_scipy_integrate"], out["not_imported_pandas"] = t1 - t0, time.perf_counter() - t1
 print(json.dumps(out))
 """
 
 
 def startup_floor() -> dict:
     """What any run of the command pays before its first cell, in a fresh process (s): the
-    interpreter's start, then each import in the command's order, then loading the
-    batched kernel from numba's cache (its share of numba's own start-up included); and
-    ``cpu_total``, the CPU time of all of it."""
+    interpreter's start, numpy, numba, the command's multimass modules, numba's target
+    start-up (its registries, loaded before any kernel can run or load from the cache;
+    they import scipy.linalg to find BLAS), then loading the batched kernel from the
+    cache; ``cpu_total``, the CPU time of all of it; ``command_imports``, which of
+    scipy.integrate and pandas it imported (none since the command stopped needing them);
+    and what importing those two would cost on top (``not_imported_*``)."""
     done = subprocess.run([sys.executable, "-c", _FLOOR], capture_output=True, text=True)
     if done.returncode:
         raise RuntimeError(f"the start-up probe failed: {done.stderr[-2000:]}")
@@ -256,8 +265,12 @@ def _report(argv, n, small_n, rows, same_as_kernel) -> dict:
             ),
         },
         "start_up_floor_s": {
-            key: spread([r["floor"][key] for r in rows]) for key in rows[0]["floor"]
+            key: spread([r["floor"][key] for r in rows])
+            for key in rows[0]["floor"]
+            if key != "command_imports"
         },
+        # of scipy.integrate and pandas, those the command's start-up imported
+        "start_up_imports": sorted({m for r in rows for m in r["floor"]["command_imports"]}),
         "small_map": {
             "case": f"B6M sine map {small_n}x{small_n}, refine 2, serial, in this process",
             "scipy_over_compiled": speedup,

@@ -13,7 +13,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import brentq
 
 from multimass.impact_models.models import next_phase_is_rocking
 
@@ -98,6 +97,8 @@ def _locate_uplift(ag, lo, hi, thr):
     Brent's method (inverse quadratic interpolation with bisection safeguard) on
     ü_g(t) − thr; it also converges to a jump of ü_g.
     """
+    from scipy.optimize import brentq  # here: a command that runs no Newmark needs no SciPy
+
     fn = lambda t: float(ag(t)) - thr  # noqa: E731
     if fn(lo) * fn(hi) > 0.0:
         return hi
@@ -112,6 +113,8 @@ def _locate_overturn(t_a, th, thd, thdd, thdd1, h, s, angle):
         return 0.0
     if fn(h) <= 0.0:
         return h
+    from scipy.optimize import brentq
+
     return brentq(fn, 0.0, h, xtol=1e-15 * max(h, 1.0), rtol=8.9e-16)
 
 

@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 
 from multimass.impact_models import gaussian_force as gf
 
@@ -15,7 +15,17 @@ from ..model._phase import ActiveForce, Model
 from ..model.eom import phase_rows
 from ..response import Response
 
+if TYPE_CHECKING:
+    import pandas as pd
+
 __all__ = ["Recorder"]
+
+
+def _frame(data: dict) -> pd.DataFrame:
+    """The samples as a table (pandas imported here, when a run keeps its samples)."""
+    import pandas as pd
+
+    return pd.DataFrame(data)
 
 
 class Recorder:
@@ -195,7 +205,7 @@ class Recorder:
             structure_name=name,
             status=status,
             message=message,
-            series=pd.DataFrame(data),
+            series=_frame(data),
             events=events,
             peaks=np.array(self.peaks),
             peak_times=np.array(self.peak_times),

@@ -5,7 +5,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import brentq, minimize_scalar
 
 __all__ = ["next_uplift", "uplift_threshold"]
 
@@ -49,6 +48,8 @@ def next_uplift(st, ag, t0: float, t1: float, step: float = 1e-3, margin: float 
         (a[inner] >= a[inner - 1]) & (a[inner] >= a[inner + 1]) & (a[inner] > (1.0 - margin) * a_th)
     ]
     for j in near:
+        from scipy.optimize import minimize_scalar  # here: only a near miss needs SciPy
+
         lo, hi = grid[j - 1], grid[j + 1]
         best = minimize_scalar(
             lambda t: -abs(float(ag(t))),
@@ -65,6 +66,8 @@ def next_uplift(st, ag, t0: float, t1: float, step: float = 1e-3, margin: float 
 
 def _crossing(ag, a_th, lo, hi):
     """The time in [lo, hi] where |ü_g| rises through a_th, and the pivot it lifts about."""
+    from scipy.optimize import brentq  # here: only a crossing needs SciPy
+
     side = -1 if float(ag(hi)) > 0 else 1
     f = lambda t: side * -float(ag(t)) - a_th  # > 0 once uplifted about `side`
     return brentq(f, lo, hi, xtol=1e-13, rtol=4 * _EPS), side

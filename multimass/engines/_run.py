@@ -20,7 +20,6 @@ from collections import deque
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from multimass.impact_models import ImpactContext
 from multimass.impact_models.models import full_contact_velocities
@@ -90,6 +89,14 @@ class State:
 
 
 _STATE_FIELDS = frozenset(f.name for f in dataclasses.fields(State))
+
+
+def solve_ivp(*args, **kwargs):
+    """``scipy.integrate.solve_ivp``, imported at its first call: the compiled path and
+    Newmark never call it, and a command that runs only them starts without SciPy."""
+    from scipy.integrate import solve_ivp as scipy_solve_ivp
+
+    return scipy_solve_ivp(*args, **kwargs)
 
 
 def _reporting(rhs, progress, every: int = 2000):

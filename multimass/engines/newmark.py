@@ -26,9 +26,9 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 
 from .. import validation as v
 from ..checks import balance_error, energy_check, scale_floor
@@ -38,6 +38,9 @@ from ..model.structure import Structure
 from ..result import Event, Result, status_of
 from . import _newmark_kernel as kern
 from ._newmark_events import Run
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 __all__ = ["newmark_block", "NewmarkResult", "rocking_energy"]
 
@@ -122,6 +125,8 @@ class NewmarkResult(Result):
     @property
     def series(self) -> pd.DataFrame:
         """The rows as a table: ``t``, ``theta``, ``thetadot``, ``thetaddot``, ``ag``."""
+        import pandas as pd  # here: a run summarised without tables needs no pandas
+
         return pd.DataFrame(
             {
                 "t": self.t,
@@ -137,6 +142,8 @@ class NewmarkResult(Result):
         """The energy ledger at the rows (J; `multimass.result.LEDGER_NAMES`): ``t``,
         ``energy``, ``ground_work``, ``impact`` (`impact_loss`) and ``balance_error`` =
         energy − energy(0) − ground_work + impact."""
+        import pandas as pd
+
         e = self.energy
         return pd.DataFrame(
             {

@@ -8,7 +8,6 @@ and K_rot (rotational) tie node 1 to it.
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg as sla
 
 from ..errors import InputError
 
@@ -75,6 +74,8 @@ def condense(Ks: np.ndarray) -> np.ndarray:
     The rotations carry no inertia, so the condensation is exact. K_rr is
     solved by Cholesky, not inverted.
     """
+    import scipy.linalg as sla  # here: a rigid block's runs need no SciPy
+
     n = Ks.shape[0] // 2
     Ktt, Ktr, Krr = Ks[:n, :n], Ks[:n, n:], Ks[n:, n:]
     K = Ktt - Ktr @ sla.cho_solve(sla.cho_factor(Krr), Ktr.T)  # paper 001, Eq 2

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg as sla
 
 __all__ = ["rayleigh_coefficients", "rayleigh_damping"]
 
@@ -37,6 +36,8 @@ def rayleigh_damping(
     (a0, a1) : tuple of float
         Its mass and stiffness coefficients.
     """
+    import scipy.linalg as sla  # here: a rigid block's runs need no SciPy
+
     omega = np.sqrt(sla.eigh(K, M, eigvals_only=True))
     if omega.size == 1:
         a0, a1 = 0.0, float(2.0 * zeta_1 / omega[0])

@@ -19,7 +19,6 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
-import scipy.linalg as sla
 
 from multimass.specimens import BlockSpecimen, ColumnSpecimen, SpecimenError, available
 from multimass.specimens import load as load_specimen
@@ -157,6 +156,8 @@ class Structure:
         """Undamped full-contact circular frequencies (rad/s), ascending."""
         if self.n == 0:
             return np.empty(0)
+        import scipy.linalg as sla  # here: a rigid block's runs need no SciPy
+
         return np.sqrt(sla.eigh(self.K, self.M, eigvals_only=True))
 
     def derived(self) -> dict[str, float]:

@@ -14,7 +14,6 @@ import math
 import numbers
 
 import numpy as np
-import scipy.linalg as sla
 
 from multimass.specimens import ColumnSpecimen, SpecimenError
 from multimass.specimens.column import MAX_NODES
@@ -103,6 +102,8 @@ def full_contact(spec: ColumnSpecimen, E: float, where: str):
                 f"{where}: the full-contact stiffness (paper 001, Eqs 1–2) is not "
                 f"a finite, symmetric positive-definite matrix; {fix}"
             )
+        import scipy.linalg as sla  # here: a rigid block's runs need no SciPy
+
         w2 = sla.eigh(K, np.diag(m), eigvals_only=True)
     if not (np.all(np.isfinite(w2)) and w2[0] > 0.0):
         raise SpecimenError(

@@ -35,7 +35,6 @@ cells (default 8); s = 1 is the brute-force map.
 from __future__ import annotations
 
 import numpy as np
-import pandas as pd
 
 from ..errors import InputError
 from .map_cells import OUTCOMES
@@ -189,6 +188,8 @@ def adaptive_cells(omega_p, amp, coarse, rounds, simulate, bisect, table):
     missing elsewhere, plus the refined boundary cells) and boundary segments of an
     adaptive map (`adaptive_codes`). ``simulate(pairs, desc)`` gives `map_cell` results,
     ``bisect`` and ``table`` are `maps._bisect` and `maps._cells_table`."""
+    import pandas as pd  # here: the other maps need no pandas at import
+
     n_a, n_w = len(amp), len(omega_p)
     results: dict[int, tuple] = {}
     code = {name: i for i, name in enumerate(OUTCOMES)}

@@ -26,12 +26,15 @@ import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 
 from ..errors import InputError
 from .engine import _Bar
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 __all__ = [
     "StoredMap",
@@ -210,6 +213,8 @@ def run_stored(
         if extra:
             w, a, results = zip(*extra)
             _write_chunk(folder / "cells" / "refined.parquet", _table(w, a, results, False))
+        import pandas as pd  # here: a map held in memory needs no pandas at import
+
         tmp = folder / f".{finished.name}.tmp"
         pd.DataFrame(done, columns=_SEGMENT_COLUMNS).to_parquet(tmp)
         os.replace(tmp, finished)
@@ -315,6 +320,8 @@ class StoredMap:
     @classmethod
     def read(cls, folder) -> StoredMap:
         """The map in `folder`, from its manifest and the chunks on disk."""
+        import pandas as pd
+
         folder = Path(folder)
         man = json.loads((folder / MANIFEST).read_text())
         omega_p, amp = np.array(man["omega_p"]), np.array(man["amp"])
@@ -372,6 +379,8 @@ class StoredMap:
     @property
     def cells(self) -> pd.DataFrame:
         """All stored cells as one table (loads every chunk: for small maps and tests)."""
+        import pandas as pd
+
         return pd.read_parquet(self.folder / "cells")
 
     def overturned(self) -> np.ndarray:
@@ -411,6 +420,8 @@ class StoredMap:
 
     def inaccurate_grid_cells(self) -> pd.DataFrame:
         """Grid cells whose run failed its accuracy check (``omega_p``, ``amp``)."""
+        import pandas as pd
+
         n_w = len(self.omega_p)
         i = self.bad_cells
         return pd.DataFrame({"omega_p": self.omega_p[i % n_w], "amp": self.amp[i // n_w]})

@@ -17,9 +17,9 @@ from __future__ import annotations
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
-import pandas as pd
 
 from .. import validation as v
 from ..errors import InputError
@@ -47,6 +47,9 @@ from .map_store import (
     run_stored,
 )
 from .ranges import check_values
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 __all__ = [
     "OverturningMap",
@@ -104,6 +107,58 @@ def executor_session(
         ex.close()
 
 
+class _Pending(NamedTuple):
+    """A table not built yet: ``pandas.DataFrame(data, columns=columns)`` (`data` a dict
+    of columns, or rows with `columns`); `column` reads it meanwhile."""
+
+    data: dict | list
+    columns: list | None = None
+
+    def column(self, name: str) -> np.ndarray:
+        if isinstance(self.data, dict):
+            return np.asarray(self.data[name])
+        i = self.columns.index(name)
+        return np.array([row[i] for row in self.data], dtype=object)
+
+
+class _Table:
+    """A table field of `OverturningMap`, given as a DataFrame or as a `_Pending` table:
+    reading it gives a DataFrame, built at the first read (pandas imported then: a map
+    read only through `OverturningMap.summary`, as ``multimass stability --json``, needs
+    no pandas)."""
+
+    def __set_name__(self, owner, name):
+        self.key = f"_{name}_table"
+
+    def __get__(self, obj, owner=None):
+        if obj is None:  # no class-level default: the field stays a required argument
+            raise AttributeError(self.key)
+        table = obj.__dict__[self.key]
+        if isinstance(table, _Pending):
+            import pandas as pd
+
+            table = pd.DataFrame(table.data, columns=table.columns)
+            obj.__dict__[self.key] = table
+        return table
+
+    def __set__(self, obj, value):  # the dataclass's __init__ (frozen: nothing else)
+        obj.__dict__[self.key] = value
+
+    def column(self, obj, name: str) -> np.ndarray:
+        """Column `name` of `obj`'s table as an array, without building a DataFrame."""
+        table = obj.__dict__[self.key]
+        if isinstance(table, _Pending):
+            return table.column(name)
+        return table[name].to_numpy()
+
+    def names(self, obj) -> list:
+        """The column names of `obj`'s table."""
+        table = obj.__dict__[self.key]
+        if isinstance(table, _Pending):
+            return list(table.data) if isinstance(table.data, dict) else list(table.columns)
+        return list(table.columns)
+
+
 @dataclass(frozen=True, eq=False)
 class OverturningMap:
     """Outcome of `overturning_map`.
@@ -120,7 +175,9 @@ class OverturningMap:
         ``amp``, ``outcome``, ``overturn_time``, ``theta_max_over_alpha``,
         ``n_impacts``, ``accurate`` (False if the run's accuracy check failed; its
         outcome is kept and counted in the summary's ``inaccurate``), ``grid``
-        (True on the base grid).
+        (True on the base grid). Built at its first read, as is `boundaries`: the map holds
+        its columns until then, and `summary` reads those (pandas is imported with the
+        first table).
     boundaries : pandas.DataFrame
         Refined boundary segments per ω/p: ``omega_p``, ``amp_low``,
         ``amp_high``, ``low_outcome``, ``high_outcome``.
@@ -139,8 +196,8 @@ class OverturningMap:
     pulse: str
     omega_p: np.ndarray
     amp: np.ndarray
-    cells: pd.DataFrame
-    boundaries: pd.DataFrame
+    cells: pd.DataFrame = _Table()
+    boundaries: pd.DataFrame = _Table()
     options: dict = field(default_factory=dict)
     wall_time_s: float = 0.0
     simulation_time_s: float = 0.0
@@ -171,15 +228,17 @@ class OverturningMap:
         Per ω/p: the smallest amplitude of an overturned cell, lowered to the smallest
         ``amp_high`` of a boundary segment into overturning at or below it.
         """
-        c, n_w = self.cells, self.omega_p.size
-        over = (c.outcome == "overturned").to_numpy(dtype=bool)
-        j = _axis_index(self.omega_p, c.omega_p.to_numpy()[over])
+        cell = lambda name: self._column("cells", name)  # noqa: E731
+        n_w = self.omega_p.size
+        over = (cell("outcome") == "overturned").astype(bool)
+        j = _axis_index(self.omega_p, cell("omega_p")[over])
         first = np.full(n_w, np.inf)
-        np.minimum.at(first, j[j >= 0], c.amp.to_numpy()[over][j >= 0])
-        b = self.boundaries[self.boundaries.high_outcome == "overturned"]
+        np.minimum.at(first, j[j >= 0], cell("amp")[over][j >= 0].astype(float))
+        segment = lambda name: self._column("boundaries", name)  # noqa: E731
+        into = (segment("high_outcome") == "overturned").astype(bool)
         jb, high = (
-            _axis_index(self.omega_p, b.omega_p.to_numpy(dtype=float)),
-            b.amp_high.to_numpy(dtype=float),
+            _axis_index(self.omega_p, segment("omega_p")[into].astype(float)),
+            segment("amp_high")[into].astype(float),
         )
         keep = jb >= 0
         jb, high = jb[keep], high[keep]
@@ -200,12 +259,17 @@ class OverturningMap:
 
     def n_simulations(self) -> int:
         """Cells simulated: the grid and the refinement (adaptive maps: the computed cells)."""
-        c = self.cells
-        return int(c["computed"].sum()) if "computed" in c else len(c)
+        if "computed" in vars(OverturningMap)["cells"].names(self):
+            return int(self._column("cells", "computed").sum())
+        return len(self._column("cells", "grid"))
 
     def inaccurate_grid_cells(self) -> pd.DataFrame:
         """Grid cells whose run failed its accuracy check (``omega_p``, ``amp``)."""
         return self.cells.loc[self.cells.grid & ~self.cells.accurate, ["omega_p", "amp"]]
+
+    def _column(self, table: str, name: str) -> np.ndarray:
+        """Column `name` of the ``cells`` or ``boundaries`` table, no DataFrame built."""
+        return vars(OverturningMap)[table].column(self, name)
 
     def summary(self) -> dict:
         """JSON-ready summary (keys of the `multimass stability --json` object).
@@ -213,10 +277,12 @@ class OverturningMap:
         ``wall_time_s`` is this map's (`WALL_TIME_COVERS` says what it covers),
         ``simulation_time_s`` the part of it spent simulating cells.
         """
-        g = self.cells[self.cells.grid]
-        if len(g) != self.amp.size * self.omega_p.size:
+        grid = self._column("cells", "grid").astype(bool)
+        n_grid = int(grid.sum())
+        if n_grid != self.amp.size * self.omega_p.size:
             raise ValueError("the cells' grid rows do not cover the map's omega_p × amp grid")
-        counts = g.outcome.value_counts().to_dict()  # fractions: counts over the grid's cells
+        names, n = np.unique(self._column("cells", "outcome")[grid].astype(str), return_counts=True)
+        counts = dict(zip(names.tolist(), n.tolist()))  # fractions: counts over the grid's cells
         return {
             "block": self.block,
             "pulse": self.pulse,
@@ -226,10 +292,10 @@ class OverturningMap:
             "omega_p": [float(w) for w in self.omega_p],
             "amp": [float(a) for a in self.amp],
             "min_overturn_amp": self.min_overturn_amp(),
-            "overturn_fraction": counts.get("overturned", 0) / len(g),
-            "undecided_fraction": counts.get("undecided", 0) / len(g),
+            "overturn_fraction": counts.get("overturned", 0) / n_grid,
+            "undecided_fraction": counts.get("undecided", 0) / n_grid,
             "outcomes": {k: int(counts.get(k, 0)) for k in OUTCOMES},
-            "inaccurate": int((~self.cells.accurate).sum()),
+            "inaccurate": int((~self._column("cells", "accurate").astype(bool)).sum()),
             "n_simulations": self.n_simulations(),
             "wall_time_s": float(self.wall_time_s),
             "simulation_time_s": float(self.simulation_time_s),
@@ -411,11 +477,16 @@ def overturning_map(
             results = simulate(list(zip(w.tolist(), a.tolist())), f"{st.name} {label} map")
             codes = np.array([_CODE[r[0]] for r in results], np.int8).reshape(amp.size, -1)
             extra, boundaries = _bisect(grid_segments(codes, omega_p, amp), int(refine), simulate)
-            cells = _cells_table(w, a, results, True)
-            if extra:
+            cells = _cells_columns(w, a, results, True)
+            if extra:  # the refinement's rows after the grid's
                 ew, ea, er = zip(*extra)
-                cells = pd.concat([cells, _cells_table(ew, ea, er, False)], ignore_index=True)
-    boundaries = pd.DataFrame(boundaries, columns=_SEGMENT_COLUMNS)
+                more = _cells_columns(ew, ea, er, False)
+                cells = {
+                    k: col + more[k] if isinstance(col, list) else np.concatenate([col, more[k]])
+                    for k, col in cells.items()
+                }
+            cells = _Pending(cells)
+    boundaries = _Pending(list(boundaries), _SEGMENT_COLUMNS)
     return OverturningMap(
         block=st.name,
         pulse=label,
@@ -443,21 +514,26 @@ def _axis_index(axis: np.ndarray, values: np.ndarray) -> np.ndarray:
 
 def _cells_table(w, a, results, grid: bool) -> pd.DataFrame:
     """The rows of `OverturningMap.cells` for cells (``w``, ``a``) and their `map_cell`
-    `results`, built column by column (what one row per cell gives, with no Python per
-    cell beyond reading the results)."""
+    `results`, as a DataFrame."""
+    import pandas as pd
+
+    return pd.DataFrame(_cells_columns(w, a, results, grid))
+
+
+def _cells_columns(w, a, results, grid: bool) -> dict:
+    """The columns of `OverturningMap.cells` for cells (``w``, ``a``) and their `map_cell`
+    `results` (no Python per cell beyond reading the results)."""
     outcome, t_over, theta, impacts, _, accurate = zip(*results) if len(results) else ((),) * 6
-    return pd.DataFrame(
-        {
-            "omega_p": np.asarray(w, dtype=float),
-            "amp": np.asarray(a, dtype=float),
-            "outcome": list(outcome),
-            "overturn_time": np.asarray(t_over, dtype=float),
-            "theta_max_over_alpha": np.asarray(theta, dtype=float),
-            "n_impacts": np.asarray(impacts, dtype=np.int64),
-            "accurate": np.asarray(accurate, dtype=bool),
-            "grid": np.full(len(outcome), grid),
-        }
-    )
+    return {
+        "omega_p": np.asarray(w, dtype=float),
+        "amp": np.asarray(a, dtype=float),
+        "outcome": list(outcome),
+        "overturn_time": np.asarray(t_over, dtype=float),
+        "theta_max_over_alpha": np.asarray(theta, dtype=float),
+        "n_impacts": np.asarray(impacts, dtype=np.int64),
+        "accurate": np.asarray(accurate, dtype=bool),
+        "grid": np.full(len(outcome), grid),
+    }
 
 
 def _bisect(segments, rounds, simulate) -> tuple[list, list]:

@@ -6,8 +6,9 @@ algorithm of SciPy's explicit Runge–Kutta solvers so that, at the same `rtol`,
 `atol` and `max_step`, the kernel takes essentially the same steps and finds
 the same events:
 
-* the Butcher tableaus are SciPy's own arrays (RK23, RK45 = Dormand–Prince
-  5(4), DOP853 with its 7th-order dense output), read at import;
+* the Butcher tableaus are SciPy's (RK23, RK45 = Dormand–Prince 5(4), DOP853 with
+  its 7th-order dense output), the same floats written out in `._tableaus` with
+  their sources;
 * the first step is chosen as in Hairer, Nørsett & Wanner, *Solving ODEs I*,
   Sec. II.4 (also SciPy's choice), and the step size is controlled with the
   RMS error norm, safety factor 0.9 and growth bounded to [0.2, 10] (10 is
@@ -42,9 +43,8 @@ import math
 
 import numpy as np
 from numba import njit
-from scipy.integrate._ivp import dop853_coefficients as _dop
-from scipy.integrate._ivp.rk import RK23, RK45
 
+from . import _tableaus as tab
 from ._maths import event_value, rhs, rhs_call
 
 __all__ = ["METHOD_CODES", "OK", "EVENT", "FAILED", "zeroin_next", "trial_step", "step_control"]
@@ -98,29 +98,17 @@ def step_control(err, exponent, rejected, h, h_abs):
     return False, h * factor
 
 
-# tableaus (SciPy's arrays; numba freezes module-level arrays as constants)
-_A3, _B3, _C3, _E3, _P3 = (
-    np.ascontiguousarray(RK23.A, dtype=np.float64),
-    RK23.B.astype(float),
-    RK23.C.astype(float),
-    RK23.E.astype(float),
-    np.ascontiguousarray(RK23.P, dtype=np.float64),
-)
-_A5, _B5, _C5, _E5, _P5 = (
-    np.ascontiguousarray(RK45.A, dtype=np.float64),
-    RK45.B.astype(float),
-    RK45.C.astype(float),
-    RK45.E.astype(float),
-    np.ascontiguousarray(RK45.P, dtype=np.float64),
-)
-_NS8 = _dop.N_STAGES
-_A8 = np.ascontiguousarray(_dop.A, dtype=np.float64)  # 16 × 16, extra stages below
-_B8 = np.ascontiguousarray(_dop.B, dtype=np.float64)
-_C8 = np.ascontiguousarray(_dop.C, dtype=np.float64)
-_E8_3 = np.ascontiguousarray(_dop.E3, dtype=np.float64)
-_E8_5 = np.ascontiguousarray(_dop.E5, dtype=np.float64)
-_D8 = np.ascontiguousarray(_dop.D, dtype=np.float64)  # 4 × 16
-_NEXT8 = _dop.N_STAGES_EXTENDED
+# tableaus (`._tableaus`, SciPy's floats; numba freezes module-level arrays as constants)
+_A3, _B3, _C3, _E3, _P3 = tab.RK23_A, tab.RK23_B, tab.RK23_C, tab.RK23_E, tab.RK23_P
+_A5, _B5, _C5, _E5, _P5 = tab.RK45_A, tab.RK45_B, tab.RK45_C, tab.RK45_E, tab.RK45_P
+_NS8 = tab.DOP853_N_STAGES
+_A8 = tab.DOP853_A  # 16 × 16, extra stages below
+_B8 = tab.DOP853_B
+_C8 = tab.DOP853_C
+_E8_3 = tab.DOP853_E3
+_E8_5 = tab.DOP853_E5
+_D8 = tab.DOP853_D  # 4 × 16
+_NEXT8 = tab.DOP853_N_STAGES_EXTENDED
 
 
 @njit(cache=True, error_model="numpy")

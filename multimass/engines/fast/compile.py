@@ -584,6 +584,7 @@ def _sources(contact: bool = False, columns: bool = False, exponential: bool = F
     from ...model.equations import __file__ as equations
 
     physics = [Path(equations), Path(gaussian_force), Path(pulse_shapes), Path(checks)]
+    physics.append(_HERE / "_tableaus.py")  # `._rk`'s constants, frozen into the kernels
     if columns:
         own = [_HERE / f"{_COLUMNS}.py", _HERE / f"{_EXPONENTIAL}.py", Path(impact_models)]
         return _sources(contact=True) + own

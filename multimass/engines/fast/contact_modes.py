@@ -12,7 +12,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
 
 __all__ = ["ContactModes", "CLASSICAL_RTOL", "CHECKS_PER_PERIOD"]
 
@@ -68,6 +67,8 @@ class ContactModes:
         C = np.asarray(st.C, dtype=float).reshape(st.n, st.n)
         if np.abs(K - K.T).max() > CLASSICAL_RTOL * np.abs(K).max():
             return "its full-contact stiffness matrix is not symmetric"
+        import scipy.linalg  # here: a rigid block's runs need no SciPy
+
         lam, phi = scipy.linalg.eigh(K, np.diag(m))
         if not np.all(lam > 0.0):
             return "its full-contact stiffness is not positive definite"

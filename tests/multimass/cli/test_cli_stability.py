@@ -110,3 +110,25 @@ def test_stability_imports_matplotlib_only_to_draw(tmp_path, out):
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert done.stderr.strip().splitlines()[-1] == str(out)
+
+
+#: What ``stability --json`` must not import: the solve_ivp path's SciPy, the tables'
+#: pandas and pyarrow (scipy.linalg is numba's own import: its array registry checks
+#: for BLAS in scipy.linalg.cython_blas when it loads a cached kernel).
+NOT_FOR_A_SUMMARY = ("pandas", "pyarrow", "scipy.integrate", "scipy.optimize", "scipy.special")
+
+
+@pytest.mark.parametrize("out", [False, True])
+def test_stability_json_imports_no_scipy_solvers_nor_pandas(tmp_path, out):
+    argv = SMALL + ["--json"] + (["--out", str(tmp_path)] if out else [])
+    code = (
+        "import sys; from multimass.cli import main; "
+        f"assert main({argv!r}) == 0; "
+        f"print(*[m in sys.modules for m in {NOT_FOR_A_SUMMARY!r}], file=sys.stderr)"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    loaded = dict(zip(NOT_FOR_A_SUMMARY, done.stderr.strip().splitlines()[-1].split()))
+    assert loaded["pandas"] == str(out)  # the table written as CSV needs it
+    assert loaded["scipy.integrate"] == loaded["scipy.optimize"] == "False"
+    if not out:
+        assert set(loaded.values()) == {"False"}

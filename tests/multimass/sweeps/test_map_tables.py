@@ -7,6 +7,7 @@ altered a value, a type or an order shows. ``wall_time_s`` must cover the whole 
 the assembly of the tables included: a slow step patched in shows in it.
 """
 
+import dataclasses
 import math
 import time
 
@@ -102,13 +103,13 @@ def test_summary_counts_the_grid(refined):
 @pytest.mark.parametrize("adaptive", [False, True])
 def test_wall_time_covers_the_assembly(block, monkeypatch, adaptive):
     pause = 0.3
-    table = maps._cells_table
+    columns = maps._cells_columns
 
-    def slow_table(*args):  # the assembly of a cells table, made slow on purpose
+    def slow_columns(*args):  # the assembly of a cells table, made slow on purpose
         time.sleep(pause)
-        return table(*args)
+        return columns(*args)
 
-    monkeypatch.setattr(maps, "_cells_table", slow_table)
+    monkeypatch.setattr(maps, "_cells_columns", slow_columns)
     kw = dict(adaptive=True, coarse=2) if adaptive else {}
     m = overturning_map(block, "sine", refine=1, executor="serial", progress=False, **GRID, **kw)
     # at least one table (the refined cells; the grid's too when not adaptive) slept
@@ -127,3 +128,42 @@ def test_wall_time_covers_loading_and_checking_before_the_cells(block, monkeypat
     m = overturning_map(block, "sine", executor="serial", progress=False, **GRID)
     assert m.wall_time_s - m.simulation_time_s >= pause
     assert math.isfinite(m.simulation_time_s) and m.simulation_time_s > 0.0
+
+
+def test_a_map_summarises_the_same_before_and_after_its_tables_are_built(block):
+    # the tables stay columns until read (a summary needs no pandas); the reference: the
+    # same map given its tables as DataFrames
+    m = overturning_map(block, "sine", refine=2, executor="serial", progress=False, **GRID)
+    before = (m.summary(), m.min_overturn_amp(), m.n_simulations())
+    framed = dataclasses.replace(m, cells=m.cells.copy(), boundaries=m.boundaries.copy())
+    assert isinstance(m.cells, pd.DataFrame) and isinstance(m.boundaries, pd.DataFrame)
+    for built in (m, framed):
+        assert (built.summary(), built.min_overturn_amp(), built.n_simulations()) == before
+    assert before[2] == len(m.cells) and before[0]["inaccurate"] == (~m.cells.accurate).sum()
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        m.cells = m.cells
+
+
+def test_a_map_without_boundaries_has_an_empty_segment_table(block):
+    # below a0 = α g the block does not rock (paper 004): no boundary to refine
+    low = dict(omega_p=GRID["omega_p"], amp=np.linspace(0.1, 0.9, 3))
+    m = overturning_map(block, "sine", refine=2, executor="serial", progress=False, **low)
+    assert (
+        m.min_overturn_amp() == dataclasses.replace(m, boundaries=m.boundaries).min_overturn_amp()
+    )
+    assert list(m.boundaries.columns) == maps._SEGMENT_COLUMNS and m.boundaries.empty
+    assert m.cells.grid.all() and len(m.cells) == low["omega_p"].size * low["amp"].size
+    assert m.min_overturn_amp() == [None] * low["omega_p"].size
+
+
+def test_serial_chunks_do_not_change_the_cells(block, refined, monkeypatch):
+    # one process runs the cells in chunks of SERIAL_CHUNK_CELLS (fewer compiled calls);
+    # any chunking gives the same cells in the same order
+    assert map_cells.chunk_count(1, 1) == 1
+    assert map_cells.chunk_count(2 * map_cells.SERIAL_CHUNK_CELLS + 1, 1) == 3
+    assert map_cells.chunk_count(40, 2) == 2 * map_cells.CHUNKS_PER_WORKER  # spread
+    assert map_cells.chunk_count(10_000, 2) == math.ceil(10_000 / map_cells.CHUNK_CELLS)
+    monkeypatch.setattr(map_cells, "SERIAL_CHUNK_CELLS", 5)
+    small = overturning_map(block, "sine", refine=2, executor="serial", progress=False, **GRID)
+    pd.testing.assert_frame_equal(small.cells, refined.cells)
+    pd.testing.assert_frame_equal(small.boundaries, refined.boundaries)
