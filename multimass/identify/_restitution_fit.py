@@ -24,7 +24,7 @@ from ._calibration_fit import _T_MARGIN, Problem, Unknown, solve
 from ._calibration_model import Simulator, TrialRejected
 from ._calibration_params import PARAMETERS, parameter_set
 from ._calibration_setup import Case, cases
-from ._calibration_stats import LIMITS, covariance
+from ._calibration_stats import LIMITS, MODEL_REL_FLOOR, covariance
 from ._misfit import MISFIT_P, NOISE_TOL, REF_MIN, THETA_MODEL_FLOOR, misfit_test, theta_misfit
 
 __all__ = [
@@ -39,6 +39,7 @@ __all__ = [
     "MISFIT_P",
     "THETA_MODEL_FLOOR",
     "NOISE_TOL",
+    "consider_covariance",
 ]
 
 R_LOW = 0.05  # lowest coefficient tried (PerImpact's clip)
@@ -139,6 +140,10 @@ class Track:
     correlation: dict = field(default_factory=dict)
     covariance: dict = field(default_factory=dict)  # (label, label) → of the last fit
     explored: dict = field(default_factory=dict)  # label → (low, high) of the last fit
+    #: After `fit_impacts`: (label, label) → the last fit's covariance with the model's
+    #: error of the parameters estimated carried into every unknown
+    #: (`consider_covariance`, `MODEL_REL_FLOOR`)
+    consider: dict = field(default_factory=dict)
     #: After `fit_impacts`: `misfit_test` over the whole span fitted: (the worst
     #: channel's mean square over its limit, that channel)
     misfit: tuple = (math.nan, "")
@@ -587,6 +592,34 @@ def _bounds(un: Unknown) -> tuple[float, float]:
     return float(un.low), float(un.high)
 
 
+def consider_covariance(cov: np.ndarray, considered, floor: float = MODEL_REL_FLOOR) -> np.ndarray:
+    """The covariance `cov` of a fit's unknowns with an error of standard deviation
+    `floor` of each unknown `considered` (indices) that the noise does not explain,
+    carried into every unknown.
+
+    The fit leaves every unknown at its best for the considered ones it found; an
+    error δ of theirs (independent, each of variance `floor`²) moves the unknowns by
+    B δ, B = Σ_·p Σ_pp⁻¹ the regression of all on them (from the joint covariance), so
+    the covariance is Σ + F B Bᵀ, F = `floor`²: the "consider" covariance of
+    parameters held at uncertain values (Schmidt's consider filter; Tapley, Schutz &
+    Born, Statistical Orbit Determination, 2004, §6.3). A considered unknown itself
+    gets Σ_pp + F (B's row of it is its unit vector). Considered unknowns whose
+    covariance with the others is not finite (directions the data do not see) are
+    left out: their marginal variance is infinite already.
+    """
+    cov = np.asarray(cov, dtype=float)
+    seen = np.flatnonzero(np.isfinite(np.diag(cov)))  # `covariance`'s unseen rows: inf
+    ok = [int(np.searchsorted(seen, j)) for j in considered if j in seen and cov[j, j] > 0.0]
+    out = cov.copy()
+    if not ok or floor == 0.0:
+        return out
+    sub = cov[np.ix_(seen, seen)]
+    # Σ_pp symmetric: Bᵀ = Σ_pp⁻¹ Σ_p· (least squares: Σ_pp may be near singular)
+    B = np.linalg.lstsq(sub[np.ix_(ok, ok)], sub[ok, :], rcond=None)[0].T
+    out[np.ix_(seen, seen)] = sub + floor**2 * (B @ B.T)
+    return out
+
+
 def fit_impacts(track: Track, n_fit: int, bar, warnings: list) -> dict:
     """Fit the first `n_fit` impacts of the trace, impact by impact, then all at once.
 
@@ -604,9 +637,11 @@ def fit_impacts(track: Track, n_fit: int, bar, warnings: list) -> dict:
     (`_model_stage`), and held while the later impacts are fitted one by one. Last,
     everything — every coefficient, the model parameters, θ0, the clock offset, the θ
     bias — is refined together over the whole span, and the standard errors come from
-    that fit's Jacobian (`covariance`: marginal, every unknown free), with
-    `R_STD_FLOOR` (and `R_STD_BOUNCE` where the run bounces). Returns trace impact
-    index → `ImpactFit`; `Track.std` and `Track.correlation` hold the last fit's.
+    that fit's Jacobian (`covariance`: marginal, every unknown free), each r's with
+    the model's error of the parameters estimated carried into it
+    (`consider_covariance`, `Track.consider`) and `R_STD_FLOOR` (and `R_STD_BOUNCE`
+    where the run bounces). Returns trace impact index → `ImpactFit`; `Track.std` and
+    `Track.correlation` hold the last fit's.
     """
     seg = track.case.segments
     half, impacts, t = seg.half_cycles, seg.impacts, track.t
@@ -646,6 +681,10 @@ def fit_impacts(track: Track, n_fit: int, bar, warnings: list) -> dict:
     track.covariance = {
         (a, b): float(cov[i, j]) for i, a in enumerate(labels) for j, b in enumerate(labels)
     }
+    con = consider_covariance(cov, [labels.index(n) for n in track.estimate if n in labels])
+    track.consider = {
+        (a, b): float(con[i, j]) for i, a in enumerate(labels) for j, b in enumerate(labels)
+    }
     with np.errstate(invalid="ignore", divide="ignore"):
         corr = cov / np.outer(sd, sd)
     track.correlation = {
@@ -661,7 +700,8 @@ def fit_impacts(track: Track, n_fit: int, bar, warnings: list) -> dict:
         f.r = track.values[f.model_impact]
         f.bounce = _bounces(rec, f.model_impact)
         floor = math.hypot(R_STD_FLOOR, R_STD_BOUNCE) if f.bounce else R_STD_FLOOR
-        f.r_std = math.hypot(track.std[f"r[{f.model_impact}]"], floor)
+        lab = f"r[{f.model_impact}]"
+        f.r_std = math.hypot(math.sqrt(max(track.consider[(lab, lab)], 0.0)), floor)
         t_next = impacts[i + 1].t if i + 1 < len(impacts) else half[m.after].t_stop
         idx = track.span(m.t, t_next)
         e = track.residuals(rec, idx, track.nuis, weighted=False)["theta"]

@@ -18,7 +18,7 @@ from ._calibration_fit import _T_MARGIN
 from ._calibration_params import PARAMETERS
 from ._calibration_setup import modes_shown
 from ._calibration_stats import LIMITS, MODEL_REL_FLOOR
-from ._restitution_fit import MODEL_PARAMETERS, Track
+from ._restitution_fit import MODEL_PARAMETERS, Track, consider_covariance
 
 __all__ = ["parameter_report", "consider_std", "mean_std", "sigma_interval"]
 
@@ -120,25 +120,19 @@ def _misfit(track: Track, out: dict) -> None:
 
 def consider_std(track: Track, name: str) -> float:
     """The std of the unknown `name` with the model's error of the parameters estimated
-    (`Track.estimate`) carried into it.
-
-    `MODEL_REL_FLOOR` is an error of log C_p and log ζ the noise does not explain; the
-    fit leaves every other unknown at its best for the model parameters it found, so an
-    error δ of theirs moves `name` by b δ, b = Σ_xp Σ_pp⁻¹ its regression on them (from
-    the last fit's joint covariance). Its variance is Σ_xx + F b bᵀ, F =
-    `MODEL_REL_FLOOR`²: the "consider" covariance of a parameter held at an uncertain
-    value (Schmidt's consider filter; Tapley, Schutz & Born, Statistical Orbit
-    Determination, 2004, §6.3)."""
+    (`Track.estimate`) carried into it: `MODEL_REL_FLOOR` is an error of log C_p and
+    log ζ the noise does not explain, carried through the last fit's joint covariance
+    (`_restitution_fit.consider_covariance`, the consider covariance)."""
     cov, est = track.covariance, [n for n in track.estimate if n != name]
     var = cov.get((name, name), track.std.get(name, math.nan) ** 2)
     if not est or not math.isfinite(var):
         return math.sqrt(var) if math.isfinite(var) else math.inf
-    spp = np.array([[cov.get((a, b), math.nan) for b in est] for a in est])
-    sxp = np.array([cov.get((name, b), math.nan) for b in est])
-    if not (np.all(np.isfinite(spp)) and np.all(np.isfinite(sxp))):
+    labels = [name, *est]
+    sub = np.array([[cov.get((a, b), math.nan) for b in labels] for a in labels])
+    if not np.all(np.isfinite(sub)):
         return math.sqrt(var)
-    b = np.linalg.lstsq(spp, sxp, rcond=None)[0]  # Σ_pp symmetric: bᵀ = Σ_pp⁻¹ Σ_px
-    return math.sqrt(var + MODEL_REL_FLOOR**2 * float(b @ b))
+    con = consider_covariance(sub, range(1, len(labels)), MODEL_REL_FLOOR)
+    return math.sqrt(max(float(con[0, 0]), 0.0))
 
 
 def _explored(track: Track, out: dict) -> None:
@@ -188,18 +182,20 @@ def _sensor_biases(track: Track) -> dict:
 def mean_std(track: Track, rows, weights) -> float:
     """The standard deviation of the weighted mean Σ w_k r_k / Σ w_k of the estimated
     impacts `rows` (``model_impact``, ``r_std``) from the last fit's covariance (every
-    unknown free, so C_p's and ζ's uncertainty is in it; each r's own variance its
-    r_std², with the floors), correlations between impacts included."""
+    unknown free, so C_p's and ζ's uncertainty is in it, with the model's error of
+    theirs carried through it: `Track.consider`; each r's own variance its r_std², with
+    the floors), correlations between impacts included."""
     w = np.asarray(weights, dtype=float)
     ks = [int(k) for k in rows["model_impact"]]
     sd = rows["r_std"].to_numpy(dtype=float)
     if not ks or w.sum() <= 0.0:
         return math.nan
     c = np.diag(sd**2)
+    cov = getattr(track, "consider", None) or track.covariance
     for i, a in enumerate(ks):
         for j, b in enumerate(ks):
             if i != j:
-                c[i, j] = track.covariance.get((f"r[{a}]", f"r[{b}]"), 0.0)
+                c[i, j] = cov.get((f"r[{a}]", f"r[{b}]"), 0.0)
     return float(math.sqrt(max(w @ c @ w, 0.0)) / w.sum())
 
 

@@ -74,7 +74,14 @@ recorded through the anti-alias filter, and its clock was 4 ms off).
 **Standard errors (`r_std`).** From the Jacobian of the last fit
 (`_calibration_stats.covariance`: each channel whitened by its residual RMS and
 inflated by its residuals' lag-1 autocorrelation; every unknown free, so that the
-r_std are marginal — they carry C_p's and ζ's uncertainty), plus 5e-4 in quadrature (the fit's
+r_std are marginal — they carry C_p's and ζ's uncertainty), with the model's error of
+C_p and ζ (`_calibration_stats.MODEL_REL_FLOOR`, 1.5 % of each, which the noise's
+covariance does not hold) carried into each r through its regression on them
+(`_restitution_fit.consider_covariance`; the corner means' std take the same
+covariance: on synthetic S2, r moves by 0.02–0.18 per unit of log C_p, 3e-4–2.6e-3
+for 1.5 %, where the noise's covariance gave 4e-5–4e-4 and the errors were up to
+0.0017; late half-cycles of 0.012–0.017 rad moved by 1.4–3 per unit of log ζ1, their
+r_std above 0.02: not estimated), plus 5e-4 in quadrature (the fit's
 error beyond the noise's — the clock and θ0 trade off with the coefficients, the runs
 are recorded at 10 × the rate where the synthetic traces are at 40 × — measured up to
 0.0013 where the noise alone gives 1e-5–5e-4), plus 0.002 where the simulation

@@ -7,6 +7,7 @@ import math
 from types import SimpleNamespace
 
 import numpy as np
+import pandas as pd
 import pytest
 from scipy import stats
 
@@ -14,12 +15,19 @@ from multimass import FreeRelease
 from multimass.identify import _parameter_status as ps
 from multimass.identify import synthetic_trace
 from multimass.identify._calibration_stats import MODEL_REL_FLOOR
-from multimass.identify._restitution_fit import MISFIT_P, NOISE_TOL, misfit_test, theta_misfit
+from multimass.identify._restitution_fit import (
+    MISFIT_P,
+    NOISE_TOL,
+    consider_covariance,
+    misfit_test,
+    theta_misfit,
+)
 from multimass.identify._restitution_report import (
     _entry,
     _explored,
     _misfit,
     consider_std,
+    mean_std,
     sigma_interval,
 )
 from multimass.identify.calibration import Calibration
@@ -243,3 +251,94 @@ def test_theta0_carries_the_model_parameters_error_floor_through_their_covarianc
     x = (noise - np.outer(e, A[:, 1])).mean(axis=1)  # θ0's least squares, ζ held at e
     assert consider_std(tr, "theta0") == pytest.approx(np.std(x), rel=0.03)  # MC: 0.5 %
     assert np.std(x) > 1.5 * math.sqrt(joint[0, 0])  # the floor matters here
+
+
+def _linear_fit(seed: int = 4):
+    """A linear least squares y = A [r1, r2, p1, p2] + noise standing for the last fit:
+    two coefficients and two model parameters, correlated through A (its columns
+    overlap), and the joint covariance σ² (AᵀA)⁻¹."""
+    rng = np.random.default_rng(seed)
+    n, sigma = 60, 0.01
+    u = np.linspace(0.0, 1.0, n)
+    A = np.column_stack([np.ones(n), u, u**2 + 0.3 * rng.normal(size=n), np.sin(3 * u)])
+    return A, sigma, np.linalg.inv(A.T @ A) * sigma**2
+
+
+def test_consider_covariance_is_the_closed_form_for_one_parameter():
+    # one parameter p considered: Σ + F b bᵀ with b = Σ_·p / Σ_pp (the regression on p),
+    # its own variance Σ_pp + F; written out by hand here
+    _, _, cov = _linear_fit()
+    F = MODEL_REL_FLOOR**2
+    got = consider_covariance(cov, [2])
+    b = cov[:, 2] / cov[2, 2]
+    assert got == pytest.approx(cov + F * np.outer(b, b), rel=1e-10, abs=1e-18)
+    assert got[2, 2] == pytest.approx(cov[2, 2] + F, rel=1e-12)
+    assert got[0, 1] != pytest.approx(cov[0, 1], rel=1e-3)  # the coefficients co-vary
+    assert np.array_equal(consider_covariance(cov, []), cov)
+
+
+def test_consider_covariance_matches_a_monte_carlo_of_the_parameters_held_off():
+    # an independent calculation: the model parameters held at errors e ~ N(0, Σ_pp + F I)
+    # (their reported uncertainty, the model's error floor with it) and the coefficients
+    # refitted by least squares with them held: the coefficients' sample covariance and
+    # that of their mean against consider_covariance (and `mean_std` from it)
+    A, sigma, cov = _linear_fit()
+    F = MODEL_REL_FLOOR**2
+    rng = np.random.default_rng(5)
+    m = 40000
+    e = rng.multivariate_normal(np.zeros(2), cov[2:, 2:] + F * np.eye(2), m)
+    y = rng.normal(0.0, sigma, (m, A.shape[0])) - e @ A[:, 2:].T
+    x = np.linalg.lstsq(A[:, :2], y.T, rcond=None)[0].T  # r1, r2 with p held at e
+    got = consider_covariance(cov, [2, 3])
+    mc = np.cov(x.T)
+    assert got[:2, :2] == pytest.approx(mc, rel=0.03)  # MC: ~1 % on 4e4 draws
+    assert np.all(np.sqrt(np.diag(mc)) > 2 * np.sqrt(np.diag(cov)[:2]))  # the floor matters
+    labels = ["r[0]", "r[1]"]
+    track = SimpleNamespace(
+        covariance={}, consider={(a, b): got[i, j] for i, a in enumerate(labels)
+                                 for j, b in enumerate(labels)})  # fmt: skip
+    rows = pd.DataFrame({"model_impact": [0, 1], "r_std": np.sqrt(np.diag(got)[:2])})
+    w = np.array([1.0, 2.0])
+    assert mean_std(track, rows, w) == pytest.approx(np.std(x @ w / w.sum()), rel=0.03)
+
+
+def test_consider_covariance_leaves_unseen_directions_alone():
+    # a parameter the data do not see (infinite variance, `covariance`'s rows of inf) is
+    # not considered: its marginal variance is infinite already; the others' stay finite
+    _, _, cov = _linear_fit()
+    cov = cov.copy()
+    cov[3, :] = cov[:, 3] = np.inf
+    got = consider_covariance(cov, [2, 3])
+    assert np.all(np.isfinite(got[:3, :3])) and np.isinf(got[3, 3])
+    assert got[:3, :3] == pytest.approx(consider_covariance(cov[:3, :3], [2]), rel=1e-10)
+
+
+def test_each_r_std_carries_the_model_parameters_error_floor(monkeypatch):
+    # nothing given (C_p, ζ estimated): each impact's r_std is its variance in the last
+    # fit's consider covariance (`consider_covariance`: the floor of log C_p and log ζ
+    # carried through their regression), with the fit's floor, not the bare marginal
+    from multimass.identify import _restitution_fit as fitting
+
+    seen = {}
+    fit = fitting.fit_impacts
+
+    def keep(track, *args):
+        seen["track"] = track
+        seen["fitted"] = fit(track, *args)
+        return seen["fitted"]
+
+    monkeypatch.setattr(fitting, "fit_impacts", keep)
+    syn = synthetic_trace("S1", FreeRelease(theta0=0.11), "DD2", 2.0, seed=4, C_p=2450.0)
+    restitution(syn.trace, "S1", "DD", progress=False)
+    track, fitted = seen["track"], seen["fitted"]
+    labels = [lab for lab in dict.fromkeys(a for a, _ in track.covariance) if lab[:2] == "r["]
+    cov = np.array([[track.covariance[(a, b)] for b in labels + list(track.estimate)]
+                    for a in labels + list(track.estimate)])  # fmt: skip
+    want = consider_covariance(cov, range(len(labels), cov.shape[0]))
+    grew = 0
+    for f in fitted.values():
+        i = labels.index(f"r[{f.model_impact}]")
+        floor = math.hypot(fitting.R_STD_FLOOR, fitting.R_STD_BOUNCE if f.bounce else 0.0)
+        assert f.r_std == pytest.approx(math.hypot(math.sqrt(want[i, i]), floor), rel=1e-9)
+        grew += want[i, i] > 1.01 * cov[i, i]
+    assert grew >= 1
