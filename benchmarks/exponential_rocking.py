@@ -24,9 +24,10 @@ within one run, never absolute times across runs.
 The physical limit (the cost floor of a run at the record's own time scale) is
 printed beside: an exponential step costs 5 + 1 right-hand sides (O(N²) each: K u,
 C u̇; 3 more when it starts at a record sample) and 14 transforms in and out of the
-modes (complex (N+2) × (2N+2) products), about 6·4N² + 14·4(N+2)(2N+2) flops; a record sampled at 20 ms needs at least one
-step per sample while the column rocks. With `--compile` the cold compile time of
-each kernel group is measured in a fresh process with an empty cache.
+modes (complex (N+2) × (2N+2) products), about 6·4N² + 14·4(N+2)(2N+2) flops; a
+record sampled at 20 ms needs at least one step per sample while the column rocks.
+With `--compile` the cold compile time of each kernel group is measured in a fresh
+process with an empty cache.
 """
 
 from __future__ import annotations
