@@ -221,10 +221,9 @@ def _stage(y, zy, co_e, h, ca, za, cb, zb, V, wt, out, la, na, lb, nb, z):
 @njit(cache=True, error_model="numpy")
 def _predictor(t, y, Nn, h, co, modes, model, work):
     """Krogstad's stages from (t, y) with N_n = N(t, y), and the quadratic p of N through
-    them as the predicted polynomial: modes E[5:10], ledger dl[10:15] (module docstring,
-    step 1a)."""
+    them as the predicted polynomial in modes, E[5:10] (module docstring, step 1b)."""
     Lm, lam, V, W, wt = modes
-    ya, yb, yc, _, Na, Nb, Nc, _, _, zs, E, dl, _, _ = work[:14]
+    ya, yb, yc, _, Na, Nb, Nc, _, _, zs, E, _, _, _ = work[:14]
     zy, zn, za, zb, zc, zt, zz, cn, cb = (
         zs[0], zs[1], zs[2], zs[3], zs[4], zs[5], zs[6], zs[7], zs[8]
     )  # fmt: skip
@@ -254,21 +253,15 @@ def _predictor(t, y, Nn, h, co, modes, model, work):
         E[7, j] = 2.0 * (zn[j] - za[j] - zb[j] + zc[j])
         E[8, j] = 0j
         E[9, j] = 0j
-    for i in range(V.shape[0], y.size):
-        dl[10, i] = Nn[i]
-        dl[11, i] = -3.0 * Nn[i] + 2.0 * (Na[i] + Nb[i]) - Nc[i]
-        dl[12, i] = 2.0 * (Nn[i] - Na[i] - Nb[i] + Nc[i])
-        dl[13, i] = 0.0
-        dl[14, i] = 0.0
 
 
 @njit(cache=True, error_model="numpy")
 def _extrapolate(r, y, modes, work):
     """The previous step's polynomial of N continued over the next step (module
-    docstring, step 1b): P_old(1 + r θ) = Σ_j θ^j r^j Σ_{k≥j} C(k, j) e_k, r = h/h_old,
-    into E[5:10] (modes) and dl[10:15] (ledger); zy = W x."""
-    _, lam, V, W, _ = modes
-    zs, E, dl, Ep, dlp = work[9], work[10], work[11], work[14], work[15]
+    docstring, step 1a): P_old(1 + r θ) = Σ_j θ^j r^j Σ_{k≥j} C(k, j) e_k, r = h/h_old,
+    in modes into E[5:10]; zy = W x."""
+    _, lam, _, W, _ = modes
+    zs, E, Ep = work[9], work[10], work[14]
     _to_modes(W, y, zs[0])
     for j in range(lam.size):
         rj = 1.0
@@ -277,14 +270,6 @@ def _extrapolate(r, y, modes, work):
             for kk in range(jj, _GAUSS):
                 acc += _BINOM[kk, jj] * Ep[kk, j]
             E[5 + jj, j] = rj * acc
-            rj *= r
-    for i in range(V.shape[0], y.size):
-        rj = 1.0
-        for jj in range(_GAUSS):
-            acc = 0.0
-            for kk in range(jj, _GAUSS):
-                acc += _BINOM[kk, jj] * dlp[kk, i]
-            dl[10 + jj, i] = rj * acc
             rj *= r
 
 
@@ -526,10 +511,10 @@ def exp_phase(
         np.empty(ny), np.empty(ny), np.empty(ny), np.empty(ny), np.empty(ny),
     )  # fmt: skip
     zs = np.empty((9, k), np.complex128)
-    E, dl = np.empty((2 * _GAUSS + 1, k), np.complex128), np.zeros((3 * _GAUSS, ny))
+    E, dl = np.empty((2 * _GAUSS + 1, k), np.complex128), np.zeros((2 * _GAUSS, ny))
     Zq = np.empty((_GAUSS, k), np.complex128)
-    Ep, dlp = np.empty((_GAUSS, k), np.complex128), np.zeros((_GAUSS, ny))
-    work = (ya, yb, yc, ynew, Na, Nb, Nc, Nnew, est, zs, E, dl, Zq, ytmp, Ep, dlp)
+    Ep = np.empty((_GAUSS, k), np.complex128)
+    work = (ya, yb, yc, ynew, Na, Nb, Nc, Nnew, est, zs, E, dl, Zq, ytmp, Ep)
     tables, h_tab, age, last = cache
     y, y_old, Nn = y0.copy(), np.empty(ny), np.empty(ny)
     g, g_new = np.empty(ne), np.empty(ne)
@@ -590,8 +575,6 @@ def exp_phase(
         for p in range(_GAUSS):  # the next step's predictor
             for j in range(k):
                 Ep[p, j] = E[p, j]
-            for j in range(ny):
-                dlp[p, j] = dl[p, j]
         h_prev, piece_prev = h, piece
         finished = t - t_stop >= 0.0
         terminal = -1
