@@ -92,7 +92,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ._maths import event_value, piece_end, rhs_call
+from ._maths import EXC_RECORD, event_value, piece_end, rhs_call
 from ._rk import _MAX_BRENT, _MAX_FACTOR, _MIN_FACTOR, _SAFETY, EVENT, FAILED, OK, zeroin_next
 
 __all__ = ["exp_phase", "new_cache", "phi_functions", "ERROR_EXPONENT"]
@@ -399,19 +399,25 @@ def _brent(code, a, b, t_on, quiet, dense, model, ep, ytmp):
 
 
 @njit(cache=True, error_model="numpy")
-def _quantised(h_abs, level, t, t_end, piece):
+def _quantised(h_abs, level, t, t_end, piece, span):
     """(step size to try, its level) for a proposed `h_abs`: the level is the power of
     2^(1/_QUANTA) below it, or the current `level` if that is at most twice as long
     (a new size costs a new φ-table: grow by doubling or not at all); within a
-    record's interval ending at `piece`, the interval's rest is split into equal steps
-    no longer than the level; never past `t_end`."""
+    record's interval (of length `span`) ending at `piece`, the interval split into
+    equal steps no longer than the level, span/n, a size that recurs from one interval
+    to the next, and the rest of an interval entered between those steps in two equal
+    ones once it is shorter than two; never past `t_end`."""
     q = 2.0 ** (math.floor(_QUANTA * math.log2(h_abs)) / _QUANTA)
     if level <= q < 2.0 * level:
         q = level
     rest = t_end - t
     if t_end == piece:
-        n = math.ceil(rest / q * (1.0 - 1e-12))
-        return rest / max(n, 1), q
+        s = span / max(math.ceil(span / q * (1.0 - 1e-12)), 1)
+        if rest <= s * (1.0 + 1e-9):
+            return rest, q
+        if rest < 2.0 * s:
+            return 0.5 * rest, q
+        return s, q
     return min(q, rest), q
 
 
@@ -529,6 +535,7 @@ def exp_phase(
     # the last accepted step's polynomial of N predicts the next step while N is smooth
     # from one to the next: no record sample between them (`piece_end`)
     h_prev, piece_prev = 0.0, -1.0
+    span = 1.0 / par[2] if kind == EXC_RECORD else 0.0  # a record's sample interval
     for i in range(ne):
         g[i] = event_value(
             ev_code[i], t, y, ev_ton[i], ev_quiet[i], side, m, H, K, C_, mp, ep, kind, par, smp
@@ -545,7 +552,7 @@ def exp_phase(
         while True:
             if h_abs < min_step:
                 return FAILED, t, y, -1, nfev, samples[:i_eval], nt_i[:0], nt_t[:0], nt_y[:0]
-            h, level = _quantised(h_abs, level, t, t_end, piece)
+            h, level = _quantised(h_abs, level, t, t_end, piece, span)
             t_new = t + h if t + h < t_end else t_end
             co = _table(h, t, lam, tables, h_tab, age)
             _step(t, y, Nn, h, co, modes, model, work, h / h_prev if smooth else 0.0)
