@@ -22,11 +22,12 @@ The machine is shared and noisy (2 cores, other jobs): compare medians and ratio
 within one run, never absolute times across runs.
 
 The physical limit (the cost floor of a run at the record's own time scale) is
-printed beside: an exponential step costs 4 + 5 right-hand sides (O(N²) each: K u,
-C u̇) and 20 transforms in and out of the modes (complex (N+2) × (2N+2) products),
-about 9·4N² + 20·4(N+2)(2N+2) flops; a record sampled at 20 ms needs at least one
-step per sample while the column rocks. With `--compile` the cold compile time of
-each kernel group is measured in a fresh process with an empty cache.
+printed beside: an exponential step costs 5 + 1 right-hand sides (O(N²) each: K u,
+C u̇; 3 more when it starts at a record sample) and 14 transforms in and out of the
+modes (complex (N+2) × (2N+2) products), about 6·4N² + 14·4(N+2)(2N+2) flops; a
+record sampled at 20 ms needs at least one step per sample while the column rocks.
+With `--compile` the cold compile time of each kernel group is measured in a fresh
+process with an empty cache.
 """
 
 from __future__ import annotations
@@ -143,7 +144,7 @@ def physical_limit(case, rtol: float) -> dict:
     _, st, exc, impact, t_end, seed = case
     n = st.n
     nm, k = 2 * n + 2, n + 2
-    flops = 9 * 4 * n * n + 20 * 4 * k * nm
+    flops = 6 * 4 * n * n + 14 * 4 * k * nm
     r = _run(case, False, method="exponential", rtol=rtol, atol=rtol * 1e-2)
     rocking = 0.0
     t_prev, phase = 0.0, 0
@@ -160,7 +161,7 @@ def physical_limit(case, rtol: float) -> dict:
         nodes=n,
         flops_per_step=flops,
         rocking_time_s=rocking,
-        steps_taken_max=r.n_rhs / 9.0,  # RHS calls / 9 (full contact in closed form: none)
+        steps_taken_max=r.n_rhs / 6.0,  # RHS calls / 6 (full contact in closed form: none)
         floor_steps_one_per_sample=floor_steps,
         floor_ms_at_1_gflops=(floor_steps * flops * 1e-6) if floor_steps else None,
     )

@@ -52,8 +52,9 @@ _NEWMARK_STEP_SECONDS = 5e-6  # a few Newton iterations
 _IMPLICIT_STEPS_PER_CAP = 3.0  # steps per max_step (≤ 5 ms)
 _ACCURACY_STEP = 5e-3  # s, a smooth motion's step
 # the exponential rocking integrator (multimass.engines.fast._exp_kernel): a step's cost in
-# right-hand sides (9 calls and the modal transforms, ~5 µs for S1) and its typical step
-# (S1 released, rtol 1e-8: 2 ms; benchmarks/exponential_rocking.py)
+# right-hand sides (6 calls and the modal transforms: 4.8 µs a step for S1 released,
+# 5.7 µs under El Centro, in whole runs) and its typical step (S1 released, rtol 1e-8:
+# 2 ms; benchmarks/exponential_rocking.py)
 _EXPONENTIAL_RHS_PER_STEP = 8
 _EXPONENTIAL_STEP = 2e-3
 

@@ -4,29 +4,31 @@ DOP853's steps are held by stability to h_s = c/ρ (c = 3.4, ρ the spectral rad
 the column's state matrix; `multimass.cost`), whatever the accuracy asked. The
 exponential rocking integrator (`multimass.engines.fast._exp_kernel`) advances the
 linear part of the rocking phase exactly and takes the steps its accuracy needs, h_e
-(~2 ms for S1 at rtol 1e-8; `multimass.cost`), each ~8 right-hand sides. The ratio
+(~2 ms for S1 at rtol 1e-8; `multimass.cost`), each ~6 right-hand sides. The ratio
 S = min(h_e, max_step) / h_s is how many DOP853 steps stability forces per exponential
 step. Work and precision measured on the compiled whole runs (benchmarks/exponential_rocking.py,
-DOP853 cost / exponential cost at rtol 1e-6, 1e-8, 1e-10; max_step = inf; one run on a
-shared machine, where a second moved the S1 ratios by up to 0.4: 1.41, 0.68, 0.48
-released, 0.55, 0.59, 0.48 under El Centro; all columns in docs/guide/speed.md):
+DOP853 cost / exponential cost at rtol 1e-6, 1e-8, 1e-10; max_step = inf; medians of 3
+on a shared machine; the errors against DOP853 at rtol 1e-12 beside them in
+docs/guide/speed.md):
 
 ==================  ======  ==================
 column              S       DOP853 / exp.
 ==================  ======  ==================
-S1 released         1.9     1.03, 1.03, 0.51
-S1, El Centro       1.9     0.48, 0.68, 0.46
-S1 × 100 stiffer    19.5    4.90, 2.55, 1.32
-20-node column      88      20.4, 8.57, 4.44
+S1 released         1.9     1.34, 1.22, 0.70
+S1, El Centro       1.9     0.67, 0.67, 0.62
+S2, S3              2–2.4   0.68 … 1.73
+S1 × 100 stiffer    19.5    6.56, 3.54, 1.71
+20-node column      88      21.3, 12.1, 6.35
 ==================  ======  ==================
 
 `choose_method` therefore
 
 1. keeps DOP853 where the exponential method does not apply (not a column on the
    compiled path, no diagonalisable rocking phase) or S < `STIFF` (the bundled columns,
-   S ≈ 2–2.4: under a record DOP853 wins at every tolerance or is at most 13 % slower,
-   S2 at rtol 1e-6; released, the exponential method is faster by more than 10 % only
-   at rtol 1e-6; at the same rtol DOP853 is the more accurate);
+   S ≈ 2–2.4: under a record DOP853 is faster or the two within 8 %; released, the
+   exponential method is up to 1.7× faster at rtol 1e-6 and 1e-8 but further from the
+   reference, its impact times up to 160× and its ledger 100–850× DOP853's errors at
+   the same rtol);
 2. otherwise runs the sweep's sample run (its longest) each way, and picks the
    exponential method only if it was faster *and* as accurate at the same tolerance: as
    many impacts as DOP853's run, θ_max and every impact time within `FLOOR` × rtol (of
