@@ -425,6 +425,8 @@ def compile_once(
     """
     modules = tuple(modules)
     kernels = _kernels_of(modules)
+    if not kernels:  # numba's JIT is off (NUMBA_DISABLE_JIT): no cache to stamp
+        stamp_file = None
     cache_dir = Path(kernels[0].stats.cache_path) if kernels else Path(CACHE.path or "")
     stamp = _fingerprint(sources) if stamp_file else ""
     hits = lambda: sum(sum(k.stats.cache_hits.values()) for k in kernels)  # noqa: E731

@@ -135,6 +135,20 @@ def test_a_changed_source_drops_the_cache_and_recompiles(probe, capsys):
     assert "multimass: compiling the probe kernels" in capsys.readouterr().err
 
 
+def test_without_jit_nothing_is_stamped_in_the_working_folder(probe, monkeypatch):
+    """With numba's JIT off (``NUMBA_DISABLE_JIT``, for debugging) a group has no
+    dispatchers and no cache: no fingerprint file may land in the user's working folder."""
+    folder, load = probe
+    work = folder / "work"
+    work.mkdir()
+    monkeypatch.chdir(work)
+    mod = load()
+    monkeypatch.setattr(mod, "outer", mod.outer.py_func)  # what NUMBA_DISABLE_JIT leaves
+    monkeypatch.setattr(mod, "inner", mod.inner.py_func)
+    assert _compile(folder, mod).kernels == 0
+    assert list(work.iterdir()) == []
+
+
 def test_drop_stale_cache_removes_only_the_groups_files(tmp_path):
     files = ["_maths.rhs-10.py311.nbi", "_maths.rhs-10.py311.1.nbc", "other.f-3.py311.nbi"]
     for name in files:
