@@ -21,7 +21,7 @@ from multimass.errors import InputError
 from multimass.identify import synthetic_trace
 from multimass.identify._calibration_model import Simulator
 from multimass.identify._calibration_params import parameter_set
-from multimass.identify._calibration_result import _not_reproduced, misfit
+from multimass.identify._calibration_result import _not_reproduced, _parameters, misfit
 from multimass.identify._calibration_setup import cases
 from multimass.identify._calibration_stages import align_releases
 from multimass.identify._misfit import MISFIT_P, NOISE_TOL, theta_misfit
@@ -198,6 +198,27 @@ def test_the_misfit_test_of_calibrate_is_restitutions():
     accel[100:] *= 3.0
     loud = tested(rng.normal(0, sigma, n), accel)
     assert loud[("a", "theta")] <= 1.0 and loud[("a", "a_A1")] > 1.0
+
+
+def test_the_model_floor_is_added_to_cp_and_to_the_damping_ratios():
+    # 1.5 % (`MODEL_REL_FLOOR`: measured with restitution for C_p and ζ, checked with
+    # calibrate for ζ on the coverage draws of seeds 1 and 2), added in quadrature to
+    # the covariance's relative std of each log-fitted parameter; restitution means keep
+    # the covariance's std (not log-fitted)
+    values = {"r_er": 0.9, "cp": 1500.0, "zeta1": 0.004, "zeta2": 0.015}
+    rel = {"r_er": 0.003, "cp": 0.004, "zeta1": 0.01, "zeta2": 0.03}  # the covariance's
+    floors = {"r_er": 0.0, "cp": 0.015, "zeta1": 0.015, "zeta2": 0.015}
+    pset = SimpleNamespace(
+        fit=list(values), start=dict(values),
+        bounds={"r_er": (0.5, 1.0), "cp": (100.0, 1e5), "zeta1": (1e-4, 0.2), "zeta2": (1e-4, 0.2)},
+    )  # fmt: skip
+    x = np.array([0.9, *np.log([1500.0, 0.004, 0.015])])
+    cov = np.diag([rel["r_er"] ** 2, *(rel[n] ** 2 for n in ("cp", "zeta1", "zeta2"))])
+    out, _ = _parameters(pset, None, x, cov, {})
+    assert out["r_er"]["std"] == pytest.approx(0.003)
+    for name in ("cp", "zeta1", "zeta2"):
+        v = values[name]
+        assert out[name]["std"] == pytest.approx(v * math.hypot(rel[name], floors[name]))
 
 
 def test_the_misfit_test_makes_every_fitted_parameter_not_constrained():
