@@ -11,12 +11,13 @@ import math
 
 import numpy as np
 import pytest
+from numba import njit
 
 import multimass
 from multimass import SineWave
 from multimass.engines._rigid import uplift_threshold
 from multimass.engines.fast import _maths as mx
-from multimass.engines.fast._block_segment import NY, rocking_segment, workspace
+from multimass.engines.fast._block_segment import NY, rocking_segment, unowned, workspace
 from multimass.engines.fast._kernel import integrate_phase
 from multimass.engines.fast._rk import EVENT, METHOD_CODES, OK
 from multimass.engines.fast.excitation import encode
@@ -102,3 +103,21 @@ def test_buffers_reused_across_segments():
     b = rocking_segment(0.5, 3.0, y3, 1, *args(0.5), workspace(3))
     assert a == b
     np.testing.assert_array_equal(y2, y3)
+
+
+@njit
+def _through(a, b):
+    v, w = unowned(a), unowned(b)
+    v[1, 2] = 7.0
+    w[0] += 1.0
+    return v.shape, v.strides, w.shape, w.strides, v[0, 1], w.sum()
+
+
+def test_unowned_is_the_same_array():
+    # `unowned` drops the view's owner, not its data: the same shape and strides (a
+    # strided view's too), reads of the caller's values, writes that reach its array
+    a, b = np.arange(12.0).reshape(3, 4), np.arange(5.0)[::2]
+    got = _through(a, b)
+    assert got[:4] == (a.shape, a.strides, b.shape, b.strides)
+    assert got[4] == 1.0 and got[5] == 1.0 + 2.0 + 4.0  # b = [0, 2, 4], then b[0] += 1
+    assert a[1, 2] == 7.0 and b[0] == 1.0
