@@ -15,7 +15,7 @@ with what a block does not need taken out:
   every stage's RHS reads the same argument array, and the block's empty node arrays and
   its Dirac-delta force (off) are module constants: numba's atomic reference counts of
   the arrays passed between them took a quarter of the time and more;
-* every array it touches is a view without an owner (`unowned`), so that numba
+* every array it touches is a view without an owner (`._unowned.unowned`), so that numba
   counts no references to it in the step loop;
 * the only output sample is the state at t_stop, and the θ̇ = 0 roots (the half-cycle
   peaks) give their |θ| only.
@@ -29,9 +29,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, types
-from numba.core import cgutils
-from numba.extending import intrinsic
+from numba import njit
 
 from ._kernel import _active, _sorted_roots, _tableau
 from ._maths import FP_SIZE, event_value, piece_end, rhs_call, rocking_rhs
@@ -46,8 +44,9 @@ from ._rk import (
     step_control,
     trial_step,
 )
+from ._unowned import unowned
 
-__all__ = ["NY", "workspace", "rocking_segment", "unowned"]
+__all__ = ["NY", "workspace", "rocking_segment"]
 
 #: The state's length for a rigid block: θ, θ̇ and the ledger's D, W_g, W_F.
 NY = 5
@@ -59,30 +58,6 @@ _M, _MAT, _FP = np.empty(0), np.empty((0, 0)), np.zeros(FP_SIZE)
 # `._maths.event_value` (the same function) inlined into the step loop: a call with its
 # fifteen arguments cost as much as the three events' work
 _event_value = njit(inline="always", error_model="numpy")(event_value.py_func)
-
-
-@intrinsic
-def unowned(typingctx, array):
-    """`array` without its owner: the same data, shape and strides, no reference count.
-
-    numba counts references to an array's owner with an atomic add each time an array
-    is passed to an inlined function or a view of it is taken, and again when that
-    name dies: in the step loop, ten atomic adds per right-hand side (its arguments y,
-    out, mp, par and samples), a third of the segment's time. For an array without an
-    owner (as a module constant is) the count is a test of a null pointer. Only for
-    arrays whose owner outlives every use of the view: `rocking_segment`'s arguments,
-    within the call.
-    """
-    if not isinstance(array, types.Array):
-        return None
-
-    def codegen(context, builder, sig, args):
-        view = context.make_array(sig.return_type)(context, builder, value=args[0])
-        view.meminfo = cgutils.get_null_value(view.meminfo.type)
-        view.parent = cgutils.get_null_value(view.parent.type)
-        return view._getvalue()
-
-    return array(array), codegen
 
 
 @njit(cache=True, error_model="numpy")

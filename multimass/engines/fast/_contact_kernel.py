@@ -58,6 +58,7 @@ from ._maths import (
     _uplift,
 )
 from ._rk import _MAX_BRENT, EVENT, OK, zeroin_next
+from ._unowned import unowned
 
 __all__ = ["contact_phase"]
 
@@ -295,26 +296,52 @@ def contact_phase(
     non-terminal events).
     """
     n, ny, ne = m.size, y0.size, ev_code.size
-    q, v = np.zeros(n), np.zeros(n)
+    work = (
+        np.zeros(n), np.zeros(n), np.empty(2), np.empty(2), np.empty((6, n)), np.zeros(n),
+        np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n),
+        np.empty(ny), np.empty(ne), np.empty(ne), np.empty((0, 4)), np.empty((2, n, 4)),
+        np.empty(2),
+    )  # fmt: skip
+    samples = np.empty((t_eval.size, ny))
+    status, t, terminal, i_eval = _contact_steps(
+        t0, t_stop, y0, t_eval, samples, (m, H, K, C_, mp, ep, kind, par, smp),
+        (ev_code, ev_dir, ev_quiet, ev_ton), (phi, w, z, gam, screen), h_max, work,
+    )  # fmt: skip
+    return _result(status, t, work[12], terminal, samples[:i_eval], ny)
+
+
+@njit(cache=True, error_model="numpy")
+def _contact_steps(t0, t_stop, y0, t_eval, samples, args, events, modes, h_max, work):
+    """The loop of `contact_phase` on its arrays (`work` its buffers, the state in
+    work[12]; work[16:] the free vibration's coefficients over a record's sub-step and
+    over h_max, and their steps): (status, t, terminal event, samples filled).
+
+    Every array is taken as a view without an owner (`._unowned.unowned`):
+    `contact_phase` holds them through the call, and numba then counts no references
+    to them in the loop.
+    """
+    m, H, K, C_, mp, ep, kind, par, smp = args
+    ev_code, ev_dir, ev_quiet, ev_ton = events
+    phi, w, z, gam, screen = modes
+    q, v, ledger0, ledger, piece, zero, e, d, e1, d1, er, dr = work[:12]
+    y, g, g_new, none, tables, table_h = work[12:]
+    y0, t_eval, samples = unowned(y0), unowned(t_eval), unowned(samples)
+    m, H, K, C_, mp, ep = unowned(m), unowned(H), unowned(K), unowned(C_), unowned(mp), unowned(ep)
+    par, smp, ev_code, ev_dir = unowned(par), unowned(smp), unowned(ev_code), unowned(ev_dir)
+    ev_quiet, ev_ton = unowned(ev_quiet), unowned(ev_ton)
+    phi, w, z, gam, screen = unowned(phi), unowned(w), unowned(z), unowned(gam), unowned(screen)
+    q, v, ledger0, ledger = unowned(q), unowned(v), unowned(ledger0), unowned(ledger)
+    piece, zero, e, d = unowned(piece), unowned(zero), unowned(e), unowned(d)
+    e1, d1, er, dr = unowned(e1), unowned(d1), unowned(er), unowned(dr)
+    y, g, g_new, none = unowned(y), unowned(g), unowned(g_new), unowned(none)
+    tables, table_h = unowned(tables), unowned(table_h)
+    n, ne = m.size, ev_code.size
     for j in range(n):  # q = Φᵀ M u
         for i in range(n):
             q[j] += phi[i, j] * (m[i] * y0[i])
             v[j] += phi[i, j] * (m[i] * y0[n + 1 + i])
-    ledger0, ledger, w_f = np.array([y0[2 * n + 2], y0[2 * n + 3]]), np.empty(2), y0[2 * n + 4]
-    piece, zero = np.empty((6, n)), np.zeros(n)
-    e, d, e1, d1, er, dr = (
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
-        np.empty(n),
-    )
-    y, g, g_new = np.empty(ny), np.empty(ne), np.empty(ne)
-    samples = np.empty((t_eval.size, ny))
-    none = np.empty((0, 4))
-    tables = np.empty((2, n, 4))  # free vibration over a record's sub-step and over h_max
-    table_h = np.array([-1.0, -1.0])
+    ledger0[0], ledger0[1], w_f = y0[2 * n + 2], y0[2 * n + 3], y0[2 * n + 4]
+    table_h[0], table_h[1] = -1.0, -1.0
     args = (m, H, K, C_, mp, ep, kind, par, smp)
     modes, events, scratch = (w, z, gam, phi), (ev_code, ev_quiet, ev_ton), (er, dr, q, v)
     _physical(q, v, ledger0, w_f, phi, y)
@@ -401,7 +428,7 @@ def contact_phase(
             i_eval += 1
         if terminal >= 0:
             _out(t_root, t, e, d, anchor, modes, w_f, scratch, ledger, y)
-            return _result(EVENT, t_root, y, terminal, samples[:i_eval], ny)
+            return EVENT, t_root, terminal, i_eval
         for i in range(n):
             e[i], d[i] = e1[i], d1[i]
         for k in range(ne):
@@ -426,7 +453,7 @@ def contact_phase(
     _modes_at(t - t_a, e, d, piece, q, v)  # reached t_stop: the state there
     _ledger_at(t - t_a, e, d, q, a0, s, w, z, gam, piece, ledger0, ledger)
     _physical(q, v, ledger, w_f, phi, y)
-    return _result(OK, t, y, -1, samples[:i_eval], ny)
+    return OK, t, -1, i_eval
 
 
 @njit(cache=True, error_model="numpy")

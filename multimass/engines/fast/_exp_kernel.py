@@ -95,6 +95,7 @@ from numba import njit
 
 from ._maths import EXC_RECORD, event_value, piece_end, rhs_call
 from ._rk import _MAX_BRENT, _MAX_FACTOR, _MIN_FACTOR, _SAFETY, EVENT, FAILED, OK, zeroin_next
+from ._unowned import unowned
 
 __all__ = ["exp_phase", "new_cache", "phi_functions", "ERROR_EXPONENT"]
 
@@ -512,23 +513,64 @@ def exp_phase(
     guess of `_first_step` in the first call).
     """
     ny, ne, k = y0.size, ev_code.size, lam.size
+    work = (
+        np.empty(ny), np.empty(ny), np.empty(ny), np.empty(ny), np.empty(ny),
+        np.empty(ny), np.empty(ny), np.empty(ny), np.empty(ny),
+        np.empty((9, k), np.complex128), np.empty((2 * _GAUSS + 1, k), np.complex128),
+        np.zeros((2 * _GAUSS, ny)), np.empty((_GAUSS, k), np.complex128), np.empty(ny),
+        np.empty((_GAUSS, k), np.complex128),
+    )  # fmt: skip
+    state = (y0.copy(), np.empty(ny), np.empty(ny), np.empty(ne), np.empty(ne), np.empty(ne))
+    active, samples = np.empty(ne, np.int64), np.empty((t_eval.size, ny))
+    nt = (np.empty(8, np.int64), np.empty(8), np.empty((8, ny)))
+    status, t, terminal, nfev, i_eval, nt, n_nt = _exp_steps(
+        t0, t_stop, t_eval, samples, (side, m, H, K, C_, mp, fp, kind, par, smp),
+        (ev_code, ev_dir, ev_term, ev_quiet, ev_ton), ep, (Lm, lam, V, W, wt), cache,
+        (rtol, atol, max_step), work, state, active, nt,
+    )  # fmt: skip
+    nt_i, nt_t, nt_y = nt
+    return (
+        status, t, state[0], terminal, nfev, samples[:i_eval], nt_i[:n_nt], nt_t[:n_nt],
+        nt_y[:n_nt],
+    )  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy")
+def _exp_steps(
+    t0, t_stop, t_eval, samples, model, events, ep, modes, cache, tol, work, state, active, nt
+):
+    """The step loop of `exp_phase` on its arrays (the state in state[0], y0 on entry;
+    `work`, the rest of `state` and `active` its buffers): (status, t, terminal event,
+    RHS calls, samples filled, nt, non-terminal roots in nt).
+
+    Every array but the non-terminal roots' buffers `nt` (grown here) is taken as a view
+    without an owner (`._unowned.unowned`): `exp_phase` and the run hold them through
+    the call, and numba then counts no references to them in the loop.
+    """
+    side, m, H, K, C_, mp, fp, kind, par, smp = model
+    ev_code, ev_dir, ev_term, ev_quiet, ev_ton = events
+    Lm, lam, V, W, wt = modes
+    tables, h_tab, age, last = cache
+    rtol, atol, max_step = tol
+    ya, yb, yc, ynew, Na, Nb, Nc, Nnew, est, zs, E, dl, Zq, ytmp, Ep = work
+    y, y_old, Nn, g, g_new, roots = state
+    nt_i, nt_t, nt_y = nt
+    m, H, K, C_, mp = unowned(m), unowned(H), unowned(K), unowned(C_), unowned(mp)
+    fp, par, smp, ep = unowned(fp), unowned(par), unowned(smp), unowned(ep)
+    ev_code, ev_dir, ev_term = unowned(ev_code), unowned(ev_dir), unowned(ev_term)
+    ev_quiet, ev_ton, t_eval = unowned(ev_quiet), unowned(ev_ton), unowned(t_eval)
+    Lm, lam, V, W, wt = unowned(Lm), unowned(lam), unowned(V), unowned(W), unowned(wt)
+    tables, h_tab, age, last = unowned(tables), unowned(h_tab), unowned(age), unowned(last)
+    ya, yb, yc, ynew = unowned(ya), unowned(yb), unowned(yc), unowned(ynew)
+    Na, Nb, Nc, Nnew, est = unowned(Na), unowned(Nb), unowned(Nc), unowned(Nnew), unowned(est)
+    zs, E, dl, Zq = unowned(zs), unowned(E), unowned(dl), unowned(Zq)
+    ytmp, Ep, samples, active = unowned(ytmp), unowned(Ep), unowned(samples), unowned(active)
+    y, y_old, Nn, g = unowned(y), unowned(y_old), unowned(Nn), unowned(g)
+    g_new, roots = unowned(g_new), unowned(roots)
+    ny, ne, k = y.size, ev_code.size, lam.size
     model = (side, m, H, K, C_, mp, fp, kind, par, smp)
     modes = (Lm, lam, V, W, wt)
-    ya, yb, yc, ynew, Na, Nb, Nc, Nnew, est, ytmp = (
-        np.empty(ny), np.empty(ny), np.empty(ny), np.empty(ny), np.empty(ny),
-        np.empty(ny), np.empty(ny), np.empty(ny), np.empty(ny), np.empty(ny),
-    )  # fmt: skip
-    zs = np.empty((9, k), np.complex128)
-    E, dl = np.empty((2 * _GAUSS + 1, k), np.complex128), np.zeros((2 * _GAUSS, ny))
-    Zq = np.empty((_GAUSS, k), np.complex128)
-    Ep = np.empty((_GAUSS, k), np.complex128)
     work = (ya, yb, yc, ynew, Na, Nb, Nc, Nnew, est, zs, E, dl, Zq, ytmp, Ep)
-    tables, h_tab, age, last = cache
-    y, y_old, Nn = y0.copy(), np.empty(ny), np.empty(ny)
-    g, g_new = np.empty(ne), np.empty(ne)
-    active, roots = np.empty(ne, np.int64), np.empty(ne)
-    samples = np.empty((t_eval.size, ny))
-    nt_i, nt_t, nt_y = np.empty(8, np.int64), np.empty(8), np.empty((8, ny))
     t, i_eval, n_nt = t0, 0, 0
     _nonlinear(t, y, Nn, Lm, model)
     nfev = 1
@@ -553,7 +595,7 @@ def exp_phase(
         smooth = h_prev > 0.0 and piece == piece_prev
         while True:
             if h_abs < min_step:
-                return FAILED, t, y, -1, nfev, samples[:i_eval], nt_i[:0], nt_t[:0], nt_y[:0]
+                return FAILED, t, -1, nfev, i_eval, (nt_i, nt_t, nt_y), 0
             h, level = _quantised(h_abs, level, t, t_end, piece, span)
             t_new = t + h if t + h < t_end else t_end
             co = _table(h, t, lam, tables, h_tab, age)
@@ -631,7 +673,6 @@ def exp_phase(
             _dense_eval(t_eval[i_eval], t_old, h, y_old, zy_old, E, dl, lam, V, wt, samples[i_eval])
             i_eval += 1
         if terminal >= 0:
-            out = samples[:i_eval], nt_i[:n_nt], nt_t[:n_nt], nt_y[:n_nt]
-            return EVENT, t, y, terminal, nfev, out[0], out[1], out[2], out[3]
+            return EVENT, t, terminal, nfev, i_eval, (nt_i, nt_t, nt_y), n_nt
         if finished:
-            return OK, t, y, -1, nfev, samples[:i_eval], nt_i[:n_nt], nt_t[:n_nt], nt_y[:n_nt]
+            return OK, t, -1, nfev, i_eval, (nt_i, nt_t, nt_y), n_nt

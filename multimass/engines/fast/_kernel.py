@@ -38,6 +38,7 @@ from ._rk import (
     step_control,
     trial_step,
 )
+from ._unowned import unowned
 
 __all__ = ["integrate_phase"]
 
@@ -244,17 +245,63 @@ def integrate_phase(
         FAILED (step size underflow at t); the samples on `t_eval` reached;
         non-terminal event roots (index, time, state), in time order.
     """
-    A, Bw, C, ns, n_k, err_order, nq = _tableau(method)
+    _, _, _, _, n_k, _, nq = _tableau(method)
     ny, ne = y0.size, ev_code.size
+    work = (
+        np.empty((n_k, ny)), np.empty(ny), np.empty(ny), np.empty(ny), np.empty(ny),
+        np.empty((nq, ny)), np.empty(ny), np.empty(ne), np.empty(ne),
+        np.empty(ne, np.int64), np.empty(ne),
+    )  # fmt: skip
+    y, samples = y0.copy(), np.empty((t_eval.size, ny))
+    buf = (np.empty(8, np.int64), np.empty(8), np.empty((8, ny)))
+    status, t, terminal, nfev, i_eval, buf, n_nt = _steps(
+        t0, t_stop, y, t_eval, samples, (side, m, H, K, C_, mp, fp, kind, par, smp),
+        (ev_code, ev_dir, ev_term, ev_quiet, ev_ton), ep, method, (rtol, atol, max_step),
+        hint, work, buf,
+    )  # fmt: skip
+    return (
+        status,
+        t,
+        y,
+        terminal,
+        nfev,
+        samples[:i_eval],
+        buf[0][:n_nt],
+        buf[1][:n_nt],
+        buf[2][:n_nt],
+    )
+
+
+@njit(cache=True, error_model="numpy")
+def _steps(t0, t_stop, y, t_eval, samples, model, events, ep, method, tol, hint, work, buf):
+    """The step loop of `integrate_phase` on its arrays (y: y0 on entry, the end state on
+    return; `work` its buffers): (status, t, terminal event, RHS calls, samples filled,
+    buf, non-terminal roots in buf).
+
+    Every array but `buf` (grown by `_push`) is taken as a view without an owner
+    (`._unowned.unowned`): `integrate_phase` holds them through the call, and numba then
+    counts no references to them in the loop (they were a quarter of the compiled samples
+    of a column run under a record).
+    """
+    side, m, H, K, C_, mp, fp, kind, par, smp = model
+    ev_code, ev_dir, ev_term, ev_quiet, ev_ton = events
+    rtol, atol, max_step = tol
+    Kst, ynew, ytmp, f, scale, Q, y_old, g, g_new, active, roots = work
+    y, t_eval, samples, hint = unowned(y), unowned(t_eval), unowned(samples), unowned(hint)
+    m, H, K, C_, mp = unowned(m), unowned(H), unowned(K), unowned(C_), unowned(mp)
+    fp, par, smp, ep = unowned(fp), unowned(par), unowned(smp), unowned(ep)
+    ev_code, ev_dir, ev_term = unowned(ev_code), unowned(ev_dir), unowned(ev_term)
+    ev_quiet, ev_ton = unowned(ev_quiet), unowned(ev_ton)
+    Kst, ynew, ytmp = unowned(Kst), unowned(ynew), unowned(ytmp)
+    f, scale = unowned(f), unowned(scale)
+    Q, y_old, g, g_new = unowned(Q), unowned(y_old), unowned(g), unowned(g_new)
+    active, roots = unowned(active), unowned(roots)
+    A, Bw, C, ns, _, err_order, _ = _tableau(method)
+    ny, ne = y.size, ev_code.size
     model = (side, m, H, K, C_, mp, fp, kind, par, smp)
     events = (ev_code, ev_dir, ev_term, ev_quiet, ev_ton)
     tab = (A, Bw, C, ns, -1.0 / (err_order + 1))
-    Kst, ynew, ytmp, f = np.empty((n_k, ny)), np.empty(ny), np.empty(ny), np.empty(ny)
-    work = (Kst, ynew, ytmp, np.empty(ny))
-    Q, y, y_old = np.empty((nq, ny)), y0.copy(), np.empty(ny)
-    g, g_new, active, roots = np.empty(ne), np.empty(ne), np.empty(ne, np.int64), np.empty(ne)
-    samples = np.empty((t_eval.size, ny))
-    buf = (np.empty(8, np.int64), np.empty(8), np.empty((8, ny)))
+    work = (Kst, ynew, ytmp, scale)
     t, i_eval, n_nt = t0, 0, np.int64(0)  # int64, not the literal 0: _push compiles once
     rhs_call(t, y, f, side, m, H, K, C_, mp, fp, kind, par, smp)
     nfev = 1
@@ -273,17 +320,7 @@ def integrate_phase(
         nfev += calls
         hint[0] = h_abs
         if not ok:
-            return (
-                FAILED,
-                t,
-                y,
-                -1,
-                nfev,
-                samples[:i_eval],
-                buf[0][:n_nt],
-                buf[1][:n_nt],
-                buf[2][:n_nt],
-            )
+            return FAILED, t, -1, nfev, i_eval, buf, n_nt
         t_old, t = t, t_new
         for j in range(ny):  # loops, not slices: no shape-check messages to compile
             y_old[j] = y[j]
@@ -357,14 +394,4 @@ def integrate_phase(
             _dense_eval(method, t_eval[i_eval], t_old, h, y_old, Q, samples[i_eval])
             i_eval += 1
         if terminal >= 0 or finished:
-            return (
-                EVENT if terminal >= 0 else OK,
-                t,
-                y,
-                terminal,
-                nfev,
-                samples[:i_eval],
-                buf[0][:n_nt],
-                buf[1][:n_nt],
-                buf[2][:n_nt],
-            )
+            return (EVENT if terminal >= 0 else OK), t, terminal, nfev, i_eval, buf, n_nt

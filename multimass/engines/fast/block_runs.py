@@ -549,7 +549,8 @@ def run_excitations(runs: BlockRuns, excitations, t_end, r_pairs=None) -> Excita
 _READY: float | None = None
 _REPORT = None  # the CompileReport of ensure_ready
 _MODULES = (  # the sources of the batch kernels (with the tableaus `._rk` freezes into them)
-    "_maths", "_tableaus", "_rk", "_kernel", "_block_uplift", "_block_segment", "_block_kernel",
+    "_maths", "_tableaus", "_unowned", "_rk", "_kernel", "_block_uplift", "_block_segment",
+    "_block_kernel",
 )  # fmt: skip
 _OWN = (
     "_block_uplift",

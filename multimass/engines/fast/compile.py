@@ -587,6 +587,7 @@ def _sources(contact: bool = False, columns: bool = False, exponential: bool = F
 
     physics = [Path(equations), Path(gaussian_force), Path(pulse_shapes), Path(checks)]
     physics.append(_HERE / "_tableaus.py")  # `._rk`'s constants, frozen into the kernels
+    physics.append(_HERE / "_unowned.py")  # `unowned`, an intrinsic compiled into them
     if columns:
         own = [_HERE / f"{_COLUMNS}.py", _HERE / f"{_EXPONENTIAL}.py", Path(impact_models)]
         return _sources(contact=True) + own
