@@ -58,6 +58,22 @@ def test_a_residual_the_noise_cannot_make_fails_the_misfit_test():
     assert ratio == pytest.approx(2.0, rel=0.25) and ratio > limit
 
 
+def _disturbed_after_third_impact(channel, add):
+    """S1 DD2, 3 s (seed 1), with ``add(t, a, b)`` added to `channel` over the
+    half-cycle (a, b) after the third impact: (the disturbed trace, a)."""
+    syn = synthetic_trace("S1", FreeRelease(theta0=0.11), "DD2", 3.0, seed=1)
+    tr = syn.trace
+    hits = [e["t"] for e in syn.truth["impacts"]]
+    t = np.asarray(tr.time)
+    x = np.array(tr.channels[channel], dtype=float)
+    a, b = hits[2], hits[3]
+    m = (t > a) & (t < b)
+    x[m] += add(t[m], a, b)
+    trace = Trace(tr.time, dict(tr.channels) | {channel: x}, dict(tr.units),
+                  source="bump.csv", specimen="S1")  # fmt: skip
+    return trace, a
+
+
 def test_an_impact_whose_half_cycle_the_model_cannot_follow_is_not_estimated():
     """S1 DD2, 3 s at 200 Hz, 2 % noise (σ_θ 0.0022 rad): a bump of ±0.008 rad added to θ
     over the half-cycle after the third impact, which no coefficient of the model makes.
@@ -66,17 +82,12 @@ def test_an_impact_whose_half_cycle_the_model_cannot_follow_is_not_estimated():
     the bump. The χ² test over the two half-cycles that set an r takes that impact
     and the one before out of the estimated impacts, and the run's parameters are
     ill-posed (the whole span fails the test too)."""
-    syn = synthetic_trace("S1", FreeRelease(theta0=0.11), "DD2", 3.0, seed=1)
-    tr = syn.trace
-    hits = [e["t"] for e in syn.truth["impacts"]]
-    t = np.asarray(tr.time)
-    th = np.array(tr.channels["theta"], dtype=float)
-    a, b = hits[2], hits[3]
-    m = (t > a) & (t < b)
-    u = (t[m] - a) / (b - a)
-    th[m] += 0.008 * np.sin(np.pi * u) ** 2 * np.sign(np.sin(2 * np.pi * u))
-    trace = Trace(tr.time, dict(tr.channels) | {"theta": th}, dict(tr.units),
-                  source="bump.csv", specimen="S1")  # fmt: skip
+
+    def bump(t, a, b):
+        u = (t - a) / (b - a)
+        return 0.008 * np.sin(np.pi * u) ** 2 * np.sign(np.sin(2 * np.pi * u))
+
+    trace, a = _disturbed_after_third_impact("theta", bump)
     est = restitution(trace, "S1", "DD", progress=False, C_p=1750.0, zeta1=0.005, zeta2=0.015)
     rows = est.impacts
     bumped = int(np.argmin(np.abs(rows["t"].to_numpy() - a)))
@@ -181,16 +192,9 @@ def test_an_accelerometer_the_model_cannot_follow_takes_its_impact_out():
     """The same S1 trace with θ as recorded and a_A1 disturbed instead over the
     half-cycle after the third impact (a 5 Hz sine of 0.75 m/s², 5 × its noise): θ passes, the
     F test of a_A1 against its residuals before the first impact does not."""
-    syn = synthetic_trace("S1", FreeRelease(theta0=0.11), "DD2", 3.0, seed=1)
-    tr = syn.trace
-    hits = [e["t"] for e in syn.truth["impacts"]]
-    t = np.asarray(tr.time)
-    a1 = np.array(tr.channels["a_A1"], dtype=float)
-    a, b = hits[2], hits[3]
-    m = (t > a) & (t < b)
-    a1[m] += 0.75 * np.sin(2 * np.pi * 5.0 * (t[m] - a))
-    trace = Trace(tr.time, dict(tr.channels) | {"a_A1": a1}, dict(tr.units),
-                  source="bump.csv", specimen="S1")  # fmt: skip
+    trace, a = _disturbed_after_third_impact(
+        "a_A1", lambda t, a, b: 0.75 * np.sin(2 * np.pi * 5.0 * (t - a))
+    )
     est = restitution(trace, "S1", "DD", progress=False, C_p=1750.0, zeta1=0.005, zeta2=0.015)
     rows = est.impacts
     bumped = int(np.argmin(np.abs(rows["t"].to_numpy() - a)))
