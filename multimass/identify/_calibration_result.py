@@ -12,7 +12,16 @@ import pandas as pd
 from . import _parameter_status as ps
 from ._calibration_fit import Problem
 from ._calibration_params import PARAMETERS
-from ._calibration_stats import MODEL_REL_FLOOR, covariance, flags, status_of
+from ._calibration_stats import (
+    MODEL_REL_FLOOR,
+    SLICE,
+    covariance,
+    flags,
+    rough_reason,
+    rough_std,
+    slice_probe,
+    status_of,
+)  # fmt: skip
 from ._calibration_views import channel_metrics, feature_errors, view
 from ._misfit import REF_MIN, misfit_test, theta_misfit
 from ._restitution_fit import EDGE
@@ -49,44 +58,18 @@ def views(sim, p: Problem, x, cases, st, full: bool) -> dict:
     return out
 
 
-#: The slice check of a log-fitted parameter (C_p, ζ): steps of at least this (log units).
-_SLICE = 0.01
-_SLICE_RATIO = 4.0  # measured / predicted cost rise beyond which the Jacobian is not trusted
-
-
 def roughness(p, x, f0, J, cov, pset) -> dict:
-    """Whether the linearisation holds along each log-fitted parameter (C_p, ζ).
-
-    The cost is evaluated at x ± h along the parameter alone (h = max(3 σ, 1 %)) and
-    compared with the rise the Jacobian predicts, ‖J_j h‖². Where the Dirac-delta force
-    switching or a full-contact transition comes and goes, the cost is rough: on S2
-    (seed 1, 9 half-cycles) C_p's local std was 0.08 kg m/rad/s while the cost rose by
-    1.6e5 at +1 % and by only 282 at −1 % (4.1e6 predicted), and the truth was 1.7 %
-    away. There the std is at least h (the value is known no better than the probe's
-    distance) or the secant's over ±h, and the parameter is flagged.
-    """
+    """`slice_probe` along each log-fitted parameter (C_p, ζ), h = max(3 σ, `SLICE`):
+    on S2 (seed 1, 9 half-cycles) C_p's local std was 0.08 kg m/rad/s while the cost
+    rose by 1.6e5 at +1 % and by only 282 at −1 % (4.1e6 predicted), and the truth was
+    1.7 % away."""
     out = {}
-    cost0 = float(f0 @ f0)
     for name in pset.fit:
         if not PARAMETERS[name].log or name not in p.index:
             continue
         j = p.index[name]
-        h = max(3.0 * math.sqrt(max(cov[j, j], 0.0)), _SLICE)
-        predicted = float(np.sum((J[:, j] * h) ** 2))
-        rises, slopes = [], []
-        for sign in (1.0, -1.0):
-            y = x.copy()
-            y[j] += sign * h
-            f = p.residuals(y)
-            rises.append(float(f @ f) - cost0)
-            slopes.append((f - f0) / (sign * h))
-        ratio = [r / predicted if predicted > 0 else math.inf for r in rises]
-        trusted = all(1.0 / _SLICE_RATIO <= q <= _SLICE_RATIO for q in ratio)
-        secant = 0.5 * (slopes[0] + slopes[1])
-        out[name] = {
-            "step": h, "rise": rises, "predicted": predicted, "trusted": trusted,
-            "secant_norm": float(np.linalg.norm(secant)), "jacobian_norm": float(np.linalg.norm(J[:, j])),
-        }  # fmt: skip
+        h = max(3.0 * math.sqrt(max(cov[j, j], 0.0)), SLICE)
+        out[name] = slice_probe(p.residuals, x, f0, J, j, h)
     return out
 
 
@@ -151,8 +134,7 @@ def _parameters(pset, p2, x, cov, rough, tested=None) -> tuple[dict, dict]:
     for i, name in enumerate(pset.fit):  # a rough cost: at least the probe's distance
         r = rough.get(name)
         if r and not r["trusted"]:
-            secant = std[i] * r["jacobian_norm"] / max(r["secant_norm"], 1e-300)
-            std[i] = max(std[i], secant, r["step"])
+            std[i] = rough_std(std[i], r)
     for i, name in enumerate(pset.fit):  # C_p, ζ: the model's error, beyond the noise's
         if PARAMETERS[name].log and math.isfinite(std[i]):
             std[i] = math.hypot(std[i], MODEL_REL_FLOOR)
@@ -162,11 +144,7 @@ def _parameters(pset, p2, x, cov, rough, tested=None) -> tuple[dict, dict]:
     for name, r in rough.items():
         if not r["trusted"]:
             f = flagged[name]
-            why = (
-                f"the cost is rough along it (rise {r['rise'][0]:.3g} / {r['rise'][1]:.3g} at "
-                f"±{100 * r['step']:.2g} % where the Jacobian predicts {r['predicted']:.3g}): "
-                "the value is one of nearby minima, its std at least the probe's distance"
-            )
+            why = rough_reason(r)
             f["constrained"] = False
             f["reason"] = "; ".join(x for x in (f["reason"], why) if x)
     _not_reproduced(flagged, tested or {})

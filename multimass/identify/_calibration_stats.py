@@ -18,7 +18,9 @@ import numpy as np
 
 from ._calibration_params import PARAMETERS
 
-__all__ = ["covariance", "lag1", "flags", "status_of", "STATUSES", "LIMITS", "MODEL_REL_FLOOR"]
+__all__ = ["covariance", "lag1", "flags", "status_of", "slice_probe", "rough_std", "rough_reason",
+           "STATUSES", "LIMITS",
+           "MODEL_REL_FLOOR", "SLICE", "SLICE_RATIO"]  # fmt: skip
 
 #: Statuses of a calibration and what they mean.
 STATUSES = {
@@ -62,6 +64,60 @@ LIMITS = {"r_std": 0.02, "rel_std": 0.25, "correlation": 0.98, "rho_misfit": 0.5
 #: linearised covariance says; a probe of the cost at ± 3 std along ζ's profile
 #: direction (the others at their conditional best) did not find it flatter there.
 MODEL_REL_FLOOR = 0.015
+
+
+#: The slice check of a fitted parameter (`slice_probe`): steps of at least this
+#: (log units for C_p and ζ; relative to its value for a release angle).
+SLICE = 0.01
+#: Measured / predicted cost rise beyond which (either way) the Jacobian is not trusted.
+SLICE_RATIO = 4.0
+
+
+def slice_probe(residuals, x: np.ndarray, f0: np.ndarray, J: np.ndarray, j: int, h: float) -> dict:
+    """Whether the linearisation holds along unknown `j` of a least-squares fit at `x`.
+
+    The cost is evaluated at x ± `h` along the unknown alone and compared with the rise
+    the Jacobian `J` predicts, ‖J_j h‖² (`residuals`: x → the residual vector, `f0` at
+    `x`). Where the Dirac-delta force switching or a full-contact transition comes and
+    goes, or the run's later impacts move with it, the cost is rough: the measured rise
+    differs from the predicted one by more than `SLICE_RATIO` either way, and the value is
+    one of nearby minima. Returns ``step``, ``rise`` (at +h, −h), ``predicted``,
+    ``trusted``, and the norms of the secant over ±h and of J's column (a rough
+    parameter's std is at least h, or the secant's).
+    """
+    cost0 = float(f0 @ f0)
+    predicted = float(np.sum((J[:, j] * h) ** 2))
+    rises, slopes = [], []
+    for sign in (1.0, -1.0):
+        y = x.copy()
+        y[j] += sign * h
+        f = residuals(y)
+        rises.append(float(f @ f) - cost0)
+        slopes.append((f - f0) / (sign * h))
+    ratio = [r / predicted if predicted > 0 else math.inf for r in rises]
+    secant = 0.5 * (slopes[0] + slopes[1])
+    return {
+        "step": h, "rise": rises, "predicted": predicted,
+        "trusted": all(1.0 / SLICE_RATIO <= q <= SLICE_RATIO for q in ratio),
+        "secant_norm": float(np.linalg.norm(secant)), "jacobian_norm": float(np.linalg.norm(J[:, j])),
+    }  # fmt: skip
+
+
+def rough_std(std: float, probe: dict) -> float:
+    """A rough parameter's std (`slice_probe` not ``trusted``): at least the probe's
+    step, and the std the secant over ±step gives in place of the Jacobian's column."""
+    secant = std * probe["jacobian_norm"] / max(probe["secant_norm"], 1e-300)
+    return max(std, secant, probe["step"])
+
+
+def rough_reason(probe: dict, unit: str = " %") -> str:
+    """Why a rough parameter (`slice_probe` not ``trusted``) is not fixed by the fit."""
+    step = f"{100 * probe['step']:.2g} %" if unit == " %" else f"{probe['step']:.3g}{unit}"
+    return (
+        f"the cost is rough along it (rise {probe['rise'][0]:.3g} / {probe['rise'][1]:.3g} "
+        f"at ±{step} where the Jacobian predicts {probe['predicted']:.3g}): the value is "
+        "one of nearby minima, its std at least the probe's distance"
+    )
 
 
 def lag1(e: np.ndarray) -> float:

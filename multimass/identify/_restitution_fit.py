@@ -24,7 +24,7 @@ from ._calibration_fit import _T_MARGIN, Problem, Unknown, solve
 from ._calibration_model import Simulator, TrialRejected
 from ._calibration_params import PARAMETERS, parameter_set
 from ._calibration_setup import Case, cases
-from ._calibration_stats import LIMITS, MODEL_REL_FLOOR, covariance
+from ._calibration_stats import LIMITS, MODEL_REL_FLOOR, SLICE, covariance, slice_probe
 from ._misfit import MISFIT_P, NOISE_TOL, REF_MIN, THETA_MODEL_FLOOR, misfit_test, theta_misfit
 
 __all__ = [
@@ -147,6 +147,9 @@ class Track:
     #: After `fit_impacts`: `misfit_test` over the whole span fitted: (the worst
     #: channel's mean square over its limit, that channel)
     misfit: tuple = (math.nan, "")
+    #: After `fit_impacts`: the model parameters estimated and θ0 → the slice check of the
+    #: last fit's linearisation along it (`_calibration_stats.slice_probe`)
+    rough: dict = field(default_factory=dict)
 
     @property
     def t(self) -> np.ndarray:
@@ -620,6 +623,21 @@ def consider_covariance(cov: np.ndarray, considered, floor: float = MODEL_REL_FL
     return out
 
 
+def _roughness(p: _Window, sol, sd: np.ndarray) -> dict:
+    """`slice_probe` of the whole-span fit along each model parameter (log units, h =
+    max(3 σ, `SLICE`)) and θ0 (h = max(3 σ, `SLICE` × θ0)), as `calibrate` probes its
+    C_p and ζ. On S2 (coverage draw 35 of seed 0, 145 Hz, 3.8 % noise) θ0's std was
+    1e-6 rad while the cost rose 47 times the predicted amount at −6e-6 rad and 1/53 of
+    it at ±6e-4 rad, and the truth was 3e-5 rad away: a neighbouring minimum."""
+    out = {}
+    for j, un in enumerate(p.unknowns):
+        if not (un.kind == "model" or un.label == "theta0") or not math.isfinite(sd[j]):
+            continue
+        rel = SLICE * (abs(float(sol.x[j])) if un.label == "theta0" else 1.0)
+        out[un.label] = slice_probe(p.residuals, sol.x, sol.fun, sol.jac, j, max(3.0 * sd[j], rel))
+    return out
+
+
 def fit_impacts(track: Track, n_fit: int, bar, warnings: list) -> dict:
     """Fit the first `n_fit` impacts of the trace, impact by impact, then all at once.
 
@@ -685,6 +703,7 @@ def fit_impacts(track: Track, n_fit: int, bar, warnings: list) -> dict:
     track.consider = {
         (a, b): float(con[i, j]) for i, a in enumerate(labels) for j, b in enumerate(labels)
     }
+    track.rough = _roughness(p, sol, sd)
     with np.errstate(invalid="ignore", divide="ignore"):
         corr = cov / np.outer(sd, sd)
     track.correlation = {

@@ -11,10 +11,17 @@ import pandas as pd
 import pytest
 from scipy import stats
 
-from multimass import FreeRelease
+import multimass
+from multimass import FreeRelease, modal
 from multimass.identify import _parameter_status as ps
 from multimass.identify import synthetic_trace
-from multimass.identify._calibration_stats import MODEL_REL_FLOOR
+from multimass.identify._calibration_stats import (
+    MODEL_REL_FLOOR,
+    SLICE_RATIO,
+    rough_reason,
+    rough_std,
+    slice_probe,
+)
 from multimass.identify._restitution_fit import (
     MISFIT_P,
     NOISE_TOL,
@@ -23,6 +30,7 @@ from multimass.identify._restitution_fit import (
     theta_misfit,
 )
 from multimass.identify._restitution_report import (
+    _damping_shown,
     _entry,
     _explored,
     _misfit,
@@ -346,3 +354,57 @@ def test_each_r_std_carries_the_model_parameters_error_floor(monkeypatch):
         assert f.r_std == pytest.approx(math.hypot(math.sqrt(want[i, i]), floor), rel=1e-9)
         grew += want[i, i] > 1.01 * cov[i, i]
     assert grew >= 1
+
+
+def test_slice_probe_trusts_a_quadratic_cost_and_not_a_neighbouring_minimum():
+    # linear residuals f = A x − y: the cost rises by exactly ‖A_j h‖² (closed form)
+    A = np.array([[1.0, 0.2], [0.3, 2.0], [0.5, -1.0]])
+    x, y = np.array([0.4, -0.1]), np.array([0.1, 0.2, 0.3])
+    f = lambda z: A @ z - y  # noqa: E731
+    xs = np.linalg.lstsq(A, y, rcond=None)[0]
+    probe = slice_probe(f, xs, f(xs), A, 1, 0.05)
+    assert probe["trusted"] and probe["predicted"] == pytest.approx(np.sum((A[:, 1] * 0.05) ** 2))
+    assert probe["rise"] == pytest.approx([probe["predicted"]] * 2, rel=1e-9)
+    assert rough_std(1e-3, probe) >= 1e-3
+    # a cost with a second, deeper-than-linear valley 2 steps away (cos wiggle): the
+    # local Jacobian sees the narrow well only; the rise at ±h is far below its prediction
+    g = lambda z: np.array([np.sin(50.0 * (z[0] - x[0])), 0.01 * (z[1] - x[1])])  # noqa: E731
+    J = np.array([[50.0, 0.0], [0.0, 0.01]])
+    probe = slice_probe(g, x, g(x), J, 0, 2 * np.pi / 50)
+    assert not probe["trusted"] and max(probe["rise"]) < probe["predicted"] / SLICE_RATIO
+    assert rough_std(1e-4, probe) >= 2 * np.pi / 50  # known no better than the probe's step
+    assert "rough" in rough_reason(probe, " rad") and "rad" in rough_reason(probe, " rad")
+
+
+def test_a_rough_theta0_is_ill_posed_with_the_probe_distance_as_its_std():
+    track = SimpleNamespace(covariance={("theta0", "theta0"): 1e-12}, estimate=(),
+                            nuis={"theta0": 0.0593}, std={"theta0": 1e-6},
+                            rough={"theta0": {"step": 5.9e-4, "rise": [3.2e5, 1.7e5],
+                                              "predicted": 1.7e7, "trusted": False,
+                                              "secant_norm": 1.0, "jacobian_norm": 1.0}})  # fmt: skip
+    entry = _entry(track, "theta0", False, None, {}, "θ0")
+    assert entry["status"] == ps.ILL_POSED and "rough" in entry["reason"]
+    assert entry["std"] == pytest.approx(5.9e-4)
+    track.rough["theta0"]["trusted"] = True  # a smooth cost: the covariance's std
+    entry = _entry(track, "theta0", False, None, {}, "θ0")
+    assert entry["status"] == ps.ESTIMATED and entry["std"] == pytest.approx(1e-6)
+
+
+@pytest.mark.parametrize("fs, zeta2_status", [(120.0, ps.ILL_POSED), (300.0, ps.ESTIMATED)])
+def test_zeta2_needs_the_trace_to_show_mode_2(fs, zeta2_status):
+    # S2's full-contact modes are at 5.2 and 97.9 Hz, its uplifted ones at 20.5 and
+    # 100.1 Hz (paper 001, Table 2's S2; `modal.analyse`): at 120 Hz the anti-alias
+    # passband (0.4 fs = 48 Hz) keeps modes 1 only, at 300 Hz (120 Hz) both
+    st = multimass.column("S2")
+    model = modal.analyse(st)
+    assert max(model.full_contact.freq_hz[1], model.rocking.freq_hz[1]) < 0.4 * 300.0
+    assert min(model.full_contact.freq_hz[1], model.rocking.freq_hz[1]) > 0.4 * 120.0
+    case = SimpleNamespace(free=True, fs=fs, segments=SimpleNamespace(full_contact=((0, 9),)),
+                           trace=SimpleNamespace(source="trace.csv"))  # fmt: skip
+    track = SimpleNamespace(case=case, sim=SimpleNamespace(st=st))
+    out = {n: ps.estimated(0.01, 0.05, log=True) for n in ("zeta1", "zeta2")}
+    _damping_shown(track, out)
+    assert out["zeta1"]["status"] == ps.ESTIMATED
+    assert out["zeta2"]["status"] == zeta2_status
+    if zeta2_status == ps.ILL_POSED:
+        assert "mode 2" in out["zeta2"]["reason"] and "does not show" in out["zeta2"]["reason"]
