@@ -12,6 +12,7 @@ import pandas as pd
 from . import _parameter_status as ps
 from ._calibration_fit import Problem
 from ._calibration_params import PARAMETERS
+from ._calibration_setup import unseen_damping
 from ._calibration_stats import (
     MODEL_REL_FLOOR,
     SLICE,
@@ -128,7 +129,7 @@ def _not_reproduced(flagged: dict, tested: dict) -> None:
         f["reason"] = "; ".join(x for x in (f["reason"], why) if x)
 
 
-def _parameters(pset, p2, x, cov, rough, tested=None) -> tuple[dict, dict]:
+def _parameters(pset, p2, x, cov, rough, tested=None, unseen=None) -> tuple[dict, dict]:
     n = len(pset.fit)
     std = np.sqrt(np.clip(np.diag(cov)[:n], 0.0, np.inf))
     for i, name in enumerate(pset.fit):  # a rough cost: at least the probe's distance
@@ -147,6 +148,10 @@ def _parameters(pset, p2, x, cov, rough, tested=None) -> tuple[dict, dict]:
             why = rough_reason(r)
             f["constrained"] = False
             f["reason"] = "; ".join(x for x in (f["reason"], why) if x)
+    for name, why in (unseen or {}).items():  # a damping ratio whose mode is not shown
+        if name in flagged:
+            flagged[name]["constrained"] = False
+            flagged[name]["reason"] = "; ".join(x for x in (flagged[name]["reason"], why) if x)
     _not_reproduced(flagged, tested or {})
     out = {}
     for i, name in enumerate(pset.fit):
@@ -241,7 +246,7 @@ def assemble(st, impact, pset, cs, before, stages, sim, wall) -> dict:
     cov, info = covariance(J, blocks, scales)
     rough = roughness(p2, x, f0, J0, cov, pset)
     tested = misfit(p2, x)
-    params, flagged = _parameters(pset, p2, x, cov, rough, tested)
+    params, flagged = _parameters(pset, p2, x, cov, rough, tested, unseen_damping(cs, st))
     rho = {key: i["rho1"] for key, i in info.items() if key[1] != "prior"}
     status, message = status_of(s2.ok, flagged, rho)
     fit_views = views(sim, p2, x, cs, st, full=False)

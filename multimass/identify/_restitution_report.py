@@ -16,7 +16,7 @@ from scipy import stats
 from . import _parameter_status as ps
 from ._calibration_fit import _T_MARGIN
 from ._calibration_params import PARAMETERS
-from ._calibration_setup import modes_shown
+from ._calibration_setup import unseen_damping
 from ._calibration_stats import LIMITS, MODEL_REL_FLOOR, rough_reason, rough_std
 from ._restitution_fit import MODEL_PARAMETERS, Track, consider_covariance
 
@@ -78,29 +78,13 @@ def parameter_report(track: Track, given: dict, fitted: dict, spec) -> dict:
 
 
 def _damping_shown(track: Track, out: dict) -> None:
-    """Each damping ratio ζ_j estimated is ill-posed unless the trace shows mode j
-    (`modes_shown`: below the anti-alias passband; the full-contact mode j, Rayleigh's
-    anchor of ζ_j, or the uplifted mode j, the same elastic mode with the base pinned at
-    a corner; the full-contact ones only where the trace rests). Without it ζ_j comes
-    from the Rayleigh form's extrapolation of the lower modes' decay, which the model's
-    error decides, not the trace: S2 at 116–126 Hz shows 5.2 and 20.5 Hz, ζ2 is set at
-    98 Hz, and came out 67 %, 72 % and 13 times off with stds of 10, 18 and 2 %
-    (coverage draws 12, 36 and 27 of seed 0); at 200 Hz with its 20.5 Hz mode alone, ζ2
-    was 0.096 ± 0.004 for 0.0225 while every r was within 7e-4."""
-    shown, hidden = modes_shown([track.case], track.sim.st)
-    seen = ", ".join(f"{name} ({f:.4g} Hz)" for f, name in sorted(shown)) or "none"
-    for j, n in ((1, "zeta1"), (2, "zeta2")):
-        if out[n]["status"] not in (ps.ESTIMATED, ps.ILL_POSED):
-            continue
-        if any(name.endswith(f" mode {j}") for _, name in shown):
-            continue
-        mine = sorted((k, w) for k, w in hidden.items() if k[1].endswith(f" mode {j}"))
-        why = f"; {mine[0][0][1]} ({mine[0][0][0]:.4g} Hz): {mine[0][1]}" if mine else ""
-        out[n]["status"] = ps.ILL_POSED
-        reason = (
-            f"ζ{j} is the damping of mode {j}, which the trace does not show (it shows {seen}{why})"
-        )
-        out[n]["reason"] = "; ".join(x for x in (out[n].get("reason"), reason) if x)
+    """Each damping ratio estimated is ill-posed where the trace does not show its mode
+    (`unseen_damping`; at 200 Hz with S2's 20.5 Hz mode alone, ζ2 was 0.096 ± 0.004 for
+    0.0225 while every r was within 7e-4)."""
+    for n, reason in unseen_damping([track.case], track.sim.st).items():
+        if out[n]["status"] in (ps.ESTIMATED, ps.ILL_POSED):
+            out[n]["status"] = ps.ILL_POSED
+            out[n]["reason"] = "; ".join(x for x in (out[n].get("reason"), reason) if x)
 
 
 def _misfit(track: Track, out: dict) -> None:

@@ -407,4 +407,4 @@ def test_zeta2_needs_the_trace_to_show_mode_2(fs, zeta2_status):
     assert out["zeta1"]["status"] == ps.ESTIMATED
     assert out["zeta2"]["status"] == zeta2_status
     if zeta2_status == ps.ILL_POSED:
-        assert "mode 2" in out["zeta2"]["reason"] and "does not show" in out["zeta2"]["reason"]
+        assert "mode 2" in out["zeta2"]["reason"] and "do not show" in out["zeta2"]["reason"]
