@@ -61,6 +61,14 @@ def _fmt(x, q: str | None = None, kind: str = "err") -> str:
     return f"{x:.2g}" if abs(x) < 1e-3 else f"{x:.4f}"
 
 
+def _band(r) -> str:
+    """A coverage's Clopper–Pearson interval, " [lo–hi %]" (empty without one)."""
+    lo, hi = r.get("coverage_lo", math.nan), r.get("coverage_hi", math.nan)
+    if lo is None or hi is None or math.isnan(lo) or math.isnan(hi):
+        return ""
+    return f" [{100 * lo:.0f}–{100 * hi:.0f} %]"
+
+
 def markdown(summary: pd.DataFrame, meta: pd.DataFrame, facts: dict) -> str:
     """The Markdown page body: one table per estimator, then the cases' facts."""
     lines = []
@@ -73,6 +81,7 @@ def markdown(summary: pd.DataFrame, meta: pd.DataFrame, facts: dict) -> str:
             "",
             "| specimen | quantity | n | median \\|err\\| | 95th pct | max | within "
             "threshold | n estimated, with a 95 % interval | coverage of the 95 % interval "
+            "[its 95 % binomial interval] "
             "| coverage (nominal truth) | ill-posed | ill-posed: truth within the explored "
             "range |",
             "|---|---|---|---|---|---|---|---|---|---|---|---|",
@@ -87,7 +96,7 @@ def markdown(summary: pd.DataFrame, meta: pd.DataFrame, facts: dict) -> str:
                 f"| {r['specimen']} | {qd.label if qd else q} | {r['n']} | {_fmt(r['median'], q)} "
                 f"| {_fmt(r['p95'], q)} | {_fmt(r['max'], q)} | {_fmt(r['within'], kind='share')}"
                 f"{thr if not math.isnan(r['within']) else ''} | {r['n_interval']} "
-                f"| {_fmt(r['coverage'], kind='share')} "
+                f"| {_fmt(r['coverage'], kind='share')}{_band(r)} "
                 f"| {_fmt(r['coverage_nominal'], kind='share')} | {r.get('n_ill_posed', 0)} "
                 f"| {_fmt(r.get('coverage_ill_posed', math.nan), kind='share')} |"
             )

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-__all__ = ["Quantity", "QUANTITIES", "Z95", "add_errors", "summarise"]
+__all__ = ["Quantity", "QUANTITIES", "Z95", "add_errors", "summarise", "coverage_interval"]
 
 Z95 = 1.959963984540054  # the standard normal's 97.5 % quantile
 
@@ -94,11 +94,27 @@ def _covered(lo: pd.Series, hi: pd.Series, truth: pd.Series) -> np.ndarray:
     return np.where(known, ((lo <= t) & (t <= hi)).astype(float), np.nan)
 
 
+def coverage_interval(k: int, n: int, level: float = 0.95) -> tuple[float, float]:
+    """The Clopper–Pearson (exact binomial) interval of a coverage from `k` intervals
+    holding the truth out of `n` (Clopper & Pearson 1934, Biometrika 26: the β quantiles
+    β(α/2; k, n − k + 1) … β(1 − α/2; k + 1, n − k)); (nan, nan) for n = 0. A finite
+    benchmark measures the coverage only to this: 36 of 40 (90 %) is 76–97 %."""
+    from scipy import stats  # here: the rest of the module needs no SciPy
+
+    if n <= 0:
+        return float("nan"), float("nan")
+    a = 1.0 - level
+    lo = float(stats.beta.ppf(a / 2, k, n - k + 1)) if k > 0 else 0.0
+    hi = float(stats.beta.ppf(1 - a / 2, k + 1, n - k)) if k < n else 1.0
+    return lo, hi
+
+
 def summarise(df: pd.DataFrame, by_specimen: bool = True) -> pd.DataFrame:
     """Per estimator, specimen (and "all") and quantity: ``n`` (estimates with a truth),
     ``median``, ``p95``, ``max`` of ``|err|``, ``within`` (share within the threshold; NaN
     without one), ``n_interval`` (estimates with an interval), ``coverage`` (share of
-    those whose interval holds the truth), ``coverage_nominal``, ``n_ill_posed``
+    those whose interval holds the truth), ``coverage_lo`` and ``coverage_hi`` (its 95 %
+    Clopper–Pearson interval, `coverage_interval`), ``coverage_nominal``, ``n_ill_posed``
     (estimates whose result says the traces do not fix them: status "ill-posed") and
     ``coverage_ill_posed`` (the share of those whose reported range, the range the fit
     explored, holds the truth). ``n_interval``, ``coverage`` and ``coverage_nominal``
@@ -120,6 +136,7 @@ def summarise(df: pd.DataFrame, by_specimen: bool = True) -> pd.DataFrame:
         cov = g.loc[~ill, "covered"].dropna()
         nom = g.loc[~ill, "covered_nominal"].dropna()
         bad = g.loc[ill, "covered"].dropna()
+        lo, hi = coverage_interval(int(cov.sum()), int(cov.size))
         rows.append(
             {
                 "estimator": est,
@@ -132,6 +149,8 @@ def summarise(df: pd.DataFrame, by_specimen: bool = True) -> pd.DataFrame:
                 "within": float(g["within"].mean()) if g["within"].notna().any() else np.nan,
                 "n_interval": int(cov.size),
                 "coverage": float(cov.mean()) if cov.size else np.nan,
+                "coverage_lo": lo,
+                "coverage_hi": hi,
                 "coverage_nominal": float(nom.mean()) if nom.size else np.nan,
                 "n_ill_posed": int(ill.sum()),
                 "coverage_ill_posed": float(bad.mean()) if bad.size else np.nan,

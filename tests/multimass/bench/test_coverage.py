@@ -174,7 +174,7 @@ def test_the_report_writes_its_tables_and_figures(tmp_path):
     assert len(res["charts"]) == 3
     assert res["facts"]["cases"] == 2 and res["facts"]["cases whose generation or run failed"] == 1
     text = (tmp_path / "coverage.md").read_text()
-    assert "| all | per-impact r | 4 |" in text and "| 67 % |" in text
+    assert "| all | per-impact r | 4 |" in text and "| 67 % [9–99 %] |" in text  # 2 of 3
     # the same rows again: their run claims every parameter estimated
     assert text.split("## Only the runs")[1].count("| all | per-impact r | 4 |") == 1
 
@@ -237,3 +237,26 @@ def test_parameters_the_estimate_reports_are_compared_with_their_truth():
     rows = pd.DataFrame(restitution_rows(est, truth)).set_index("quantity")
     assert (rows.loc["r_mean_left", "lo"], rows.loc["r_mean_left", "hi"]) == (0.835, 0.875)
     assert math.isnan(rows.loc["r_mean_right", "std"])
+
+
+@pytest.mark.parametrize("k, n", [(34, 38), (19, 22), (14, 17), (0, 5), (5, 5), (95, 100)])
+def test_coverage_interval_is_the_exact_binomial_one(k, n):
+    from scipy import stats
+
+    from multimass.bench.coverage_stats import coverage_interval
+
+    lo, hi = coverage_interval(k, n)
+    # the defining tail probabilities (Clopper & Pearson 1934): at p = lo, P(X ≥ k) = 2.5 %;
+    # at p = hi, P(X ≤ k) = 2.5 % (scipy's binomial, not the β quantiles used)
+    if k > 0:
+        assert stats.binom.sf(k - 1, n, lo) == pytest.approx(0.025, rel=1e-6)
+    else:
+        assert lo == 0.0
+    if k < n:
+        assert stats.binom.cdf(k, n, hi) == pytest.approx(0.025, rel=1e-6)
+    else:
+        assert hi == 1.0
+    # statsmodels' "beta" interval, an implementation not written here
+    from statsmodels.stats.proportion import proportion_confint
+
+    assert (lo, hi) == pytest.approx(proportion_confint(k, n, 0.05, "beta"), abs=1e-12)
