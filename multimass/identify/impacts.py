@@ -118,15 +118,17 @@ the fragment's comments): each of C_p, ζ1, ζ2 is *given* (by the user: ``C_p=`
 ``zeta1=``, ``zeta2=``; ``--cp``, ``--zeta1``, ``--zeta2``), *estimated* (value, std,
 95 % interval; C_p's and ζ's std with `_calibration_stats.MODEL_REL_FLOOR`, 1.5 %, for
 the model's error, measured) or *ill-posed* (std beyond 25 %, correlated beyond 0.98
-with a named unknown, or a damping ratio beyond the modes the trace shows below its
-anti-alias passband: S2 at 200 Hz shows its 20.5 Hz mode alone: then no std and no
-95 % interval, but the range its fit was allowed to explore, ``interval_kind``
+with a named unknown, a direction along which the cost is rough — `slice_probe`'s
+rise at ± max(3 std, 1 %) off the Jacobian's by more than 4× either way, one of nearby
+minima — or a damping ratio ζ_j whose mode j the trace does not show below its
+anti-alias passband, `_calibration_setup.unseen_damping`: S2 at 200 Hz shows its 20.5 Hz
+mode alone: then no std and no 95 % interval, but the range its fit was allowed to explore, ``interval_kind``
 "explored range", its value the best fit, not an estimate); θ0, the clock offset,
 the θ bias and each accelerometer's bias are estimated (θ0's, the clock's and the θ
 bias's std with the model parameters' floor carried through the joint covariance:
-`_restitution_report.consider_std`); the column's geometry, masses
-and stiffnesses are *fixed by the specimen file*. The status is ``ill-posed`` naming
-what the trace does not fix, else ``estimated``. The written specimen takes the
+`_restitution_report.consider_std`; θ0 ill-posed where the cost is rough along it);
+the column's geometry, masses and stiffnesses are *fixed by the specimen file*. The
+status is ``ill-posed`` naming what the trace does not fix, else ``estimated``. The written specimen takes the
 estimated damping (its ``[damping]``), and names C_p in its comment (a specimen file
 holds no C_p).
 
