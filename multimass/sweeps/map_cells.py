@@ -80,8 +80,8 @@ def pulse_label(pulse) -> str:
 
 #: A map of fewer cells runs one `map_cell` per cell unless the batch kernels are ready:
 #: their one-off compile costs more than the batch saves on so few cells (2-core machine,
-#: load 3: compile 47 s, per-cell path ~1.0 ms per cell, batched ~0.07 ms; idle: ~35 s,
-#: 0.49 and 0.11 ms; break-even 50 000-90 000 cells; docs/guide/speed.md).
+#: load 3: compile 47 s, per-cell path ~1.0 ms per cell, batched ~0.07 ms; quiet: 0.49 and
+#: 0.11 ms, a compile of 25-35 s; break-even 50 000-90 000 cells; docs/guide/speed.md).
 BATCH_COMPILE_CELLS = 50_000
 #: Cells per chunk of a batched map (one compiled call each; ~5-20 ms of work).
 CHUNK_CELLS = 64
