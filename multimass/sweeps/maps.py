@@ -67,8 +67,8 @@ _CODE = {name: i for i, name in enumerate(OUTCOMES)}
 
 #: Run supported maps in compiled chunks: None (default) when the batch kernels are ready
 #: or the map is large enough to pay for their compile (`map_cells.batch_runs`,
-#: `map_cells.BATCH_COMPILE_CELLS`); True always (compiling them if need be); False never: every cell
-#: as one `map_cell` job, the reference the batched path is compared with
+#: `map_cells.BATCH_COMPILE_CELLS`); True always (compiling them if need be); False never:
+#: every cell as one `map_cell` job, the reference the batched path is compared with
 #: (tests/multimass/sweeps/test_batched_maps.py, benchmarks/batched_maps.py).
 BATCHED: bool | None = None
 
