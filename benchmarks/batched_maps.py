@@ -107,7 +107,7 @@ def batched_vs_per_cell(n: int = 100, repeats: int = 3, progress=None) -> dict:
     omega_p, amp = map_axes(n)
 
     def run_map(batched: bool, ex):
-        maps.BATCHED = batched
+        saved, maps.BATCHED = maps.BATCHED, batched  # True: batched at any size
         try:
             t0 = time.perf_counter()
             m = maps.overturning_map(
@@ -116,7 +116,7 @@ def batched_vs_per_cell(n: int = 100, repeats: int = 3, progress=None) -> dict:
             )  # fmt: skip
             return time.perf_counter() - t0, m
         finally:
-            maps.BATCHED = True
+            maps.BATCHED = saved
 
     pools = {w: ProcessExecutor(workers=w) for w in (1, 2)}
     times = {(p, w): [] for p in ("per_cell", "batched") for w in (1, 2)}

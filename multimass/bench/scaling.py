@@ -108,8 +108,14 @@ def _has_adaptive() -> bool:
 
 
 def _map(side: int, executor, **kw):
+    """The B6M sine map of `side` × `side` cells, batched whatever its size: the batch
+    kernels compiled or loaded first (a small map would otherwise run per cell until they
+    are in numba's cache, `multimass.sweeps.map_cells.BATCH_COMPILE_CELLS`)."""
     import multimass
+    from multimass.engines.fast.block_runs import ensure_ready
     from multimass.sweeps.maps import overturning_map
+
+    ensure_ready()  # once per process
 
     omega_p, amp = map_axes(side)
     return overturning_map(

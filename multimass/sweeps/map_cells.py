@@ -4,7 +4,8 @@
 while undecided — and classifies its outcome. `simulate_cells` runs a list of cells
 on an executor: in compiled chunks (`multimass.engines.fast.block_runs`, one call per chunk
 of cells, no Python per cell) when `batch_runs` says the batch reproduces these cells
-exactly, else as one `map_cell` job per cell.
+exactly (and, for a small map, that its kernels need no compile), else as one `map_cell`
+job per cell.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ __all__ = [
     "map_cell",
     "simulate_cells",
     "batch_runs",
+    "BATCH_COMPILE_CELLS",
     "OUTCOMES",
     "PULSES",
     "pulse_family",
@@ -76,6 +78,11 @@ def pulse_label(pulse) -> str:
     return str(pulse)
 
 
+#: A map of fewer cells runs one `map_cell` per cell unless the batch kernels are ready:
+#: their one-off compile costs more than the batch saves on so few cells (2-core machine,
+#: load 3: compile 47 s, per-cell path ~1.0 ms per cell, batched ~0.07 ms; quiet: 0.49 and
+#: 0.11 ms, a compile of 25-35 s; break-even 50 000-90 000 cells; docs/guide/speed.md).
+BATCH_COMPILE_CELLS = 50_000
 #: Cells per chunk of a batched map (one compiled call each; ~5-20 ms of work).
 CHUNK_CELLS = 64
 #: A batched map is cut into at least this many chunks per worker (small maps spread too).
@@ -190,13 +197,23 @@ def _map_chunk(chunk: _Chunk) -> list[tuple]:
     return out
 
 
-def batch_runs(st, options):
-    """The compiled batch for this map's cells (`BlockRuns`), or None to run them per cell."""
+def batch_runs(st, options, cells: int | None = None):
+    """The compiled batch for this map's cells (`BlockRuns`), or None to run them per cell.
+
+    With `cells`, the cells the map expects to run: None as well when the batch kernels
+    are not ready (`block_runs.batch_ready`: neither loaded nor in numba's disk cache) and
+    the map has fewer than `BATCH_COMPILE_CELLS` cells, too few for their compile to pay
+    off; the per-cell path gives the same results. Without `cells`: the batch whenever it
+    reproduces the cells.
+    """
     if options.get("backend") != "compiled":
         return None
-    from multimass.engines.fast.block_runs import BlockRuns
+    from multimass.engines.fast import block_runs
 
-    return BlockRuns.of(st, options, QUIET_DELAY, UNDECIDED_RETRY)
+    runs = block_runs.BlockRuns.of(st, options, QUIET_DELAY, UNDECIDED_RETRY)
+    if runs is None or cells is None or cells >= BATCH_COMPILE_CELLS:
+        return runs
+    return runs if block_runs.batch_ready() else None
 
 
 def chunk_count(n: int, workers: int) -> int:

@@ -9,7 +9,9 @@ above the first overturning amplitude (the boundary is not monotone).
 On the compiled path, with classical impacts and a restitution fixed per corner
 (η_M, η_H, a value), the cells run in batches: each worker task runs a chunk of
 cells in one compiled call (`multimass.engines.fast.block_runs`), with the same results
-as one `map_cell` per cell, bit for bit. Other cases run one `map_cell` per cell.
+as one `map_cell` per cell, bit for bit — once those batch kernels are compiled, or when
+the map is large enough to pay for compiling them (`map_cells.BATCH_COMPILE_CELLS`
+cells; `BATCHED`). Other cases run one `map_cell` per cell.
 """
 
 from __future__ import annotations
@@ -63,10 +65,12 @@ __all__ = [
 
 _CODE = {name: i for i, name in enumerate(OUTCOMES)}
 
-#: Run supported maps in compiled chunks; False runs every cell as one `map_cell` job, the
-#: reference the batched path is compared with (tests/multimass/sweeps/test_batched_maps.py,
-#: benchmarks/batched_maps.py).
-BATCHED = True
+#: Run supported maps in compiled chunks: None (default) when the batch kernels are ready
+#: or the map is large enough to pay for their compile (`map_cells.batch_runs`,
+#: `map_cells.BATCH_COMPILE_CELLS`); True always (compiling them if need be); False never:
+#: every cell as one `map_cell` job, the reference the batched path is compared with
+#: (tests/multimass/sweeps/test_batched_maps.py, benchmarks/batched_maps.py).
+BATCHED: bool | None = None
 
 
 @contextmanager
@@ -382,7 +386,10 @@ def overturning_map(
         ``backend="compiled"`` (the fast path) unless given. On the compiled path,
         with classical impacts and a restitution fixed per corner, the cells run in
         compiled chunks (`multimass.engines.fast.block_runs`) with the same results as one
-        `map_cell` each.
+        `map_cell` each — if those batch kernels are compiled already (in numba's disk
+        cache: ``multimass warm-up`` compiles them) or the map has at least
+        `map_cells.BATCH_COMPILE_CELLS` cells, enough to pay for their one-off compile
+        (~35 s); a smaller map on a machine without them runs one `map_cell` per cell.
 
     Returns
     -------
@@ -433,7 +440,8 @@ def overturning_map(
         "t_free": t_free,
         **{k_: v for k_, v in sim_options.items()},
     }
-    runs = batch_runs(st, options) if BATCHED else None
+    expected = omega_p.size * (amp.size + int(refine))  # the grid, a boundary per ω/p refined
+    runs = None if BATCHED is False else batch_runs(st, options, None if BATCHED else expected)
     compiled = options.get("backend") == "compiled"
     simulated = [0.0]  # seconds in the executor's runs
     batched = runs is not None

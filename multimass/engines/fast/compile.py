@@ -51,6 +51,7 @@ from __future__ import annotations
 import hashlib
 import importlib
 import os
+import pickle
 import sys
 import tempfile
 import time
@@ -67,6 +68,7 @@ __all__ = [
     "warm_up_columns",
     "warm_up_exponential",
     "compile_once",
+    "cached_on_disk",
     "watch_compiles",
     "CompileReport",
     "CacheChoice",
@@ -447,6 +449,36 @@ def compile_once(
     else:
         source = "disk cache" if hits() > hits_before else "in memory"
     return CompileReport(seconds, source, str(cache_dir), watch.compiled, what)
+
+
+def cached_on_disk(dispatcher, stamp_file: str | None = None, sources: Iterable[Path] = ()) -> bool:
+    """Whether numba would load `dispatcher` from its disk cache: compiles and loads nothing.
+
+    True when numba's index of the function holds machine code for its current source
+    file, its bytecode and this machine's CPU (the key numba looks up before compiling)
+    and, with a `stamp_file`, the group's fingerprint of `sources` in the cache folder is
+    current (else `compile_once` drops the cached code). False when any of these is
+    missing, and when numba's cache cannot be read this way (caching off, another numba
+    layout): the caller then counts on a compile.
+
+    Parameters
+    ----------
+    dispatcher : numba dispatcher
+        A ``cache=True`` function (numba keeps one index file per function).
+    stamp_file, sources :
+        As in `compile_once`.
+    """
+    try:
+        cache = dispatcher._cache  # numba's FunctionCache (a NullCache without cache=True)
+        if stamp_file is not None:
+            folder = Path(dispatcher.stats.cache_path)
+            if (folder / stamp_file).read_text() != _fingerprint(sources):
+                return False
+        index = cache._cache_file._load_index()  # {} if absent or of another source stamp
+        codegen = dispatcher.targetctx.codegen()
+        return any(cache._index_key(key[0], codegen) == key for key in index)
+    except (OSError, AttributeError, TypeError, ValueError, EOFError, pickle.UnpicklingError):
+        return False
 
 
 # ---------------------------------------------------------------------------- the fast kernels

@@ -135,6 +135,36 @@ def test_a_changed_source_drops_the_cache_and_recompiles(probe, capsys):
     assert "multimass: compiling the probe kernels" in capsys.readouterr().err
 
 
+def test_cached_on_disk_foretells_whether_compile_once_loads_or_compiles(probe):
+    # the reference: what `compile_once` then reports, "disk cache" or "compiled"
+    folder, load = probe
+    sources = [folder / "probe.py", folder / "equations.py"]
+
+    def foretold_then_done(mod) -> tuple[bool, str]:
+        ahead = fc.cached_on_disk(mod.outer, "probe.sources", sources)
+        return ahead, _compile(folder, mod).source
+
+    assert foretold_then_done(load()) == (False, "compiled")  # an empty cache
+    assert foretold_then_done(load()) == (True, "disk cache")
+    (folder / "equations.py").write_text("# edited\n")  # a compiled source, not numba's key
+    assert foretold_then_done(load()) == (False, "compiled")
+    (folder / "probe.py").write_text(PROBE + "\n# edited\n")  # the file numba keys on
+    mod = load()
+    assert not fc.cached_on_disk(mod.outer)  # no fingerprint asked for: numba's index alone
+    assert foretold_then_done(mod) == (False, "compiled")
+    assert foretold_then_done(load()) == (True, "disk cache")
+    mod = load()
+    assert fc.cached_on_disk(mod.outer)
+    assert not fc.cached_on_disk(mod.outer, "another.sources", sources)  # no such stamp
+
+
+def test_cached_on_disk_is_false_without_a_cache():
+    from numba import njit
+
+    assert not fc.cached_on_disk(njit(lambda x: x + 1))  # cache=False: numba's NullCache
+    assert not fc.cached_on_disk(lambda x: x + 1)  # not a numba function at all
+
+
 def test_without_jit_nothing_is_stamped_in_the_working_folder(probe, monkeypatch):
     """With numba's JIT off (``NUMBA_DISABLE_JIT``, for debugging) a group has no
     dispatchers and no cache: no fingerprint file may land in the user's working folder."""

@@ -19,6 +19,7 @@ import multimass
 from multimass import CosineWave, Ricker, SineWave
 from multimass.engines._rigid import next_uplift, uplift_threshold
 from multimass.engines.fast import block_runs, encode
+from multimass.engines.fast import compile as fc
 from multimass.engines.fast._block_uplift import next_uplift as compiled_next_uplift
 from multimass.sweeps import map_cells, maps
 from multimass.sweeps.maps import overturning_map
@@ -28,7 +29,7 @@ GRID = dict(omega_p=np.linspace(0.5, 10, 12), amp=np.linspace(0.25, 8, 12))
 
 
 def _both(monkeypatch, *args, **kwargs):
-    """The map on the per-cell path and on the batched path."""
+    """The map on the per-cell path and on the batched path (forced: compiled if need be)."""
     monkeypatch.setattr(maps, "BATCHED", False)
     reference = overturning_map(*args, **kwargs)
     monkeypatch.setattr(maps, "BATCHED", True)
@@ -82,12 +83,72 @@ def test_undecided_cells_are_rerun_as_per_cell(monkeypatch):
     assert (b.grid == "undecided").sum() >= 3
 
 
-def test_batched_map_is_the_same_on_two_worker_processes():
+def test_batched_map_is_the_same_on_two_worker_processes(monkeypatch):
+    monkeypatch.setattr(maps, "BATCHED", True)
     kw = dict(restitution="modified", refine=1, **GRID)
     serial = overturning_map("B6M", "sine", executor="serial", **kw)
     pool = overturning_map("B6M", "sine", executor="process", workers=2, **kw)
     pd.testing.assert_frame_equal(serial.cells, pool.cells)
     pd.testing.assert_frame_equal(serial.boundaries, pool.boundaries)
+
+
+#: The README's map (3 × 3 cells, η_H): too small to pay for compiling the batch kernels.
+README_MAP = dict(omega_p=[1, 2, 4], amp=[1, 2, 3], restitution="housner")
+
+
+def _chunks_run(monkeypatch) -> list:
+    """The cell count of every compiled chunk the maps run from now on (serial executor)."""
+    sizes, real = [], map_cells._map_chunk
+
+    def counted(chunk):
+        sizes.append(len(chunk.omega))
+        return real(chunk)
+
+    monkeypatch.setattr(map_cells, "_map_chunk", counted)
+    return sizes
+
+
+def test_a_small_map_runs_per_cell_until_the_batch_kernels_are_compiled(monkeypatch):
+    # on a machine without the batch kernels (neither loaded nor in the disk cache) the
+    # README's map runs one map_cell per cell, and gives what the batch (forced) gives
+    sizes = _chunks_run(monkeypatch)
+    monkeypatch.setattr(block_runs, "batch_ready", lambda: False)
+    per_cell = overturning_map("B6M", "sine", executor="serial", progress=False, **README_MAP)
+    assert sizes == []
+    monkeypatch.setattr(maps, "BATCHED", True)
+    batched = overturning_map("B6M", "sine", executor="serial", progress=False, **README_MAP)
+    assert sum(sizes) == 9
+    _assert_same(per_cell, batched)
+    assert per_cell.min_overturn_amp() == batched.min_overturn_amp()
+    assert len(set(per_cell.cells.outcome)) >= 2  # not a trivial map: outcomes differ
+    # once the kernels are ready (loaded, or in the disk cache), the same map is batched
+    monkeypatch.setattr(maps, "BATCHED", None)
+    monkeypatch.setattr(block_runs, "batch_ready", lambda: True)
+    sizes.clear()
+    ready = overturning_map("B6M", "sine", executor="serial", progress=False, **README_MAP)
+    assert sum(sizes) == 9
+    _assert_same(per_cell, ready)
+
+
+@pytest.mark.parametrize("refine, batched", [(0, False), (1, True)])
+def test_a_map_large_enough_to_pay_for_the_compile_is_batched(monkeypatch, refine, batched):
+    # the cells a map expects: its grid and, per refinement round, one boundary per ω/p;
+    # here the threshold is lowered to 12 cells: 3 × 3 falls short, 3 × (3 + 1) reaches it
+    sizes = _chunks_run(monkeypatch)
+    monkeypatch.setattr(block_runs, "batch_ready", lambda: False)
+    monkeypatch.setattr(map_cells, "BATCH_COMPILE_CELLS", 12)
+    kw = README_MAP | dict(refine=refine, executor="serial", progress=False)
+    overturning_map("B6M", "sine", **kw)
+    assert bool(sizes) is batched
+
+
+def test_batch_ready_once_the_batch_kernels_are_compiled_or_loaded():
+    # after `ensure_ready` this process has them, and numba's disk cache holds them for a
+    # new process (the index of `run_cells` for this machine and the current fingerprint)
+    block_runs.ensure_ready(progress=False)
+    assert block_runs.batch_ready()
+    kernel = block_runs.bk.run_cells
+    assert fc.cached_on_disk(kernel, block_runs._STAMP, block_runs._sources())
 
 
 def test_a_cell_the_batch_cannot_finish_runs_per_cell(monkeypatch):
@@ -184,7 +245,8 @@ def test_compiled_uplift_search_is_next_uplift(case):
     assert (found, (t, side) if found else None) == (want is not None, want)
 
 
-def test_progress_bar_counts_cells_not_chunks(capsys):
+def test_progress_bar_counts_cells_not_chunks(capsys, monkeypatch):
+    monkeypatch.setattr(maps, "BATCHED", True)
     overturning_map(
         "B6M", "sine", omega_p=np.linspace(1, 8, 6), amp=np.linspace(1, 6, 5), refine=0,
         executor="serial", progress=True,

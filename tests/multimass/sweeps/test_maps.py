@@ -286,6 +286,7 @@ def _paths(monkeypatch):
     """(name, map) of the engine paths that mark a map's cells."""
     from multimass.sweeps import maps
 
+    monkeypatch.setattr(maps, "BATCHED", True)  # the batch kernels, compiled if need be
     batched = overturning_map("B6M", "sine", executor="serial", progress=False, **BARELY)
     scipy = overturning_map(
         "B6M", "sine", executor="serial", progress=False, backend="scipy", **BARELY
