@@ -155,7 +155,6 @@ class Recorder:
         self, name, status, message, events, wall, options, n_rhs, t_end, floor: float = 0.0
     ) -> Response:
         """The `Response`; `floor` is the smallest energy scale (`multimass.checks.scale_floor`)."""
-        n = self.st.n
         sizes = [b[0].size for b in self.blocks]
         t = np.concatenate([b[0] for b in self.blocks])
         Y = np.concatenate([b[1] for b in self.blocks])
@@ -169,6 +168,21 @@ class Recorder:
         code = np.repeat(codes, sizes)
         phase = np.repeat([int(b[2]) for b in self.blocks], sizes)
         loss = np.repeat([b[4] for b in self.blocks], sizes)
+        rows = (t, Y, phase, loss, code, kinds)
+        peaks = (self.peaks, self.peak_times)
+        return self.response_of(rows, peaks, name, status, message, events, wall, options,
+                                n_rhs, t_end, floor)  # fmt: skip
+
+    def response_of(
+        self, rows, peaks, name, status, message, events, wall, options, n_rhs, t_end, floor
+    ) -> Response:
+        """The `Response` of `rows` = (t, Y, phase, impact loss so far, group, kinds): the
+        recorded rows, in the order they were recorded, and per row the number of its
+        group in `kinds`, a list of (phase, ActiveForce or None); `peaks` = (|θ| peaks,
+        their times). `response` gives its blocks' rows; the whole compiled column run
+        (`multimass.engines.fast.column_trace`) the rows its kernel wrote."""
+        n = self.st.n
+        t, Y, phase, loss, code, kinds = rows
         order = np.argsort(t, kind="stable")
         Y, t, phase, loss, code = Y[order], t[order], phase[order], loss[order], code[order]
         ag, F, T, V, U = (np.zeros(t.size) for _ in range(5))
@@ -207,8 +221,8 @@ class Recorder:
             message=message,
             series=_frame(data),
             events=events,
-            peaks=np.array(self.peaks),
-            peak_times=np.array(self.peak_times),
+            peaks=np.array(peaks[0]),
+            peak_times=np.array(peaks[1]),
             energy_reference=ref,
             energy_balance_error=float(np.max(np.abs(balance)) / ref),
             wall_time_s=wall,
