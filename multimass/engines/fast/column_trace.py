@@ -39,7 +39,7 @@ class Trace:
     events : list of Event
         The event log, its "release" first (`multimass.engines._run.PhaseLoop`).
     rows : tuple
-        (t, Y, phase, impact loss so far, group, kinds) of
+        (t, Y, phase, impact loss so far, force, forces) of
         `multimass.engines._recorder.Recorder.response_of`.
     peaks : tuple
         (|θ| of each half-cycle, its time), arrays.
@@ -118,9 +118,7 @@ def _events(evs: np.ndarray, phase0: int, theta0: float, chatter) -> tuple[list,
 
 
 def _rows(rows: np.ndarray, forces: list) -> tuple:
-    """`Recorder.response_of`'s rows: the groups are the rows' (phase, force)."""
+    """`Recorder.response_of`'s rows: a row's force is its number in [None, *forces]."""
     phase = rows[:, 1].astype(np.int64)
-    force = rows[:, 2].astype(np.int64)
-    keys, code = np.unique((force + 1) * 3 + phase + 1, return_inverse=True)
-    kinds = [(int(k % 3) - 1, forces[k // 3 - 1] if k >= 3 else None) for k in keys.tolist()]
-    return rows[:, 0].copy(), rows[:, ck.ROW_Y :], phase, rows[:, 3].copy(), code, kinds
+    code = rows[:, 2].astype(np.int64) + 1  # −1: none
+    return rows[:, 0].copy(), rows[:, ck.ROW_Y :], phase, rows[:, 3].copy(), code, [None, *forces]
