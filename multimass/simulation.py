@@ -168,7 +168,8 @@ def _summary(plan: _Plan) -> RunSummary:
     got = plan.whole_run()
     if got is not None:
         return got
-    r = judge(plan.run(lean=True), plan.options.energy_tol)
+    # the whole-run kernel does not apply or could not finish: the phase loop
+    r = judge(plan.run_phase_loop(lean=True), plan.options.energy_tol)
     t_over = next((e.time for e in r.events if e.kind == "overturn"), math.nan)
     return RunSummary(r.theta_max, r.outcome, r.status, r.n_impacts, t_over, r.message)
 

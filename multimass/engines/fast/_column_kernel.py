@@ -1,12 +1,13 @@
-"""`column_run`: a whole run of a flexible column in machine code, for sweeps.
+"""`column_run`: a whole run of a flexible column in machine code.
 
-`multimass.simulate` runs its phase loop in Python (`multimass.engines._run.PhaseLoop`)
-and, with ``backend="compiled"``, hands each phase segment to the compiled kernels
-(`multimass.engines.fast.path.FastPath.integrate`). A spectrum only wants a run's outcome
-— θ_max, status, impacts, the overturning time and the energy check — so this
-kernel runs the same loop without leaving machine code: the same segments (the
-closed-form full contact of `._contact_kernel` or the Runge–Kutta kernel of
-`._kernel`), the same event tables (`multimass.engines.fast.path`), and the transitions of
+`multimass.simulate`'s phase loop is Python (`multimass.engines._run.PhaseLoop`), which,
+with ``backend="compiled"``, hands each phase segment to the compiled kernels
+(`multimass.engines.fast.path.FastPath.integrate`). This kernel runs the same loop
+without leaving machine code — for a spectrum, which wants a run's outcome only (θ_max,
+status, impacts, the overturning time and the energy check), and for `simulate` itself
+(with a log, below). It makes the same segments (the closed-form full contact of
+`._contact_kernel` or the Runge–Kutta kernel of `._kernel`), with the same event tables
+(`multimass.engines.fast.path`), and the transitions of
 `multimass.engines._events.handle_event` and `PhaseLoop` (uplift, overturning, the
 Dirac-delta force's activation and release, the end of a half-cycle at θ = 0, the
 chattering guard) with the same functions of `multimass.model.equations`,
@@ -127,7 +128,10 @@ LOG_KINDS = (
     "full_contact",
     "chatter_guard",
 )
-L_UPLIFT, L_OVERTURN, L_ACTIVATE, L_AWAY, L_AT_ZERO, L_IMPACT, L_CONTACT, L_CHATTER = range(8)
+# (floats, as every argument of `_row` and `_event`: one compiled signature each)
+L_UPLIFT, L_OVERTURN, L_ACTIVATE, L_AWAY, L_AT_ZERO, L_IMPACT, L_CONTACT, L_CHATTER = map(
+    float, range(8)
+)
 ROW_Y = 4  # the first column of y in a row
 EV_SIZE = 12
 
@@ -299,7 +303,7 @@ def column_run(
     cand = np.full(2, math.nan)  # Recorder.cand
     force_no, n_forces, last_t = -1, 0, 0.0
     if logging:
-        n_log[0] = _row(rows, n_log[0], 0.0, phase, -1, loss, y)  # Recorder.start_phase
+        n_log[0] = _row(rows, n_log[0], 0.0, float(phase), -1.0, loss, y)  # Recorder.start_phase
         if phase != 0:
             _candidate(cand, abs(y[n]), 0.0)
     if phase != 0:
@@ -366,8 +370,9 @@ def column_run(
             for r in range(nt_y.shape[0]):
                 top = max(top, abs(nt_y[r, n]))
         if logging:  # Recorder.segment: the samples, then the peaks' candidates
+            ph, fo = float(phase), float(force_no)
             for r in range(samples.shape[0]):
-                n_log[0] = _row(rows, n_log[0], grid[r], phase, force_no, loss, samples[r])
+                n_log[0] = _row(rows, n_log[0], grid[r], ph, fo, loss, samples[r])
                 last_t = grid[r]
             if phase != 0:
                 for r in range(nt_y.shape[0]):
@@ -386,10 +391,10 @@ def column_run(
             y[n], y[2 * n + 1] = 0.0, 0.0  # θ̇⁺ = 0, u̇⁺ = u̇⁻ (paper 001, Sec 2.3)
             side = 1 if ev_code == EV_UPLIFT_RIGHT else -1  # PhaseLoop.start_rocking
             if logging:  # the event, Recorder.end_phase (full contact), .start_phase
-                n_log[1] = _event(evs, n_log[1], L_UPLIFT, t, 0, side, 0.0, 0.0, 0.0,
+                n_log[1] = _event(evs, n_log[1], L_UPLIFT, t, 0.0, float(side), 0.0, 0.0, 0.0,
                                   math.nan, 0.0, 0.0, 0.0, 0.0)  # fmt: skip
-                n_log[0] = _row(rows, n_log[0], t, 0, -1, loss, y)
-                n_log[0] = _row(rows, n_log[0], t, side, -1, loss, y)
+                n_log[0] = _row(rows, n_log[0], t, 0.0, -1.0, loss, y)
+                n_log[0] = _row(rows, n_log[0], t, float(side), -1.0, loss, y)
                 last_t = t
                 cand[0] = cand[1] = math.nan
                 _candidate(cand, abs(y[n]), t)
@@ -402,9 +407,10 @@ def column_run(
             top = max(top, abs(y[n]))
             t_over, code = t, OVERTURNED
             if logging:  # the event, Recorder.end_phase
-                n_log[1] = _event(evs, n_log[1], L_OVERTURN, t, phase, phase, y[n],
+                p = float(phase)
+                n_log[1] = _event(evs, n_log[1], L_OVERTURN, t, p, p, y[n],
                                   y[2 * n + 1], 0.0, math.nan, 0.0, 0.0, 0.0, 0.0)  # fmt: skip
-                n_log[0] = _row(rows, n_log[0], t, phase, -1, loss, y)
+                n_log[0] = _row(rows, n_log[0], t, float(phase), -1.0, loss, y)
                 last_t = t
                 _candidate(cand, abs(y[n]), t)
                 n_log[2] = _close(pks, n_log[2], cand)
@@ -417,20 +423,23 @@ def column_run(
             fth = phase * gf.activation_angle(cfg[CF_Z], fn)
             force_on, fE, fr = True, E, r_pending
             if logging:
-                n_log[1] = _event(evs, n_log[1], L_ACTIVATE, t, phase, phase, y[n], thd, 0.0,
+                p = float(phase)
+                n_log[1] = _event(evs, n_log[1], L_ACTIVATE, t, p, p, y[n], thd, 0.0,
                                   fr, 0.0, fn, fth, fE)  # fmt: skip
                 force_no, n_forces = n_forces, n_forces + 1
         elif ev_code == EV_DEACTIVATE:
             force_on, force_no = False, -1
             if logging:
-                n_log[1] = _event(evs, n_log[1], L_AWAY, t, phase, phase, y[n], y[2 * n + 1],
+                p = float(phase)
+                n_log[1] = _event(evs, n_log[1], L_AWAY, t, p, p, y[n], y[2 * n + 1],
                                   0.0, fr, 0.0, 0.0, 0.0, 0.0)  # fmt: skip
         elif ev_code == EV_ZERO:  # _events._at_zero: next_phase_is_rocking, then at_zero
             side_old, side_new, thd = phase, -phase, y[2 * n + 1]
             r = fr if force_on else math.nan
             r_used = r
             if logging and force_on:
-                n_log[1] = _event(evs, n_log[1], L_AT_ZERO, t, phase, phase, 0.0, thd, 0.0,
+                p = float(phase)
+                n_log[1] = _event(evs, n_log[1], L_AT_ZERO, t, p, p, 0.0, thd, 0.0,
                                   fr, 0.0, 0.0, 0.0, 0.0)  # fmt: skip
             y[n] = 0.0
             force_on, force_no = False, -1
@@ -448,7 +457,7 @@ def column_run(
                 r = 1.0
             before = _total_energy(float(side_old), y, m, H, K, mp)
             if logging:  # Recorder.end_phase, before the transition's velocities
-                n_log[0] = _row(rows, n_log[0], t, side_old, -1, loss, y)
+                n_log[0] = _row(rows, n_log[0], t, float(side_old), -1.0, loss, y)
                 last_t = t
                 _candidate(cand, abs(y[n]), t)
                 n_log[2] = _close(pks, n_log[2], cand)
@@ -468,9 +477,9 @@ def column_run(
             if logging:  # the event (Transition), Recorder.start_phase
                 kind_ = L_IMPACT if rocks else L_CONTACT
                 r_ = r if rocks and not has_force else r_used
-                n_log[1] = _event(evs, n_log[1], kind_, t, side_old, phase, 0.0, thd,
+                n_log[1] = _event(evs, n_log[1], kind_, t, float(side_old), float(phase), 0.0, thd,
                                   y[2 * n + 1], r_, after - before, 0.0, 0.0, 0.0)  # fmt: skip
-                n_log[0] = _row(rows, n_log[0], t, phase, -1, loss, y)
+                n_log[0] = _row(rows, n_log[0], t, float(phase), -1.0, loss, y)
                 if phase != 0:
                     _candidate(cand, abs(y[n]), t)
             if phase != 0 and has_force:
@@ -481,7 +490,7 @@ def column_run(
             before = _total_energy(float(phase), y, m, H, K, mp)
             th_g, thd_g = y[n], y[2 * n + 1]
             if logging:  # Recorder.end_phase
-                n_log[0] = _row(rows, n_log[0], t, phase, -1, loss, y)
+                n_log[0] = _row(rows, n_log[0], t, float(phase), -1.0, loss, y)
                 last_t = t
                 if phase != 0:
                     _candidate(cand, abs(y[n]), t)
@@ -496,9 +505,9 @@ def column_run(
             after = _total_energy(0.0, y, m, H, K, mp)
             loss += before - after
             if logging:  # the event, Recorder.start_phase (full contact)
-                n_log[1] = _event(evs, n_log[1], L_CHATTER, t, phase, 0, th_g, thd_g, 0.0,
+                n_log[1] = _event(evs, n_log[1], L_CHATTER, t, float(phase), 0.0, th_g, thd_g, 0.0,
                                   math.nan, -(before - after), 0.0, 0.0, 0.0)  # fmt: skip
-                n_log[0] = _row(rows, n_log[0], t, 0, -1, loss, y)
+                n_log[0] = _row(rows, n_log[0], t, 0.0, -1.0, loss, y)
             n_ring = 0
             phase, force_on, hold, force_no = 0, False, t + window, -1
     if code == BROKEN or code == MORE_DRAWS:
@@ -506,7 +515,7 @@ def column_run(
     if phase != 0:  # Recorder.finish closes the last half-cycle
         top = max(top, abs(y[n]))
     if logging and not (last_t == t and cand[0] != cand[0]):  # Recorder.finish
-        n_log[0] = _row(rows, n_log[0], t, phase, -1, loss, y)
+        n_log[0] = _row(rows, n_log[0], t, float(phase), -1.0, loss, y)
         if phase != 0:
             _candidate(cand, abs(y[n]), t)
             n_log[2] = _close(pks, n_log[2], cand)

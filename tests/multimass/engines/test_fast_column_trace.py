@@ -132,3 +132,14 @@ def test_a_run_the_kernel_cannot_finish_goes_to_the_phase_loop(s1, monkeypatch):
     broken = (column_runs.BROKEN,) + (0,) * 8
     monkeypatch.setattr(column_runs.ColumnRun, "trace", lambda self, dt: broken)
     _same(*_both(s1, FreeRelease(0.11), "DD2", 3.0, output_dt=None))
+
+
+def test_the_log_compiles_once(s1):
+    """Every call of the log's writers has the same argument types (floats), so each is
+    compiled once: a literal int among them (a phase, a kind) compiles one more. Counted
+    where the kernel compiles (a fresh cache, as in CI); loaded from numba's cache, the
+    writers come inside `column_run` and list no signature of their own."""
+    _both(s1, _record(), "DD5", 4.0, seed=SEEDS[2], output_dt=1e-2)
+    _both(s1, FreeRelease(0.11), "CIM", 2.0, output_dt=None)
+    assert len(ck._row.signatures) <= 1
+    assert len(ck._event.signatures) <= 1
