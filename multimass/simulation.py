@@ -47,11 +47,13 @@ from .checks import energy_check, judge, scale_floor
 from .cost import OUTPUT_BUDGET, check_output, series_columns, simulation_cost
 from .engines._events import overturn_message
 from .engines._newmark_response import check_newmark, simulate_newmark
+from .engines._recorder import Recorder
 from .engines._run import QUIET_DELAY, PhaseLoop, segment_ends
 from .errors import InputError
 from .inputs.excitations import FreeRelease, plausible_amplitude
+from .model._phase import Model
 from .model.structure import Structure, from_specimen
-from .progress import Progress
+from .progress import PROGRESS_AFTER_S, Progress
 from .response import Outcome, Response
 from .result import status_of
 from .simulation_options import DEFAULTS, SimulationOptions
@@ -166,7 +168,8 @@ def _summary(plan: _Plan) -> RunSummary:
     got = plan.whole_run()
     if got is not None:
         return got
-    r = judge(plan.run(lean=True), plan.options.energy_tol)
+    # the whole-run kernel does not apply or could not finish: the phase loop
+    r = judge(plan.run_phase_loop(lean=True), plan.options.energy_tol)
     t_over = next((e.time for e in r.events if e.kind == "overturn"), math.nan)
     return RunSummary(r.theta_max, r.outcome, r.status, r.n_impacts, t_over, r.message)
 
@@ -308,7 +311,17 @@ class _Plan:
         return "integrate" if self.fast is None or self.fast.contact is None else "exact"
 
     def run(self, lean: bool):
-        """Integrate; a `Response` (or an `Outcome` if `lean`) with the raw status."""
+        """Integrate; a `Response` (or an `Outcome` if `lean`) with the raw status.
+
+        A column run the whole-run kernel knows runs in one compiled call
+        (`_whole_traced`), any other in the phase loop (`run_phase_loop`): the same
+        result, bit for bit."""
+        whole = self._whole_traced(lean)
+        return whole if whole is not None else self.run_phase_loop(lean)
+
+    def run_phase_loop(self, lean: bool):
+        """`run` in the Python phase loop (`multimass.engines._run.PhaseLoop`), whose
+        segments go to solve_ivp or, on the compiled path, to the segment kernels."""
         o = self.options
         with Progress(
             self.t_end, f"simulate {self.st.name}", show=o.progress, estimate=self.cost.seconds
@@ -342,6 +355,49 @@ class _Plan:
             loop.n_rhs,
             self.t_end,
             loop.energy_floor,
+        )
+
+    def _whole_traced(self, lean: bool):
+        """`run` by the whole-run kernel with its log (`multimass.engines.fast.column_trace`):
+        the phase loop's result from the same numbers, without Python between the phases.
+        None where the kernel does not apply, where a progress bar is to be shown (the
+        kernel reports none) or where the kernel could not finish the run."""
+        o = self.options
+        show = o.progress if o.progress is not None else self.cost.seconds >= PROGRESS_AFTER_S
+        run = None if show else self.column_run()
+        if run is None:
+            return None
+        from .engines.fast.column_trace import trace  # numba: "compiled" only
+
+        got = trace(run, None if lean else o.output_dt, (o.chatter_count, o.chatter_window))
+        if got is None:
+            return None
+        message = overturn_message(o.overturn_angle) if got.outcome == "overturned" else ""
+        if lean:
+            return Outcome(
+                got.outcome,
+                message,
+                got.events,
+                got.peaks[0],
+                got.n_rhs,
+                got.wall_time_s,
+                energy_balance_error=got.energy_balance_error,
+                peak_times=got.peaks[1],
+                engine=o.engine,
+            )
+        recorder = Recorder(self.st, Model.of(self.st), o.output_dt, self.ground[0])
+        return recorder.response_of(
+            got.rows,
+            got.peaks,
+            self.st.name,
+            got.outcome,
+            message,
+            got.events,
+            got.wall_time_s,
+            self.describe(),
+            got.n_rhs,
+            self.t_end,
+            scale_floor(self.st, o.atol, o.energy_tol),
         )
 
     def whole_run(self) -> RunSummary | None:

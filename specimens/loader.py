@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import os
 import tomllib
 from collections.abc import Callable, Mapping
@@ -31,7 +32,9 @@ def register_kind(kind: str, builder: Callable[[Mapping, str], object]) -> None:
     _KINDS[kind] = builder
 
 
+@functools.cache
 def _bundled() -> dict[str, Path]:
+    """Name -> file of the bundled specimens (package data: listed once per process)."""
     root = resources.files(__package__) / _DATA
     return {Path(p.name).stem: Path(str(p)) for p in root.iterdir() if p.name.endswith(".toml")}
 
@@ -112,7 +115,7 @@ def load(name_or_path: str | Path):
 
 def _locate(name_or_path) -> Path:
     """The file of a bundled name or a path; SpecimenError if there is none."""
-    names = ", ".join(available())
+    names = ", ".join(available())  # for the messages
     if isinstance(name_or_path, bytes) or not isinstance(name_or_path, (str, os.PathLike)):
         raise SpecimenError(
             f"`specimen` = {show(name_or_path)}: give a bundled name ({names}), "

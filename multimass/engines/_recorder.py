@@ -127,15 +127,26 @@ class Recorder:
         self.end_phase(t, y, phase)
 
     # -- results --------------------------------------------------------------------
-    def _derived(self, phase: int, force: ActiveForce | None, t: np.ndarray, Y: np.ndarray):
-        """Vectorised ü_g, F_i, total accelerations (Eq 7) and energies for rows of one kind."""
+    def _forces(self, th, phase, code, forces) -> np.ndarray:
+        """F_i of each row (`gaussian_force.impact_force` of its force's parameters; 0
+        where none acts): `code` numbers each row's force in `forces`."""
+        F = np.zeros(th.size)
+        on = np.array([f is not None for f in forces], dtype=bool)[code]
+        if on.any():
+            params = np.array(
+                [(1.0, 0.0, 1.0) if f is None else (f.E_ini, f.r, f.n) for f in forces]
+            )
+            E_ini, r, n = params[code[on]].T
+            F[on] = gf.impact_force(th[on], phase[on].astype(float), E_ini, r, n, self.st.B)
+        return F
+
+    def _derived(self, phase: int, F: np.ndarray, t: np.ndarray, Y: np.ndarray):
+        """Vectorised ü_g, total accelerations (Eq 7) and energies for rows of one phase
+        whose impact force is `F`."""
         st, n = self.st, self.st.n
         m, H, B = st.m, st.H, st.B
         U, th, Ud, thd = Y[:, :n], Y[:, n], Y[:, n + 1 : 2 * n + 1], Y[:, 2 * n + 1]
         ag = np.asarray(self.ag(t), dtype=float).reshape(t.shape)
-        F = np.zeros_like(t)
-        if force is not None:
-            F = gf.impact_force(th, float(phase), force.E_ini, force.r, force.n, B)
         r = phase_rows(st, phase, U, th, Ud, thd, ag, F)
         elastic = 0.5 * np.einsum("ij,jk,ik->i", U, st.K, U) if n else np.zeros_like(t)
         ud_m_ud = (Ud * Ud) @ m
@@ -143,40 +154,55 @@ class Recorder:
         if phase == 0:
             acc = eq.total_acceleration(0, B, st.g, U, r.uddot, H, 0.0, 0.0, col(ag), 1.0, 0.0)
             kinetic = eq.kinetic_energy(ud_m_ud, 0.0, 0.0, 0.0)
-            return ag, F, acc, kinetic, np.zeros_like(t), elastic
+            return ag, acc, kinetic, np.zeros_like(t), elastic
         acc = eq.total_acceleration(
             phase, B, st.g, U, r.uddot, H, col(r.thetaddot), col(thd), col(ag), col(r.c), col(r.sn)
         )
         kinetic = eq.kinetic_energy(ud_m_ud, Ud @ (m * H), r.a_tt, thd)
         grav = eq.gravitational_energy(st.g, st.static_moment, r.lever, r.c, r.sn)
-        return ag, F, acc, kinetic, grav, elastic
+        return ag, acc, kinetic, grav, elastic
 
     def response(
         self, name, status, message, events, wall, options, n_rhs, t_end, floor: float = 0.0
     ) -> Response:
         """The `Response`; `floor` is the smallest energy scale (`multimass.checks.scale_floor`)."""
-        n = self.st.n
         sizes = [b[0].size for b in self.blocks]
         t = np.concatenate([b[0] for b in self.blocks])
         Y = np.concatenate([b[1] for b in self.blocks])
-        groups: dict = {}  # (phase, id(force)) -> group number
-        kinds, codes = [], []  # (phase, force) per group; group per block
-        for _, _, p, f, _ in self.blocks:
-            g = groups.setdefault((int(p), id(f)), len(groups))
-            if g == len(kinds):
-                kinds.append((int(p), f))
-            codes.append(g)
+        numbers: dict = {}  # id(force) -> its number in `forces`
+        forces, codes = [], []  # the forces; the number of each block's
+        for _, _, _, f, _ in self.blocks:
+            k = numbers.setdefault(id(f), len(numbers))
+            if k == len(forces):
+                forces.append(f)
+            codes.append(k)
         code = np.repeat(codes, sizes)
         phase = np.repeat([int(b[2]) for b in self.blocks], sizes)
         loss = np.repeat([b[4] for b in self.blocks], sizes)
+        rows = (t, Y, phase, loss, code, forces)
+        peaks = (self.peaks, self.peak_times)
+        return self.response_of(rows, peaks, name, status, message, events, wall, options,
+                                n_rhs, t_end, floor)  # fmt: skip
+
+    def response_of(
+        self, rows, peaks, name, status, message, events, wall, options, n_rhs, t_end, floor
+    ) -> Response:
+        """The `Response` of `rows` = (t, Y, phase, impact loss so far, force, forces): the
+        recorded rows, in the order they were recorded, and per row the number of its
+        force in `forces`, a list of ActiveForce or None; `peaks` = (|θ| peaks, their
+        times). `response` gives its blocks' rows; the whole compiled column run
+        (`multimass.engines.fast.column_trace`) the rows its kernel wrote."""
+        n = self.st.n
+        t, Y, phase, loss, code, forces = rows
         order = np.argsort(t, kind="stable")
         Y, t, phase, loss, code = Y[order], t[order], phase[order], loss[order], code[order]
-        ag, F, T, V, U = (np.zeros(t.size) for _ in range(5))
+        ag, T, V, U = (np.zeros(t.size) for _ in range(4))
         A = np.zeros((t.size, n))
-        for g, (p, f) in enumerate(kinds):
-            rows = code == g
-            ag[rows], F[rows], A[rows], T[rows], V[rows], U[rows] = self._derived(
-                p, f, t[rows], Y[rows]
+        F = self._forces(Y[:, n], phase, code, forces)
+        for p in np.unique(phase).tolist():  # rows of one phase share their equations
+            rows = phase == p
+            ag[rows], A[rows], T[rows], V[rows], U[rows] = self._derived(
+                p, F[rows], t[rows], Y[rows]
             )
         D, Wg, WF = Y[:, -3], Y[:, -2], Y[:, -1]
         impact = WF + loss
@@ -207,8 +233,8 @@ class Recorder:
             message=message,
             series=_frame(data),
             events=events,
-            peaks=np.array(self.peaks),
-            peak_times=np.array(self.peak_times),
+            peaks=np.array(peaks[0]),
+            peak_times=np.array(peaks[1]),
             energy_reference=ref,
             energy_balance_error=float(np.max(np.abs(balance)) / ref),
             wall_time_s=wall,

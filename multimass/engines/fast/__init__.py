@@ -1,14 +1,16 @@
 """The compiled fast path of `multimass.simulate` (``backend="compiled"``).
 
 solve_ivp stays the reference. This backend keeps the Python phase loop of
-`multimass.simulate` (transitions are rare) and runs each phase segment —
+`multimass.simulate` (the transitions) and runs each phase segment —
 steps, dense output, events, the output grid — in numba-compiled kernels
 that follow SciPy's explicit Runge–Kutta solvers (RK23, RK45, DOP853), so the
 two backends give the same events and the same `Response` up to round-off;
 a column's full contact under a record or after a release is solved in
 closed form by default (`multimass.engines.fast.contact_modes`, ``full_contact``).
-Spectra of columns, which keep only each run's outcome, run the same loop whole
-in one compiled call (`multimass.engines.fast.column_runs`), bit for bit.
+A column whose impact model and restitution the compiled loop knows runs that loop
+whole in one compiled call instead (`multimass.engines.fast.column_runs`): spectra
+keep its outcome, `multimass.simulate` its log of rows, events and peaks
+(`multimass.engines.fast.column_trace`) — the phase loop's result, bit for bit.
 
 * `FastPath` — replaces one solve_ivp call (`multimass.engines.fast.path`);
 * `encode` — the excitations the kernels know (`multimass.engines.fast.excitation`);

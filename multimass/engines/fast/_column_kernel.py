@@ -1,17 +1,24 @@
-"""`column_run`: a whole run of a flexible column in machine code, for sweeps.
+"""`column_run`: a whole run of a flexible column in machine code.
 
-`multimass.simulate` runs its phase loop in Python (`multimass.engines._run.PhaseLoop`)
-and, with ``backend="compiled"``, hands each phase segment to the compiled kernels
-(`multimass.engines.fast.path.FastPath.integrate`). A spectrum only wants a run's outcome
-— θ_max, status, impacts, the overturning time and the energy check — so this
-kernel runs the same loop without leaving machine code: the same segments (the
-closed-form full contact of `._contact_kernel` or the Runge–Kutta kernel of
-`._kernel`), the same event tables (`multimass.engines.fast.path`), and the transitions of
+`multimass.simulate`'s phase loop is Python (`multimass.engines._run.PhaseLoop`), which,
+with ``backend="compiled"``, hands each phase segment to the compiled kernels
+(`multimass.engines.fast.path.FastPath.integrate`). This kernel runs the same loop
+without leaving machine code — for a spectrum, which wants a run's outcome only (θ_max,
+status, impacts, the overturning time and the energy check), and for `simulate` itself
+(with a log, below). It makes the same segments (the closed-form full contact of
+`._contact_kernel` or the Runge–Kutta kernel of `._kernel`), with the same event tables
+(`multimass.engines.fast.path`), and the transitions of
 `multimass.engines._events.handle_event` and `PhaseLoop` (uplift, overturning, the
 Dirac-delta force's activation and release, the end of a half-cycle at θ = 0, the
 chattering guard) with the same functions of `multimass.model.equations`,
 `multimass.impact_models` and `._maths`, in the same order. A run is therefore the
 per-run compiled path's, bit for bit (tests/multimass/engines/test_fast_column_runs.py).
+
+With a log (``cfg[CF_LOG]``), the kernel also writes what `multimass.simulate` reports of
+the run — the rows its `Recorder` stores (each segment's samples on the output grid and the
+states before and after each transition), the event log and the half-cycles' peaks — in
+the order the phase loop writes them; `multimass.engines.fast.column_trace` turns them into
+the same `Response`.
 
 Restitution comes in as data (`multimass.engines.fast.column_runs` lays it out): a value
 per corner, a table by impact (empirical) or, for a random source, the run's
@@ -64,13 +71,17 @@ __all__ = [
     "R_CORNERS",
     "R_RANDOM",
     "R_TABLE",
+    "MORE_LOG",
+    "LOG_KINDS",
+    "ROW_Y",
+    "EV_SIZE",
 ]
 
 for _f in (im.next_phase_is_rocking, im.classical_rebound, im.full_contact_velocities):
     register_jitable(inline="always")(_f)
 
 # outcome codes
-COMPLETED, OVERTURNED, BROKEN, MORE_DRAWS = 0, 1, 2, 3
+COMPLETED, OVERTURNED, BROKEN, MORE_DRAWS, MORE_LOG = 0, 1, 2, 3, 4
 # restitution kinds (`multimass.impact_models.sources`): a value per corner (fixed,
 # per-corner means, Housner, modified); N(mean of the corner, σ) clipped to
 # [floor, 1] from the given standard normals; a table by impact, then the corners
@@ -99,8 +110,30 @@ R_CORNERS, R_RANDOM, R_TABLE = 0, 1, 2
     CF_EXACT,
     CF_FLOOR_E,
     CF_EXPONENTIAL,
-) = range(21)
-CF_SIZE = 21
+    CF_LOG,
+    CF_OUTPUT_DT,
+) = range(23)
+CF_SIZE = 23
+
+# the log (cfg[CF_LOG]): a row is (t, phase, force number or −1, impact loss so far, y...);
+# an event (kind, t, phase before, phase after, θ, θ̇⁻, θ̇⁺, restitution or NaN, energy
+# change, n, θ_i, E_ini); a peak (|θ|, t). The kinds, in the names of `result.EVENT_KINDS`:
+LOG_KINDS = (
+    "uplift",
+    "overturn",
+    "dd_activate",
+    "dd_deactivate",  # moving away (Eq 17)
+    "dd_deactivate",  # at θ = 0 (Eq 17)
+    "impact",
+    "full_contact",
+    "chatter_guard",
+)
+# (floats, as every argument of `_row` and `_event`: one compiled signature each)
+L_UPLIFT, L_OVERTURN, L_ACTIVATE, L_AWAY, L_AT_ZERO, L_IMPACT, L_CONTACT, L_CHATTER = map(
+    float, range(8)
+)
+ROW_Y = 4  # the first column of y in a row
+EV_SIZE = 12
 
 # event tables (`multimass.engines.fast.path._EVENTS`): contact, rocking, activate, deactivate
 T_CONTACT, T_ROCKING, T_ACTIVATE, T_DEACTIVATE = range(4)
@@ -137,6 +170,58 @@ def _chatters(ring, count, t, window):
 
 
 @njit(cache=True, error_model="numpy")
+def _row(rows, i, t, phase, force, loss, y):
+    """Write the row i of the log (if it fits) and return i + 1 (`Recorder._row`)."""
+    if i < rows.shape[0]:
+        rows[i, 0], rows[i, 1], rows[i, 2], rows[i, 3] = t, phase, force, loss
+        for j in range(y.size):
+            rows[i, ROW_Y + j] = y[j]
+    return i + 1
+
+
+@njit(cache=True, error_model="numpy")
+def _event(evs, i, kind, t, before, after, th, thd_m, thd_p, r, d_e, width, th_i, e_ini):
+    """Write the event i of the log (if it fits) and return i + 1 (`result.Event`)."""
+    if i < evs.shape[0]:
+        e = evs[i]
+        e[0], e[1], e[2], e[3], e[4], e[5] = kind, t, before, after, th, thd_m
+        e[6], e[7], e[8], e[9], e[10], e[11] = thd_p, r, d_e, width, th_i, e_ini
+    return i + 1
+
+
+@njit(cache=True, error_model="numpy")
+def _candidate(cand, a, t):
+    """`Recorder._candidate`: (|θ|, t) of the half-cycle's peak so far, NaN for none."""
+    if cand[0] != cand[0] or a > cand[0]:
+        cand[0], cand[1] = a, t
+
+
+@njit(cache=True, error_model="numpy")
+def _close(pks, i, cand):
+    """`Recorder.end_phase` of a rocking phase: the half-cycle's peak, then none."""
+    if i < pks.shape[0]:
+        pks[i, 0], pks[i, 1] = cand[0], cand[1]
+    cand[0] = cand[1] = math.nan
+    return i + 1
+
+
+@njit(cache=True, error_model="numpy")
+def _grid(t0, t1, dt):
+    """`Recorder.grid`: the output times in (t0, t1) on the dt grid, then t1."""
+    k0, k1 = math.floor(t0 / dt) + 1, math.floor(t1 / dt)
+    cut = t1 - 1e-12 * max(1.0, abs(t1))
+    out = np.empty(max(k1 - k0 + 1, 0) + 1)
+    c = 0
+    for k in range(k0, k1 + 1):
+        p = k * dt
+        if p > t0 and p < cut:
+            out[c] = p
+            c += 1
+    out[c] = t1
+    return out[: c + 1]
+
+
+@njit(cache=True, error_model="numpy")
 def column_run(
     t_end,
     phase0,
@@ -156,6 +241,7 @@ def column_run(
     ep0,
     cfg,
     draws,
+    log,
 ):
     """One run of a column from (0, phase0, y0) to t_end, overturning or a failure.
 
@@ -180,12 +266,18 @@ def column_run(
         guarded) of `multimass.engines.fast.path`'s event tables.
     ep0, cfg, draws : ndarray
         Event parameters (`event_params`), options (``CF_*``) and restitution data.
+    log : tuple
+        (rows, events, peaks), 2-D arrays the log is written into if cfg[CF_LOG]
+        (the module docstring lists their columns); samples on the output grid of
+        step cfg[CF_OUTPUT_DT] if it is > 0, else at the segments' ends only.
 
     Returns
     -------
-    code, t_over, theta_max, n_impacts, n_rhs, energy_balance_error
+    code, t_over, theta_max, n_impacts, n_rhs, energy_balance_error, n_log
         `code` COMPLETED, OVERTURNED, BROKEN (the solver failed or a state was not
-        finite: the Python loop gives the message) or MORE_DRAWS.
+        finite: the Python loop gives the message), MORE_DRAWS or MORE_LOG (the log's
+        arrays were too short: `n_log` holds the numbers of rows, events and peaks the
+        run has written so far).
     """
     n = m.size
     phi, w, z, gam, h_max, screen = modes
@@ -205,6 +297,15 @@ def column_run(
     code = -1  # running
     e0 = _total_energy(float(phase), y, m, H, K, mp)  # PhaseLoop: the ledger starts here
     r_pending = math.nan
+    logging, dt_out = cfg[CF_LOG] != 0.0, cfg[CF_OUTPUT_DT]
+    rows, evs, pks = log
+    n_log = np.zeros(3, np.int64)  # rows, events, peaks written
+    cand = np.full(2, math.nan)  # Recorder.cand
+    force_no, n_forces, last_t = -1, 0, 0.0
+    if logging:
+        n_log[0] = _row(rows, n_log[0], 0.0, float(phase), -1.0, loss, y)  # Recorder.start_phase
+        if phase != 0:
+            _candidate(cand, abs(y[n]), 0.0)
     if phase != 0:
         top = abs(y[n])  # Recorder.start_phase
         if has_force:
@@ -219,6 +320,7 @@ def column_run(
             j += 1
         t_stop = breakpoints[j]
         t_eval[0] = t_stop
+        grid = _grid(t, t_stop, dt_out) if logging and dt_out > 0.0 else t_eval
         # the phase's events (FastPath.events)
         ep[EP_R_PENDING], ep[EP_LIMIT] = 0.0, 0.0
         fp[FP_ON] = fp[FP_E] = fp[FP_R] = fp[FP_N] = 0.0
@@ -238,19 +340,19 @@ def column_run(
         for i in range(codes.size):
             ton[i] = t_start if guarded[i] else -np.inf
         if phase == 0 and cfg[CF_EXACT] != 0.0:
-            status, t_new, y_new, ev, nfev, samples, _, _, nt_y = contact_phase(
-                t, t_stop, y, t_eval, m, H, K, C_, mp, codes, dirs, quiet, ton, ep, kind, par,
+            status, t_new, y_new, ev, nfev, samples, _, nt_t, nt_y = contact_phase(
+                t, t_stop, y, grid, m, H, K, C_, mp, codes, dirs, quiet, ton, ep, kind, par,
                 smp, phi, w, z, gam, h_max, screen,
             )  # fmt: skip
         elif phase != 0 and cfg[CF_EXPONENTIAL] != 0.0:
-            status, t_new, y_new, ev, nfev, samples, _, _, nt_y = exp_phase(
-                t, t_stop, y, t_eval, phase, m, H, K, C_, mp, fp, codes, dirs, term, quiet,
+            status, t_new, y_new, ev, nfev, samples, _, nt_t, nt_y = exp_phase(
+                t, t_stop, y, grid, phase, m, H, K, C_, mp, fp, codes, dirs, term, quiet,
                 ton, ep, kind, par, smp, L_r, lam_r, V_r, W_r, wt_r, exp_cache, cfg[CF_RTOL],
                 cfg[CF_ATOL], cfg[CF_MAX_STEP],
             )  # fmt: skip
         else:
-            status, t_new, y_new, ev, nfev, samples, _, _, nt_y = integrate_phase(
-                t, t_stop, y, t_eval, phase, m, H, K, C_, mp, fp, codes, dirs, term, quiet,
+            status, t_new, y_new, ev, nfev, samples, _, nt_t, nt_y = integrate_phase(
+                t, t_stop, y, grid, phase, m, H, K, C_, mp, fp, codes, dirs, term, quiet,
                 ton, ep, kind, par, smp, int(cfg[CF_METHOD]), cfg[CF_RTOL], cfg[CF_ATOL],
                 cfg[CF_MAX_STEP], hints[0 if phase == 0 else 1],
             )  # fmt: skip
@@ -267,6 +369,14 @@ def column_run(
         if phase != 0:  # Recorder.segment: the θ̇ = 0 peaks
             for r in range(nt_y.shape[0]):
                 top = max(top, abs(nt_y[r, n]))
+        if logging:  # Recorder.segment: the samples, then the peaks' candidates
+            ph, fo = float(phase), float(force_no)
+            for r in range(samples.shape[0]):
+                n_log[0] = _row(rows, n_log[0], grid[r], ph, fo, loss, samples[r])
+                last_t = grid[r]
+            if phase != 0:
+                for r in range(nt_y.shape[0]):
+                    _candidate(cand, abs(nt_y[r, n]), nt_t[r])
         if status != EVENT:
             t = t_stop
             for i in range(y.size):
@@ -279,7 +389,16 @@ def column_run(
         trips = False
         if ev_code == EV_UPLIFT_RIGHT or ev_code == EV_UPLIFT_LEFT:  # handle_event: uplift
             y[n], y[2 * n + 1] = 0.0, 0.0  # θ̇⁺ = 0, u̇⁺ = u̇⁻ (paper 001, Sec 2.3)
-            phase = 1 if ev_code == EV_UPLIFT_RIGHT else -1  # PhaseLoop.start_rocking
+            side = 1 if ev_code == EV_UPLIFT_RIGHT else -1  # PhaseLoop.start_rocking
+            if logging:  # the event, Recorder.end_phase (full contact), .start_phase
+                n_log[1] = _event(evs, n_log[1], L_UPLIFT, t, 0.0, float(side), 0.0, 0.0, 0.0,
+                                  math.nan, 0.0, 0.0, 0.0, 0.0)  # fmt: skip
+                n_log[0] = _row(rows, n_log[0], t, 0.0, -1.0, loss, y)
+                n_log[0] = _row(rows, n_log[0], t, float(side), -1.0, loss, y)
+                last_t = t
+                cand[0] = cand[1] = math.nan
+                _candidate(cand, abs(y[n]), t)
+            phase = side
             if has_force:
                 r_pending = _draw(-phase, k_draw, n_impacts, cfg, draws)
                 k_draw += 1
@@ -287,6 +406,14 @@ def column_run(
         elif ev_code == EV_OVERTURN:
             top = max(top, abs(y[n]))
             t_over, code = t, OVERTURNED
+            if logging:  # the event, Recorder.end_phase
+                p = float(phase)
+                n_log[1] = _event(evs, n_log[1], L_OVERTURN, t, p, p, y[n],
+                                  y[2 * n + 1], 0.0, math.nan, 0.0, 0.0, 0.0, 0.0)  # fmt: skip
+                n_log[0] = _row(rows, n_log[0], t, float(phase), -1.0, loss, y)
+                last_t = t
+                _candidate(cand, abs(y[n]), t)
+                n_log[2] = _close(pks, n_log[2], cand)
         elif ev_code == EV_ACTIVATE:  # _events._activate
             E = _total_energy(float(phase), y, m, H, K, mp)
             thd = y[2 * n + 1]
@@ -295,13 +422,27 @@ def column_run(
             )
             fth = phase * gf.activation_angle(cfg[CF_Z], fn)
             force_on, fE, fr = True, E, r_pending
+            if logging:
+                p = float(phase)
+                n_log[1] = _event(evs, n_log[1], L_ACTIVATE, t, p, p, y[n], thd, 0.0,
+                                  fr, 0.0, fn, fth, fE)  # fmt: skip
+                force_no, n_forces = n_forces, n_forces + 1
         elif ev_code == EV_DEACTIVATE:
-            force_on = False
+            force_on, force_no = False, -1
+            if logging:
+                p = float(phase)
+                n_log[1] = _event(evs, n_log[1], L_AWAY, t, p, p, y[n], y[2 * n + 1],
+                                  0.0, fr, 0.0, 0.0, 0.0, 0.0)  # fmt: skip
         elif ev_code == EV_ZERO:  # _events._at_zero: next_phase_is_rocking, then at_zero
             side_old, side_new, thd = phase, -phase, y[2 * n + 1]
             r = fr if force_on else math.nan
+            r_used = r
+            if logging and force_on:
+                p = float(phase)
+                n_log[1] = _event(evs, n_log[1], L_AT_ZERO, t, p, p, 0.0, thd, 0.0,
+                                  fr, 0.0, 0.0, 0.0, 0.0)  # fmt: skip
             y[n] = 0.0
-            force_on = False
+            force_on, force_no = False, -1
             L_new = _pivot_momentum(y, m, H, mp)
             rocks = im.next_phase_is_rocking(side_new, L_new, thd, tdmin)
             if not has_force:
@@ -315,6 +456,11 @@ def column_run(
             elif r != r:
                 r = 1.0
             before = _total_energy(float(side_old), y, m, H, K, mp)
+            if logging:  # Recorder.end_phase, before the transition's velocities
+                n_log[0] = _row(rows, n_log[0], t, float(side_old), -1.0, loss, y)
+                last_t = t
+                _candidate(cand, abs(y[n]), t)
+                n_log[2] = _close(pks, n_log[2], cand)
             if rocks:  # ImpactModel.at_zero: a new half-cycle (CIM: classical_rebound)
                 phase = side_new
                 if not has_force:
@@ -326,28 +472,58 @@ def column_run(
                     y[n + 1 + i] = ud[i]
                 y[2 * n + 1] = 0.0
                 phase = 0
-            loss += before - _total_energy(float(phase), y, m, H, K, mp)
+            after = _total_energy(float(phase), y, m, H, K, mp)
+            loss += before - after
+            if logging:  # the event (Transition), Recorder.start_phase
+                kind_ = L_IMPACT if rocks else L_CONTACT
+                r_ = r if rocks and not has_force else r_used
+                n_log[1] = _event(evs, n_log[1], kind_, t, float(side_old), float(phase), 0.0, thd,
+                                  y[2 * n + 1], r_, after - before, 0.0, 0.0, 0.0)  # fmt: skip
+                n_log[0] = _row(rows, n_log[0], t, float(phase), -1.0, loss, y)
+                if phase != 0:
+                    _candidate(cand, abs(y[n]), t)
             if phase != 0 and has_force:
                 r_pending = _draw(-phase, k_draw, n_impacts, cfg, draws)
                 k_draw += 1
             trips, n_ring = _chatters(ring, n_ring, t, window)
         if trips:  # PhaseLoop.trip_guard: full contact for one window
             before = _total_energy(float(phase), y, m, H, K, mp)
+            th_g, thd_g = y[n], y[2 * n + 1]
+            if logging:  # Recorder.end_phase
+                n_log[0] = _row(rows, n_log[0], t, float(phase), -1.0, loss, y)
+                last_t = t
+                if phase != 0:
+                    _candidate(cand, abs(y[n]), t)
+                    n_log[2] = _close(pks, n_log[2], cand)
+                cand[0] = cand[1] = math.nan
             if phase != 0:
                 top = max(top, abs(y[n]))  # Recorder.end_phase
                 ud = im.full_contact_velocities(H, y[n + 1 : 2 * n + 1], y[2 * n + 1])
                 for i in range(n):
                     y[n + 1 + i] = ud[i]
             y[n], y[2 * n + 1] = 0.0, 0.0
-            loss += before - _total_energy(0.0, y, m, H, K, mp)
+            after = _total_energy(0.0, y, m, H, K, mp)
+            loss += before - after
+            if logging:  # the event, Recorder.start_phase (full contact)
+                n_log[1] = _event(evs, n_log[1], L_CHATTER, t, float(phase), 0.0, th_g, thd_g, 0.0,
+                                  math.nan, -(before - after), 0.0, 0.0, 0.0)  # fmt: skip
+                n_log[0] = _row(rows, n_log[0], t, 0.0, -1.0, loss, y)
             n_ring = 0
-            phase, force_on, hold = 0, False, t + window
+            phase, force_on, hold, force_no = 0, False, t + window, -1
     if code == BROKEN or code == MORE_DRAWS:
-        return code, math.nan, 0.0, 0, n_rhs, 0.0
+        return code, math.nan, 0.0, 0, n_rhs, 0.0, n_log
     if phase != 0:  # Recorder.finish closes the last half-cycle
         top = max(top, abs(y[n]))
+    if logging and not (last_t == t and cand[0] != cand[0]):  # Recorder.finish
+        n_log[0] = _row(rows, n_log[0], t, float(phase), -1.0, loss, y)
+        if phase != 0:
+            _candidate(cand, abs(y[n]), t)
+            n_log[2] = _close(pks, n_log[2], cand)
+    if n_log[0] > rows.shape[0] or n_log[1] > evs.shape[0] or n_log[2] > pks.shape[0]:
+        return MORE_LOG, math.nan, 0.0, 0, n_rhs, 0.0, n_log
     E = _total_energy(float(phase), y, m, H, K, mp)
     D, Wg, WF = y[2 * n + 2], y[2 * n + 3], y[2 * n + 4]
     balance = E + D + WF + loss - Wg - e0  # PhaseLoop.end_balance_error
     err = balance_error(balance, e0, Wg, E, cfg[CF_FLOOR_E])
-    return (OVERTURNED if code == OVERTURNED else COMPLETED), t_over, top, n_impacts, n_rhs, err
+    outcome = OVERTURNED if code == OVERTURNED else COMPLETED
+    return outcome, t_over, top, n_impacts, n_rhs, err, n_log

@@ -38,12 +38,18 @@ from ...checks import scale_floor
 from . import _column_kernel as ck
 from .path import _EVENTS, _RTOL_MIN, event_params
 
-__all__ = ["ColumnRun", "BROKEN"]
+__all__ = ["ColumnRun", "BROKEN", "NO_LOG"]
 
 #: `run`'s code of a run the kernel could not finish (the Python loop says why).
 BROKEN = ck.BROKEN
+MORE_LOG = "more log"  # `_call`'s code of a run whose log did not fit
+#: `column_run`'s log when it writes none: (rows, events, peaks) of no length
+NO_LOG = (np.zeros((0, ck.ROW_Y + 1)), np.zeros((0, ck.EV_SIZE)), np.zeros((0, 2)))
 _CORNER_SOURCES = (FixedRestitution, CornerRestitution, HousnerRestitution, ModifiedRestitution)
 _FIRST_DRAWS = 256  # standard normals given to a random-restitution run; ×4 if short
+# events and peaks a log has room for at first: _FIRST_LOG + _LOG_PER_S per second of the
+# run (S1 released from 0.11 rad logs 7 events per second), rows twice that + the grid; ×4 if short
+_FIRST_LOG, _LOG_PER_S = 256, 64
 _KEYS = ("contact", "rocking", "activate", "deactivate")  # the order of ck.T_*
 
 
@@ -160,6 +166,33 @@ class ColumnRun:
     def run(self) -> tuple:
         """(code, overturn time, θ_max, impacts, RHS calls, energy balance error) of the
         run; `code` is ``"completed"``, ``"overturned"`` or `BROKEN`."""
+        return self._call(self.cfg, NO_LOG)[:6]
+
+    def trace(self, output_dt: float | None) -> tuple:
+        """`run`'s tuple, then the run's log (rows, events, peaks; `._column_kernel`'s
+        docstring lists their columns), rows sampled every `output_dt` s (None: at the
+        segments' ends and transitions only, as `multimass.engines._recorder.Recorder`)."""
+        cfg = self.cfg.copy()
+        cfg[ck.CF_LOG] = 1.0
+        cfg[ck.CF_OUTPUT_DT] = 0.0 if output_dt is None else float(output_dt)
+        first = _FIRST_LOG + int(_LOG_PER_S * self.t_end)
+        grid = 0 if output_dt is None else int(self.t_end / output_dt)
+        sizes = [2 * first + 8 * self.breakpoints.size + grid, first, first]
+        while True:
+            log = (
+                np.empty((sizes[0], ck.ROW_Y + self.y0.size)),
+                np.empty((sizes[1], ck.EV_SIZE)),
+                np.empty((sizes[2], 2)),
+            )
+            got = self._call(cfg, log)
+            if got[0] != MORE_LOG:
+                break
+            sizes = [max(4 * a, int(b) + 1) for a, b in zip(sizes, got[6])]
+        counts = got[6]
+        return (*got[:6], *(a[: int(k)] for a, k in zip(log, counts)))
+
+    def _call(self, cfg, log) -> tuple:
+        """`column_run` with its draws made, and made again while they run short."""
         k = _FIRST_DRAWS
         while True:
             draws = self._draws(k)
@@ -174,15 +207,16 @@ class ColumnRun:
                 self.rock,
                 _TABLES,
                 self.ep,
-                self.cfg,
+                cfg,
                 draws,
+                log,
             )
             if got[0] != ck.MORE_DRAWS:
                 break
             k *= 4
-        code, t_over, top, n_imp, n_rhs, err = got
-        names = {ck.COMPLETED: "completed", ck.OVERTURNED: "overturned"}
-        return names.get(code, BROKEN), t_over, top, n_imp, n_rhs, err
+        code, t_over, top, n_imp, n_rhs, err, n_log = got
+        names = {ck.COMPLETED: "completed", ck.OVERTURNED: "overturned", ck.MORE_LOG: MORE_LOG}
+        return names.get(code, BROKEN), t_over, top, n_imp, n_rhs, err, n_log
 
     def _draws(self, k: int) -> np.ndarray:
         """The restitution data: the first `k` standard normals of the run's generator

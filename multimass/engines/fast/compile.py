@@ -551,7 +551,7 @@ def _tiny_column_call() -> None:
 
     from . import _column_kernel as ck
     from . import _maths as mx
-    from .column_runs import _NO_ROCK, _TABLES
+    from .column_runs import _NO_ROCK, _TABLES, NO_LOG
 
     (_, _, y0, _), model = _one_node()
     one = np.ones(1)
@@ -563,7 +563,7 @@ def _tiny_column_call() -> None:
     ep = np.zeros(mx.EP_SIZE) + 1.0
     t_end = np.array([1e-3])
     ck.column_run(
-        1e-3, 1, y0, t_end, *model, *ground, modes, _NO_ROCK, _TABLES, ep, cfg, np.zeros(0)
+        1e-3, 1, y0, t_end, *model, *ground, modes, _NO_ROCK, _TABLES, ep, cfg, np.zeros(0), NO_LOG
     )
 
 
@@ -671,7 +671,8 @@ _GROUP_REPORTS: dict[str, CompileReport] = {}
 
 def _warm_up_group(module, what, call, sources, stamp, estimate, progress) -> CompileReport:
     """`compile_once` of the group of kernel module `module`, once per process (then the
-    first report's cache folder, "in memory", 0 s)."""
+    first report's cache folder, "in memory", 0 s); `sources()` lists its source files
+    (asked only the first time: every compiled run calls this)."""
     r = _GROUP_REPORTS.get(module)
     if r is not None:
         return CompileReport(0.0, "in memory", r.cache_dir, 0, r.what)
@@ -679,7 +680,7 @@ def _warm_up_group(module, what, call, sources, stamp, estimate, progress) -> Co
         what,
         call,
         (f"{__package__}.{module}",),
-        sources=sources,
+        sources=sources(),
         stamp_file=stamp,
         progress=progress,
         estimate=estimate,
@@ -699,7 +700,7 @@ def warm_up_contact(progress: bool | None = None) -> CompileReport:
         _CONTACT,
         "the closed-form full contact",
         _tiny_contact_call,
-        _sources(contact=True),
+        lambda: _sources(contact=True),
         _CONTACT_STAMP,
         CONTACT_COMPILE_S,
         progress,
@@ -717,7 +718,7 @@ def warm_up_columns(progress: bool | None = None) -> CompileReport:
         _COLUMNS,
         "the whole column runs",
         _tiny_column_call,
-        _sources(columns=True),
+        lambda: _sources(columns=True),
         _COLUMNS_STAMP,
         COLUMNS_COMPILE_S,
         progress,
@@ -735,7 +736,7 @@ def warm_up_exponential(progress: bool | None = None) -> CompileReport:
         _EXPONENTIAL,
         "the exponential rocking integrator",
         _tiny_exponential_call,
-        _sources(exponential=True),
+        lambda: _sources(exponential=True),
         _EXPONENTIAL_STAMP,
         EXPONENTIAL_COMPILE_S,
         progress,

@@ -3,7 +3,8 @@
 `multimass.simulate` keeps its Python phase loop — uplift, impacts, the
 restitution draws, the chattering guard and the recorder are the reference
 code — and, with ``backend="compiled"``, hands each phase segment to
-`FastPath.integrate`, which builds the same events as
+`FastPath.integrate` (a column whose parts the whole-run kernel knows runs that loop
+in one compiled call instead, `multimass.engines.fast.column_trace`), which builds the same events as
 `multimass.engines._events.phase_events` (codes, directions, quiet guards), runs the
 compiled kernel and feeds the recorder and the event handler exactly as the
 solve_ivp segment would.

@@ -1,8 +1,9 @@
 """Whole column runs in one compiled call (`multimass.engines.fast.column_runs`, `._column_kernel`).
 
 The reference is the per-run compiled path: `multimass.simulate_outcome` with
-``backend="compiled"``, whose Python phase loop (`multimass.engines._run.PhaseLoop`,
-`multimass.engines._events`) hands each segment to the same kernels. The whole run must be
+``backend="compiled"`` run in its Python phase loop (`_loop_outcome`:
+`multimass.engines._run.PhaseLoop`, `multimass.engines._events`), which hands each
+segment to the same kernels. The whole run must be
 that run bit for bit — θ_max, status, impacts, overturning time — because it makes
 the same calls in the same order; none of the expected values is computed by the
 kernel under test. Random restitution (DD5) makes a run chaotic in its last bits,
@@ -17,6 +18,7 @@ import pytest
 
 import multimass
 from multimass import CosinePulse, FreeRelease, Record, simulation
+from multimass.checks import judge
 from multimass.engines.fast import _column_kernel as ck
 from multimass.engines.fast import column_runs
 from multimass.impact_models import (
@@ -41,9 +43,17 @@ def _record(seed=3, n=400, dt=0.02, peak=4.0):
     return Record.from_arrays(np.arange(n) * dt, acc, units="m/s2")
 
 
+def _loop_outcome(st, exc, impact, t_end, **kw):
+    """`simulate_outcome` with ``backend="compiled"`` in its Python phase loop (which
+    `simulate_outcome` itself leaves for the whole-run kernel where that applies)."""
+    kw = {"backend": "compiled", "output_dt": None, "progress": False} | kw
+    plan = simulation._prepare(st, exc, impact, t_end, simulation.SimulationOptions.of(None, **kw))
+    return judge(plan.run_phase_loop(lean=True), plan.options.energy_tol)
+
+
 def _reference(st, exc, impact, t_end, **kw):
     """The per-run compiled path's summary (the Python phase loop)."""
-    r = simulate_outcome(st, exc, impact, t_end, backend="compiled", **kw)
+    r = _loop_outcome(st, exc, impact, t_end, **kw)
     t_over = next((e.time for e in r.events if e.kind == "overturn"), math.nan)
     return r.theta_max, r.status, r.n_impacts, t_over
 
@@ -107,7 +117,7 @@ def test_running_out_of_random_draws_reruns_with_more(s1, monkeypatch):
     real = ck.column_run
 
     def counting(*a):
-        calls.append(a[-1].size)
+        calls.append(a[-2].size)  # the draws
         return real(*a)
 
     monkeypatch.setattr(column_runs, "_FIRST_DRAWS", 2)
@@ -139,7 +149,7 @@ def _column_run(st, exc, impact, t_end, **kw):
 @pytest.mark.parametrize("impact", ["DD5", "CIM"])
 def test_same_solver_calls_and_the_same_energy_ledger(s1, impact):
     exc = _record().scaled(1.3)
-    ref = simulate_outcome(s1, exc, impact, 10.0, backend="compiled", seed=SEEDS[7])
+    ref = _loop_outcome(s1, exc, impact, 10.0, seed=SEEDS[7])
     outcome, _, top, n_impacts, n_rhs, err = _column_run(s1, exc, impact, 10.0, seed=SEEDS[7])
     assert (outcome, top, n_impacts) == (ref.outcome, ref.theta_max, ref.n_impacts)
     assert n_rhs == ref.n_rhs  # every segment the same, to the right-hand side call
@@ -149,7 +159,7 @@ def test_same_solver_calls_and_the_same_energy_ledger(s1, impact):
 def test_chattering_guard_and_a_failed_energy_check(s1):
     exc = _record()
     kw = dict(seed=SEEDS[4], chatter_count=3, chatter_window=0.5)
-    r = simulate_outcome(s1, exc, "DD5", 10.0, backend="compiled", **kw)
+    r = _loop_outcome(s1, exc, "DD5", 10.0, **kw)
     assert any(e.kind == "chatter_guard" for e in r.events)  # the case trips the guard
     ref = _reference(s1, exc, "DD5", 10.0, **kw)
     _same(_whole(s1, exc, "DD5", 10.0, **kw), ref)

@@ -19,7 +19,7 @@ import pytest
 import scipy.linalg
 
 import multimass
-from multimass import FreeRelease, InputError, simulate, simulate_outcome
+from multimass import FreeRelease, InputError, simulate, simulate_outcome, simulation
 from multimass.engines.fast import _maths as mx
 from multimass.engines.fast._exp_kernel import exp_phase, new_cache, phi_functions
 from multimass.engines.fast._kernel import integrate_phase
@@ -239,7 +239,8 @@ def test_whole_run_kernel_runs_the_per_run_path():
     rec = multimass.read_record(ELCENTRO, units="g", scale=1.5)
     kw = dict(backend="compiled", method="exponential", seed=3, rtol=1e-7, atol=1e-9)
     whole = outcome_summary("S1", rec, "DD5", 5.0, **kw)
-    loop = simulate_outcome("S1", rec, "DD5", 5.0, output_dt=None, progress=False, **kw)
+    o = simulation.SimulationOptions.of(None, output_dt=None, progress=False, **kw)
+    loop = simulation._prepare("S1", rec, "DD5", 5.0, o).run_phase_loop(lean=True)
     assert whole.theta_max == loop.theta_max
     assert whole.n_impacts == loop.n_impacts
 
