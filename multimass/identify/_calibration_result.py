@@ -216,6 +216,8 @@ def _nuisance(cs, p2, x, fit_views) -> dict:
         for k in range(c.n_impacts if devs else 0):
             j = c.first_impact + k
             m = c.segments.impacts[j]
+            if m.t > c.window[1]:  # past the window's end (`REACH` before it): not fitted
+                continue
             d = devs[j] if j < len(devs) else 0.0
             impacts.append({"index": j, "t": m.t, "corner": m.corner,
                             "r": min(max(means[m.corner] + d, 0.05), 1.0), "deviation": d})  # fmt: skip

@@ -41,6 +41,7 @@ __all__ = [
     "showable",
     "modes_shown",
     "unseen_damping",
+    "window_end",
 ]
 
 
@@ -64,8 +65,8 @@ class Case:
     large : list of HalfCycle
         The half-cycles from the start whose peaks reach `theta_min` (paper 001 Sec 4.3).
     window : (float, float)
-        Trace times fitted in stage 2: from the first sample to the end of the last
-        large half-cycle.
+        Trace times fitted: from the first sample to the end of the last large
+        half-cycle (stage 2's windows, `upto`, stop short of the impact ending it).
     idx : slice
         The samples in `window`.
     fs : float
@@ -99,19 +100,22 @@ class Case:
     @property
     def n_impacts(self) -> int:
         """Impacts that end a large half-cycle: they act inside the window (the
-        Dirac-delta force before θ = 0, the filtered record around it)."""
+        Dirac-delta force before θ = 0, the filtered record around it) — the last one
+        less where stage 2's window stops short of it (`upto` with a reach): only its
+        force before that; its deviation then leans on its prior until the window
+        grows past it."""
         return sum(1 for h in self.large if h.ends == "impact")
 
     @property
     def t(self) -> np.ndarray:
         return np.asarray(self.trace.time, dtype=float)
 
-    def upto(self, k: int) -> Case:
-        """The case with its first `k` large half-cycles only (a shorter window)."""
-        if k >= len(self.large):
-            return self
+    def upto(self, k: int, reach: int = 0) -> Case:
+        """The case with its first `k` large half-cycles only (a shorter window), ending
+        `reach` trace samples before the impact that ends the last of them, if one does
+        (`window_end`; stage 2 gives the anti-alias filter's reach)."""
         large = self.large[: max(k, 1)]
-        t1 = large[-1].t_stop
+        t1 = window_end(large[-1], self.fs, reach)
         idx = slice(0, int(np.searchsorted(self.t, t1, side="right")))
         return replace(self, large=large, window=(self.window[0], float(t1)), idx=idx)
 
@@ -124,6 +128,15 @@ class Case:
         from ..inputs.excitations import FreeRelease
 
         return FreeRelease(theta0=theta0) if self.free else self.excitation_record
+
+
+def window_end(half, fs: float, reach: int = 0) -> float:
+    """Trace time at which a window whose last half-cycle is `half` ends: the
+    half-cycle's end, or, where an impact ends it, `reach` samples (at `fs`) before
+    that impact — at most back to the half-cycle's start."""
+    if half.ends != "impact" or reach <= 0:
+        return float(half.t_stop)
+    return float(max(half.t_stop - reach / fs, half.t_start))
 
 
 def _load(item, g: float) -> Trace:

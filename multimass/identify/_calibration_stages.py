@@ -31,7 +31,7 @@ from scipy import optimize
 from ._calibration_fit import Problem, scan, solve
 from ._calibration_model import TrialRejected
 from ._calibration_stats import LIMITS, lag1
-from ._restitution_fit import Track, align
+from ._restitution_fit import EDGE, Track, align
 
 __all__ = [
     "align_releases",
@@ -57,6 +57,15 @@ _SCALE_CHANGE = math.log(1.25)
 _SEED_SPAN = 0.08  # an impact's deviation is seeded within this of its start
 _SEED_TOL = 2e-3
 _AHEAD = 0.1  # s: a seed's window stops this long before the next impact
+#: Trace samples stage 2's windows stop before the impact that ends their last large
+#: half-cycle (`Case.upto`): the anti-alias filter's reach (`restitution`'s `EDGE`, the
+#: margin it keeps before an impact). Ending at the impact put part of its filtered
+#: spike in the fit, cut where the noisy θ says, followed by that impact's restitution
+#: alone: on coverage draw S1-001 (seed 0) ζ1 moved by 0.4–1.4 % per 10 ms of window
+#: end (its std 1.5 %); over eight noise draws of that trace, where estimated, 2.7 %
+#: low with sd 1.9 % (6 of 8; reported std 2.2 % with the model floor). Stopping `EDGE`
+#: samples before: 0.2 % high with sd 0.9 % (7 of 8; reported 2.0 %).
+REACH = EDGE
 
 
 @dataclass
@@ -192,7 +201,7 @@ def seed(sim, pset, case, j: int, sigma_r: float, values: dict) -> None:
     before θ = 0 and the anti-alias filter's reach); a bounded Brent search ±0.08
     about its start. θ's cost is a smooth bowl in one impact's restitution (S3: 1.04 ×
     the noise variance at the truth, 1.3 at ±0.01, 2.1 at −0.02)."""
-    c = case.upto(j + 2)
+    c = case.upto(j + 2, REACH)
     nxt = c.large[-1]
     if nxt.ends == "impact" and len(c.large) > j + 1:
         c = c.cut(max(nxt.t_peak, nxt.t_stop - _AHEAD))
@@ -261,11 +270,11 @@ def _grow(sim, pset, cases, sigma_r, values, scales, k0: int, history: int, repo
         nxt = min(k + GROWTH, longest)
         trial = dict(values)
         for c in cases:
-            # the impact ending the shorter window was seen there only by the force before
-            # θ = 0: seeded again with the new ones
+            # the impact ending the shorter window was not seen there (`REACH`):
+            # seeded again with the new ones
             for j in range(max(min(k, c.n_impacts) - 1, 0), min(nxt, c.n_impacts)):
                 seed(sim, pset, c, j, sigma_r, trial)
-        short = [c.upto(nxt) for c in cases]
+        short = [c.upto(nxt, REACH) for c in cases]
         probe = Problem(sim, pset, short, 2, True, sigma_r, start=trial)
         held = {"r_er", "r_el"} | {
             un.label for un in probe.unknowns
@@ -295,7 +304,7 @@ def stage2(
     wall, runs = time.perf_counter(), sim.n_runs
     values = dict(start)
     k = min(FIRST, history)
-    short = [c.upto(k) for c in cases]
+    short = [c.upto(k, REACH) for c in cases]
     if per_impact:
         for c in short:
             for j in range(c.n_impacts):
@@ -309,7 +318,9 @@ def stage2(
         scales = dict(p.scales)
         reached = _grow(sim, pset, cases, sigma_r, values, scales, k, history, growth)
         if reached > k:
-            p = Problem(sim, pset, [c.upto(reached) for c in cases], 2, True, sigma_r, start=values)
+            p = Problem(
+                sim, pset, [c.upto(reached, REACH) for c in cases], 2, True, sigma_r, start=values
+            )
             p.scales = scales
             x, sol, more = _passes(p, (_GROW_NFEV, _GROW_NFEV))
             passes += more

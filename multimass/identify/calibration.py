@@ -63,11 +63,14 @@ trace's release (below):
    the descent; C_p and the damping stay at their starts.
 2. **Time histories** of θ and every accelerometer over each trace's first 5 large
    half-cycles, then over longer windows (2 half-cycles more at a time, up to
-   `history`, 9) as long as the fit still follows the test — no channel's residual
-   RMS up by more than 30 %, residuals white — each channel weighted by its residual
-   RMS (re-estimated between passes), everything fitted, with **per-impact
-   deviations** from the
-   corner means as random effects: every impact in the window takes r̄_corner + δ_k,
+   `history`, 9), each stopping 13 samples (the anti-alias filter's reach) before the
+   impact that ends its last half-cycle (`_calibration_stages.REACH`: ending at it
+   put part of its filtered spike in the fit, cut where the noisy θ says, and moved
+   ζ1 by up to its std per 10 ms), as long as the fit still follows the test — no
+   channel's residual RMS up by more than 30 %, residuals white — each channel
+   weighted by its residual RMS (re-estimated between passes), everything fitted,
+   with **per-impact deviations** from the corner means as random effects: every
+   impact in the window takes r̄_corner + δ_k,
    with a Gaussian prior δ_k ~ N(0, σ_r²) (the specimen's σ_r) as residuals δ_k / σ_r
    — the model of the tests (paper 001 Sec 4.3 used impact-specific values for the
    large half-cycles; DD5 draws them). Each δ_k is first seeded alone on θ. The data
