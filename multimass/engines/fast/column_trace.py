@@ -42,7 +42,7 @@ class Trace:
         (t, Y, phase, impact loss so far, force, forces) of
         `multimass.engines._recorder.Recorder.response_of`.
     peaks : tuple
-        (|θ| of each half-cycle, its time), arrays.
+        (``|θ|`` of each half-cycle, its time), arrays.
     n_rhs : int
     energy_balance_error : float
         `PhaseLoop.end_balance_error` of the run's end.

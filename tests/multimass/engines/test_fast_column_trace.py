@@ -9,14 +9,12 @@ writes the same numbers in the same order; nothing expected here is computed by 
 kernel under test.
 """
 
-from pathlib import Path
-
 import numpy as np
 import pandas as pd
 import pytest
 
 import multimass
-from multimass import CosinePulse, FreeRelease, Record, simulation
+from multimass import CosinePulse, FreeRelease, simulation
 from multimass.checks import judge
 from multimass.engines.fast import _column_kernel as ck
 from multimass.engines.fast import column_runs
@@ -24,14 +22,9 @@ from multimass.impact_models import AngularMomentumRestitution, Classical
 from multimass.model.structure import from_specimen
 from multimass.sweeps.seeding import job_seeds
 
+from .test_fast_column_runs import ELCENTRO, _record
+
 SEEDS = job_seeds(0, 4)
-ELCENTRO = Path(__file__).resolve().parents[3] / "examples" / "data" / "elcentro_1940_NS_15s.dat"
-
-
-def _record(seed=3, n=400, dt=0.02, peak=4.0):
-    rng = np.random.default_rng(seed)
-    acc = peak * np.sin(np.arange(n) * dt * 2 * np.pi * 2.5) * rng.uniform(0.3, 1.0, n)
-    return Record.from_arrays(np.arange(n) * dt, acc, units="m/s2")
 
 
 def _both(st, exc, impact, t_end, lean=False, **kw):
