@@ -15,7 +15,25 @@ from ..model import kinematics as kin
 from ..model._phase import ActiveForce, guard
 from ..result import Event
 
-__all__ = ["phase_events", "handle_event", "overturn_message"]
+__all__ = [
+    "phase_events", "handle_event", "overturn_message", "activation_detail", "chatter_detail",
+    "DETAIL_AWAY", "DETAIL_AT_ZERO",
+]  # fmt: skip
+
+
+#: The details of a Dirac-delta force's deactivation (Eq 17): moving away from the impact,
+#: or at θ = 0.
+DETAIL_AWAY, DETAIL_AT_ZERO = "moved away from impact (Eq 17)", "θ = 0 (Eq 17)"
+
+
+def activation_detail(width: float, theta_i: float) -> str:
+    """The detail of a Dirac-delta force's activation: its width n and threshold θ_i."""
+    return f"n = {width:.4g}, theta_i = {theta_i:.4g}"
+
+
+def chatter_detail(count: int, window: float) -> str:
+    """The detail of a run the chattering guard stopped."""
+    return f"{count} transitions within {window:g} s"
 
 
 def overturn_message(angle: float) -> str:
@@ -99,7 +117,7 @@ def handle_event(run, s, name: str):
                 theta=float(th),
                 thetadot_minus=float(thd),
                 restitution=s.force.r,
-                detail="moved away from impact (Eq 17)",
+                detail=DETAIL_AWAY,
             )
         )
         return s.but(force=None)
@@ -123,7 +141,7 @@ def _activate(run, s, th, thd):
             theta=float(th),
             thetadot_minus=float(thd),
             restitution=r,
-            detail=f"n = {width:.4g}, theta_i = {theta_i:.4g}",
+            detail=activation_detail(width, theta_i),
         )
     )
     force = ActiveForce(E_ini=E, r=r, n=width, theta_i=theta_i, thetadot_i=float(thd))
@@ -142,7 +160,7 @@ def _at_zero(run, s, u, ud, thd):
                 side_old,
                 thetadot_minus=float(thd),
                 restitution=s.force.r,
-                detail="θ = 0 (Eq 17)",
+                detail=DETAIL_AT_ZERO,
             )
         )
     r_used = s.force.r if s.force is not None else None

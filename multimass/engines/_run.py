@@ -29,7 +29,7 @@ from ..model import equations as eq
 from ..model import kinematics as kin
 from ..model._phase import ActiveForce, Model, full_contact_rhs, rocking_rhs
 from ..result import Event
-from ._events import handle_event, phase_events
+from ._events import chatter_detail, handle_event, phase_events
 from ._recorder import Recorder
 from ._rigid import next_uplift
 
@@ -365,7 +365,7 @@ class PhaseLoop:
                 theta=float(th),
                 thetadot_minus=float(thd),
                 energy_change=-loss,
-                detail=f"{self.chatter.maxlen} transitions within {self.chatter_window:g} s",
+                detail=chatter_detail(self.chatter.maxlen, self.chatter_window),
             )
         )
         self.recorder.start_phase(0, s.t, y)

@@ -19,13 +19,11 @@ import numpy as np
 
 from ...model._phase import ActiveForce
 from ...result import Event
+from .._events import DETAIL_AT_ZERO, DETAIL_AWAY, activation_detail, chatter_detail
 from . import _column_kernel as ck
 from .column_runs import BROKEN, ColumnRun
 
 __all__ = ["Trace", "trace"]
-
-# details of the events, as `multimass.engines._events` writes them
-_AWAY, _AT_ZERO = "moved away from impact (Eq 17)", "θ = 0 (Eq 17)"
 
 
 @dataclass(frozen=True, eq=False)
@@ -86,18 +84,18 @@ def _events(evs: np.ndarray, phase0: int, theta0: float, chatter) -> tuple[list,
     """The `Event` list of the kernel's event log and the `ActiveForce` of each activation."""
     events = [Event("release", 0.0, phase0, phase0, theta=theta0)]
     forces = []
-    guard = f"{chatter[0]} transitions within {chatter[1]:g} s"
+    guard = chatter_detail(*chatter)
     for row in evs.tolist():
         code, t, before, after, th, thd_m, thd_p, r, d_e, width, th_i, e_ini = row
         code = int(code)
         detail = ""
         if code == ck.L_ACTIVATE:
-            detail = f"n = {width:.4g}, theta_i = {th_i:.4g}"
+            detail = activation_detail(width, th_i)
             forces.append(ActiveForce(E_ini=e_ini, r=r, n=width, theta_i=th_i, thetadot_i=thd_m))
         elif code == ck.L_AWAY:
-            detail = _AWAY
+            detail = DETAIL_AWAY
         elif code == ck.L_AT_ZERO:
-            detail = _AT_ZERO
+            detail = DETAIL_AT_ZERO
         elif code == ck.L_CHATTER:
             detail = guard
         events.append(

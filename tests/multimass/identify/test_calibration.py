@@ -221,6 +221,22 @@ def test_the_model_floor_is_added_to_cp_and_to_the_damping_ratios():
         assert out[name]["std"] == pytest.approx(v * math.hypot(rel[name], floors[name]))
 
 
+def test_a_damping_ratio_whose_mode_the_traces_do_not_show_is_not_constrained():
+    # `unseen_damping`'s reasons (the rule restitution uses too): ζ2 not constrained, its
+    # value and std kept; ζ1 and C_p, well fixed by the covariance, untouched
+    values = {"cp": 1500.0, "zeta1": 0.004, "zeta2": 0.015}
+    bounds = {"cp": (100.0, 1e5), "zeta1": (1e-4, 0.2), "zeta2": (1e-4, 0.2)}
+    pset = SimpleNamespace(fit=list(values), start=dict(values), bounds=bounds)
+    x, cov = np.log(list(values.values())), np.diag([0.004, 0.01, 0.03]) ** 2
+    why = {"zeta2": "ζ2 is the damping of mode 2, which the traces do not show"}
+    out, flagged = _parameters(pset, None, x, cov, {}, None, why)
+    assert not flagged["zeta2"]["constrained"] and why["zeta2"] in flagged["zeta2"]["reason"]
+    assert flagged["zeta1"]["constrained"] and flagged["cp"]["constrained"]
+    assert out["zeta2"]["value"] == pytest.approx(0.015)
+    same, _ = _parameters(pset, None, x, cov, {})  # without it: constrained
+    assert same["zeta2"]["constrained"] and same["zeta2"]["std"] == out["zeta2"]["std"]
+
+
 def test_the_misfit_test_makes_every_fitted_parameter_not_constrained():
     flagged = {
         "r_er": {"bound_hit": None, "constrained": True, "reason": ""},
