@@ -12,15 +12,15 @@ noise 4.3 % of each channel's peak, ``ag``'s 0.36 m/s²): driven by the recorded
 the model at the true parameters misses the trace by 1.6, 1.5, 0.90 and 3.5 m/s² RMS on
 a_A1 … a_A4 (noise 0.46, 0.63, 0.46, 0.87) and the fit lands at C_p = 1001 with std
 2.3 % (truth 1365), ζ2 = 0.0182 ± 6.6 % (truth 0.0138); driven by the noise-free ``ag``
-the same parameters match every channel within 1.0–1.16 × its noise and the fit from
+the same parameters match every channel within 0.98–1.16 × its noise and the fit from
 the truth stays at C_p = 1368, ζ1 = 0.0047, ζ2 = 0.0135. The simulated responses to the
-two ``ag`` differ by 0.2–1.2 × the channels' noise until the impact at 1.52 s and by
+two ``ag`` differ by 0.2–1.2 × the fit's residual RMS until the impact at 1.52 s and by
 3–7 × after it. Profiled with C_p held (everything else refitted, the fit's channel
-weights), the cost rises monotonically from 1001 to 1365 by 448 in the units where the
-fit's 95 % interval is a rise of 3.84: not a second valley of equal cost, and the
-Jacobian's slice probe finds the cost smooth there (rise 88 / 39 at ± 5.3 % where 69 is
-predicted). What the fit does not know is how far another ``ag`` within the recorded
-one's noise would move it.
+weights), the cost rises from the fit's by 47, 142, 448 and 767 at C_p = 1100, 1200,
+1365 and 1500, in units where the fit's 95 % interval is a rise of 3.84 (χ²₁): not a
+second valley of equal cost, and the Jacobian's slice probe finds the cost smooth there
+(rise 88 / 39 at ± 5.3 % where 69 is predicted). What the fit does not know is how far
+another ``ag`` within the recorded one's noise would move it.
 
 `input_check` asks that: it re-noises each table-motion trace's ``ag`` with white noise
 of the level `input_noise` estimates from it (a copy as far from the recorded ``ag`` as
@@ -31,10 +31,12 @@ a fit at the traces' parameters leaves, probability 1e-3 of exceeding it). Where
 draws fail it (`decides`), the fit reproduces the traces only with the recorded ``ag``'s
 own noise: every fitted parameter is ill-posed (`reasons`), and a refit with the draw
 that failed most (from the fit, the same window and channel weights) gives the other
-values the reason names. On S1-004 seven draws failed in a_A4 at 1.02, 1.5, 1.7, 2.7,
-2.9, 3.1 and 5.6 × the limit (the fit: 0.85), a run of 0.06–0.13 s each; refits from
-four draws moved C_p to 867, 1023, 1003, 967, ζ1 to 0.0053, 0.0027, 0.0050, 0.0024 and
-ζ2 to 0.028, 0.026, 0.018, 0.20; the draw at 1.02 moved nothing (C_p 1005). Hence the
+values the reason names. On S1-004 the draws failed at 1.004, 1.5, 1.6, 2.4 and
+5.8 × the limit (the fit: 0.85; ``ag``'s noise read as 0.352 m/s²), a run of
+0.06–0.13 s each, and the refit from the worst moved C_p to 555, ζ1 to 0.0038, ζ2 to
+0.046: the check took 2.7 s (49 runs) of the calibration's 9.3 s. Refits from four
+other draws moved C_p to 867, 1023, 1003, 967, ζ1 to 0.0053, 0.0027, 0.0050, 0.0024
+and ζ2 to 0.028, 0.026, 0.018, 0.20. Hence the
 majority of several draws, not one, and ill-posed rather than widened: a few refits are
 draws of the input's effect, too few to measure its spread, and one need not leave the
 fit's interval where the test of the runs fails on most draws. A free-vibration trace

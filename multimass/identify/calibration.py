@@ -117,11 +117,13 @@ noise, its fit staying at C_p = 1368. Not a second valley of equal cost: with C_
 table-motion trace's ``ag`` by the noise it holds (estimated above fs/4), five draws, and
 runs the fitted model with each through the test above; where most fail, every fitted
 parameter is ill-posed, the reason naming the value fitted and a refit's with the draw
-that failed most (S1-004: draws at 1.02–5.6 × the limit; C_p 1001 and 568). It ran on 13
-table-motion draws of the benchmark (seeds 0–2, S1–S3, indices 4 and 9) and decided on
-each; before it, 3 of their 11 estimated C_p, ζ1, ζ2 covered the truth. Its cost: 5 runs
-(0.1 s each on S1-004) and, where it decides, a refit of 10 evaluations (2–8 s); free
-vibration runs nothing.
+that failed most (S1-004: draws at 1.004–5.8 × the limit; C_p 1001 and 555). On the 18
+table-motion draws of the benchmark's seeds 0–2 (S1–S3, indices 4 and 9) it decided on
+every one, all 5 draws failing on each (the worst at 4.0–121 × the limit); before it, 3 of
+the 12 C_p, ζ1, ζ2 they estimated covered the truth (C_p 27 % and 33 % off with stds of
+2–4 %), now none is estimated. Its cost: 5 runs and, where it decides, a refit of 10
+evaluations: 2.7 s of 9.3 s on S1-004, 1.9–30 s (43–154 runs) on the others on a shared
+machine (107 s on S2-009 seed 2, a 112 s calibration before); free vibration runs nothing.
 
 Before stage 1, each free trace's release angle and clock offset are aligned on the
 samples before its first impact by `restitution`'s scan and fit
