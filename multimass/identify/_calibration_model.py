@@ -176,7 +176,8 @@ class Simulator:
     def run(self, phys: dict, case, theta0: float, deviations: tuple, t_end: float) -> Recorded:
         """The recorded run of `case`'s test (cached on every argument)."""
         key = (
-            tuple(sorted(phys.items())), case.label, float(theta0), tuple(deviations), t_end
+            tuple(sorted(phys.items())), case.label, case.input_tag, float(theta0),
+            tuple(deviations), t_end,
         )  # fmt: skip
         hit = self._cache.get(key)
         if hit is not None:

@@ -11,6 +11,7 @@ import pandas as pd
 
 from . import _parameter_status as ps
 from ._calibration_fit import Problem
+from ._calibration_input import reasons as input_reasons
 from ._calibration_params import PARAMETERS
 from ._calibration_setup import unseen_damping
 from ._calibration_stats import (
@@ -129,7 +130,9 @@ def _not_reproduced(flagged: dict, tested: dict) -> None:
         f["reason"] = "; ".join(x for x in (f["reason"], why) if x)
 
 
-def _parameters(pset, p2, x, cov, rough, tested=None, unseen=None) -> tuple[dict, dict]:
+def _parameters(
+    pset, p2, x, cov, rough, tested=None, unseen=None, checked=None
+) -> tuple[dict, dict]:
     n = len(pset.fit)
     std = np.sqrt(np.clip(np.diag(cov)[:n], 0.0, np.inf))
     for i, name in enumerate(pset.fit):  # a rough cost: at least the probe's distance
@@ -148,6 +151,11 @@ def _parameters(pset, p2, x, cov, rough, tested=None, unseen=None) -> tuple[dict
             why = rough_reason(r)
             f["constrained"] = False
             f["reason"] = "; ".join(x for x in (f["reason"], why) if x)
+    x_fit = {name: float(x[i]) for i, name in enumerate(pset.fit)}
+    for name, why in input_reasons(pset.fit, x_fit, checked).items():  # `_calibration_input`
+        f = flagged[name]
+        f["constrained"] = False
+        f["reason"] = "; ".join(r for r in (f["reason"], why) if r)
     for name, why in (unseen or {}).items():  # a damping ratio whose mode is not shown
         if name in flagged:
             flagged[name]["constrained"] = False
@@ -236,8 +244,9 @@ def _nuisance(cs, p2, x, fit_views) -> dict:
     return out
 
 
-def assemble(st, impact, pset, cs, before, stages, sim, wall) -> dict:
-    """The fields of a `Calibration` from the stages' results."""
+def assemble(st, impact, pset, cs, before, stages, sim, wall, checked=None) -> dict:
+    """The fields of a `Calibration` from the stages' results (`checked`:
+    `_calibration_input.input_check`'s, None without table motion)."""
     s1, s2 = stages
     p2, x = s2.problem, s2.x
     blocks = p2.blocks(x)
@@ -248,7 +257,7 @@ def assemble(st, impact, pset, cs, before, stages, sim, wall) -> dict:
     cov, info = covariance(J, blocks, scales)
     rough = roughness(p2, x, f0, J0, cov, pset)
     tested = misfit(p2, x)
-    params, flagged = _parameters(pset, p2, x, cov, rough, tested, unseen_damping(cs, st))
+    params, flagged = _parameters(pset, p2, x, cov, rough, tested, unseen_damping(cs, st), checked)
     rho = {key: i["rho1"] for key, i in info.items() if key[1] != "prior"}
     status, message = status_of(s2.ok, flagged, rho)
     fit_views = views(sim, p2, x, cs, st, full=False)
@@ -278,7 +287,7 @@ def assemble(st, impact, pset, cs, before, stages, sim, wall) -> dict:
                   for w, vs in (("before", before), ("after", after), ("fit", fit_views))},
         residuals=residuals,
         covariance=pd.DataFrame(cov[:n, :n], index=names, columns=names),
-        stages={"1": s1.info, "2": s2.info},
+        stages={"1": s1.info, "2": s2.info, **({"input": checked} if checked else {})},
         views={c.label: {w: vs[c.label]["view"] for w, vs in
                          (("before", before), ("after", after), ("fit", fit_views))} for c in cs},
         traces=tuple(cs),

@@ -90,6 +90,9 @@ class Case:
     tau: float = 0.0
     bias: float = 0.0
     excitation_record: object = field(default=None, repr=False)
+    #: Which table motion drives the model ("" the recorded ``ag``; another name a
+    #: perturbed copy, `multimass.identify._calibration_input`): part of the run cache's key.
+    input_tag: str = ""
     first_impact: int = 0  # index (in the trace's impacts) of the impact ending large[0]
 
     @property

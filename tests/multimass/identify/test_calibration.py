@@ -112,6 +112,10 @@ def test_metrics_before_and_after(dd2):
     assert dd2.features["fit"][label]["rms_impact_time_error"] < 0.01
 
 
+def test_a_free_release_runs_no_check_of_a_table_motion(dd2):
+    assert set(dd2.stages) == {"1", "2"}
+
+
 def test_cim_on_a_dd2_trace_reports_its_misfit(cim, dd2, tmp_path):
     # paper 001 Section 4.3: the classical impact over-predicts the vibration at impact
     assert cim.status in ("misfit", "ill-posed")
@@ -403,6 +407,9 @@ def test_a_trace_with_table_motion():
     cal = calibrate(syn.trace, fit=("r_er", "r_el"), progress=False)
     nu = next(iter(cal.nuisance.values()))
     assert nu["kind"] == "table" and nu["theta0"] is None and nu["t_offset"] == 0.0
+    # the check of the table motion's noise ran (`_calibration_input`); a free release
+    # has none (`test_a_free_release_runs_no_check_of_a_table_motion`)
+    assert len(cal.stages["input"]["draws"]) == 5
     assert cal.status in STATUSES and len(nu["impacts"]) >= 3
     # the excitation is the recorded (filtered, noisy) table motion: within a few hundredths
     for i in nu["impacts"]:
