@@ -25,9 +25,7 @@ an end-of-run scale of 2e-10 J. `balance_error` is the one rule every engine app
 
 from __future__ import annotations
 
-import dataclasses
-
-from .result import OUTCOMES, STATUSES, status_of
+from .result import OUTCOMES, STATUSES, status_of, with_fields
 
 __all__ = [
     "STATUSES",
@@ -108,6 +106,6 @@ def judge(result, energy_tol: float):
         if not checks["energy_balance"]["passed"]:
             warnings.append(_energy_warning(checks["energy_balance"]))
     status = status_of(outcome, all(c["passed"] for c in checks.values()))
-    return dataclasses.replace(
+    return with_fields(
         result, status=status, outcome=outcome, checks=checks, warnings=tuple(warnings)
     )

@@ -29,6 +29,7 @@ import math
 import numpy as np
 
 from .errors import InputError
+from .model.structure import derived_once
 from .progress import RunCost, format_bytes
 
 __all__ = [
@@ -98,6 +99,10 @@ def spectral_radius(structure) -> float:
     unchanged (S1: 280.7 Hz in full contact, 281.0 Hz uplifted), so the
     full-contact value sets the explicit step of both phases.
     """
+    return derived_once(structure, "spectral_radius", _spectral_radius)
+
+
+def _spectral_radius(structure) -> float:
     n = int(structure.n)
     if n == 0:
         return 0.0

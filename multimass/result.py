@@ -27,6 +27,8 @@ Degrees appear only in display: CLI tables, plots and JSON keys ending ``_deg``.
 
 from __future__ import annotations
 
+import copy
+import dataclasses
 import json
 import math
 from dataclasses import dataclass
@@ -46,7 +48,29 @@ __all__ = [
     "Result",
     "status_of",
     "json_ready",
+    "with_fields",
 ]
+
+
+def with_fields(result, **changes):
+    """A copy of the frozen dataclass `result` with `changes`, its other fields as stored
+    (unlike `dataclasses.replace`, which reads every field: a `Response`'s table not yet
+    read would be built).
+
+    Raises
+    ------
+    TypeError
+        If a name in `changes` is not a field of `result`.
+    """
+    names = {f.name for f in dataclasses.fields(result)}
+    unknown = sorted(set(changes) - names)
+    if unknown:
+        raise TypeError(f"{type(result).__name__} has no field {', '.join(unknown)}")
+    new = copy.copy(result)
+    for name, value in changes.items():
+        object.__setattr__(new, name, value)
+    return new
+
 
 #: What a run's status can be.
 STATUSES = ("completed", "overturned", "inaccurate", "failed")

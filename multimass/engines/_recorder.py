@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -15,17 +14,7 @@ from ..model._phase import ActiveForce, Model
 from ..model.eom import phase_rows
 from ..response import Response
 
-if TYPE_CHECKING:
-    import pandas as pd
-
 __all__ = ["Recorder"]
-
-
-def _frame(data: dict) -> pd.DataFrame:
-    """The samples as a table (pandas imported here, when a run keeps its samples)."""
-    import pandas as pd
-
-    return pd.DataFrame(data)
 
 
 class Recorder:
@@ -231,7 +220,7 @@ class Recorder:
             structure_name=name,
             status=status,
             message=message,
-            series=_frame(data),
+            series=data,  # a table when first read
             events=events,
             peaks=np.array(peaks[0]),
             peak_times=np.array(peaks[1]),

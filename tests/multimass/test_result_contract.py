@@ -200,3 +200,20 @@ def test_an_overturned_series_ends_at_the_overturn(name):
     assert df["thetadot"].iloc[-1] == pytest.approx(over.thetadot_minus, rel=1e-9)
     if "ag" in df:  # the ground motion at the overturn, from the excitation itself
         assert df["ag"].iloc[-1] == pytest.approx(exc(over.time), rel=1e-9, abs=1e-12)
+
+
+def test_a_table_given_as_columns_is_a_dataframe_when_read():
+    # a Response may hold its series as columns (name -> array): read, it is the same
+    # table pandas builds from them; `with_fields` changes fields without reading it
+    from multimass.response import Response
+    from multimass.result import with_fields
+
+    cols = {"t": np.array([0.0, 0.5]), "theta": np.array([0.1, -0.05])}
+    r = Response("x", "completed", "", cols, [], np.array([0.1]), np.array([0.0]), 1.0, 0.0, 0.0)
+    changed = with_fields(r, status="inaccurate", warnings=("w",))
+    assert (changed.status, changed.warnings, r.status) == ("inaccurate", ("w",), "completed")
+    assert isinstance(changed.series, pd.DataFrame)
+    pd.testing.assert_frame_equal(changed.series, pd.DataFrame(cols))
+    np.testing.assert_array_equal(r.theta, cols["theta"])
+    with pytest.raises(TypeError, match="no field colour"):
+        with_fields(r, colour="red")

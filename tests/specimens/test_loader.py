@@ -61,3 +61,17 @@ def test_specimens_pickle_for_process_pools():
 
     s1 = specimens.load("S1")
     assert pickle.loads(pickle.dumps(s1)) == s1
+
+
+def test_a_file_is_read_again_when_it_changes(tmp_path):
+    # the loader keeps what it read until the file's modification time or size changes
+    path = tmp_path / "mine.toml"
+    shutil.copy(specimens.loader._bundled()["S1"], path)
+    first = specimens.load(path)
+    assert specimens.load(path) is first  # unchanged: the same frozen specimen
+    path.write_text(path.read_text().replace('name = "S1"', 'name = "edited"'))
+    again = specimens.load(path)
+    assert again.name == "edited" and first.name == "S1"
+    path.write_text("kind = 'column'\nname = [")  # now broken: the error, not the old one
+    with pytest.raises(SpecimenError, match="not a valid TOML"):
+        specimens.load(path)

@@ -13,6 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...model.structure import derived_once
+
 __all__ = ["ContactModes", "CLASSICAL_RTOL", "CHECKS_PER_PERIOD"]
 
 #: Largest off-diagonal of Φᵀ C Φ, relative to its largest diagonal term, still taken as
@@ -60,6 +62,10 @@ class ContactModes:
     @classmethod
     def of(cls, st) -> ContactModes | str:
         """The modes of `st`'s full contact, or why its full contact has no exact solution here."""
+        return derived_once(st, "contact_modes", cls._of)
+
+    @classmethod
+    def _of(cls, st) -> ContactModes | str:
         if st.n == 0:
             return "a rigid body has no elastic full-contact phase"
         m = np.asarray(st.m, dtype=float)

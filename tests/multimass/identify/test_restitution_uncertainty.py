@@ -245,8 +245,10 @@ def test_theta0_carries_the_model_parameters_error_floor_through_their_covarianc
                             std={"theta0": s_th, "zeta1": s_z})  # fmt: skip
     b = rho * s_th / s_z
     want = math.sqrt(s_th**2 + (b * MODEL_REL_FLOOR) ** 2)
+    assert consider_std(track, "theta0") == pytest.approx(want, rel=1e-9) and want > 2 * s_th
+    # reported, with the release angle's own floor beside it (0.05 % of θ0 = 0.1)
     entry = _entry(track, "theta0", False, None, {}, "θ0")
-    assert entry["std"] == pytest.approx(want, rel=1e-9) and want > 2 * s_th
+    assert entry["std"] == pytest.approx(math.hypot(want, 5e-4 * 0.1), rel=1e-9)
     # an independent calculation (Monte Carlo): linear least squares y = θ0 + s ζ + noise
     # with the parameter's total error e ~ N(0, Σ_ζζ + F) (its reported std, the floor
     # with it) and θ0 refitted with ζ held there: the spread of θ0 against consider_std
@@ -386,9 +388,25 @@ def test_a_rough_theta0_is_ill_posed_with_the_probe_distance_as_its_std():
     entry = _entry(track, "theta0", False, None, {}, "θ0")
     assert entry["status"] == ps.ILL_POSED and "rough" in entry["reason"]
     assert entry["std"] == pytest.approx(5.9e-4)
-    track.rough["theta0"]["trusted"] = True  # a smooth cost: the covariance's std
+    track.rough["theta0"]["trusted"] = True  # a smooth cost: the covariance's std, with
+    entry = _entry(track, "theta0", False, None, {}, "θ0")  # 0.05 % of θ0 beside it
+    assert entry["status"] == ps.ESTIMATED
+    assert entry["std"] == pytest.approx(math.hypot(1e-6, 5e-4 * 0.0593))
+
+
+def test_theta0_is_known_to_no_better_than_its_floor_and_the_others_have_none():
+    # a fit's covariance of 1e-7 rad at θ0 = 0.12 rad: reported 0.05 % of θ0 = 6e-5 rad
+    # (hypot), its 95 % interval θ0 ± 1.96 × that; the clock and the θ bias keep theirs
+    track = SimpleNamespace(covariance={}, estimate=(), nuis={"theta0": 0.12, "t_offset": 0.2},
+                            std={"theta0": 1e-7, "t_offset": 1e-7})  # fmt: skip
     entry = _entry(track, "theta0", False, None, {}, "θ0")
-    assert entry["status"] == ps.ESTIMATED and entry["std"] == pytest.approx(1e-6)
+    assert entry["status"] == ps.ESTIMATED
+    assert entry["std"] == pytest.approx(math.hypot(1e-7, 6e-5), rel=1e-12)
+    lo, hi = entry["interval"]
+    assert (lo, hi) == pytest.approx(
+        (0.12 - 1.959964 * entry["std"], 0.12 + 1.959964 * entry["std"])
+    )
+    assert _entry(track, "t_offset", False, None, {}, "clock")["std"] == pytest.approx(1e-7)
 
 
 @pytest.mark.parametrize("fs, zeta2_status", [(120.0, ps.ILL_POSED), (300.0, ps.ESTIMATED)])

@@ -322,3 +322,29 @@ def test_slips_that_pass_each_range_are_caught_by_the_frequency(tmp_path, height
         r"the height.*`mass.nodal_kg` \(kg\)",
     ):
         multimass.column(path)
+
+
+def test_a_specimen_is_built_once_and_shared_read_only():
+    # `column` of the same specimen returns one structure; its arrays cannot be
+    # changed under another caller's feet
+    a, b = multimass.column("S1"), multimass.column(specimens.load("S1"))
+    assert a is b
+    with pytest.raises(ValueError, match="read-only"):
+        a.K[0, 0] = 0.0
+    # a modulus given explicitly is a structure of its own (E_s 210 GPa: DESIGN.md)
+    c = multimass.column("S1", E_s=210e9)
+    assert c is not a and not np.allclose(c.K, a.K)
+    assert c.K.flags.writeable
+
+
+def test_what_is_derived_from_a_shared_structure_is_kept_on_it():
+    from multimass.model.structure import derived_once
+
+    calls = []
+    build = lambda st: calls.append(st) or np.linalg.eigvalsh(st.K)  # noqa: E731
+    shared = multimass.column("S1")
+    first = derived_once(shared, "test_eigs", build)
+    assert derived_once(shared, "test_eigs", build) is first and len(calls) == 1
+    own = multimass.column("S1", E_s=210e9)  # writeable arrays: may change, so not kept
+    derived_once(own, "test_eigs", build), derived_once(own, "test_eigs", build)
+    assert len(calls) == 3
