@@ -39,6 +39,7 @@ from ..simulation import estimate, outcome_summaries, outcome_summary
 from ..sweeps.base import available_workers, validate_workers
 from ..sweeps.engine import _Bar, run_batches, run_jobs
 from ..sweeps.kernel_pools import kernel_session, preload_modules
+from ..sweeps.map_cells import use_batch
 from ..sweeps.maps import default_backend
 from ..sweeps.method_choice import AUTO, resolve
 from ..sweeps.seeding import job_seed
@@ -345,8 +346,11 @@ def suite_cost(suite: Suite, n: int, one: RunCost, executor="process", workers=N
     )
 
 
-#: Rigid-block suites run in compiled batches (`suite_batch`); False: one job per run.
-BATCHED = True
+#: Rigid-block suites in compiled batches (`suite_batch`): None (default) when the batch
+#: kernels are ready or the suite has enough runs to pay for their compile
+#: (`multimass.sweeps.map_cells.use_batch`, the maps' rule); True always (compiling them if
+#: need be); False never: one job per run (`suite_run`), the same results.
+BATCHED: bool | None = None
 #: A chunk of a batched suite is cut into this many jobs (strided, so they cost alike).
 BATCHES_PER_CHUNK = 8
 #: Column suites on the compiled path run a batch per task, prepared once (`suite_columns`);
@@ -592,7 +596,7 @@ def run_suite(
     )
     tables = {}
     compiled = options.get("backend") == "compiled"
-    batched = BATCHED and compiled and st.n == 0
+    batched = compiled and st.n == 0 and use_batch(BATCHED, n)  # n: as in `suite_cost`
     try:
         columns = compiled and st.n > 0  # whole runs (`multimass.engines.fast.column_runs`)
         preload = preload_modules(st.n > 0, bool(suite.records), batched) if compiled else ()

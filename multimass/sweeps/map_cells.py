@@ -4,8 +4,9 @@
 while undecided — and classifies its outcome. `simulate_cells` runs a list of cells
 on an executor: in compiled chunks (`multimass.engines.fast.block_runs`, one call per chunk
 of cells, no Python per cell) when `batch_runs` says the batch reproduces these cells
-exactly (and, for a small map, that its kernels need no compile), else as one `map_cell`
-job per cell.
+exactly, else as one `map_cell` job per cell. `use_batch` decides whether a map's cells,
+or a suite's runs, are worth the batch: a small map or suite on a machine without the
+batch kernels compiled runs per cell.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ __all__ = [
     "map_cell",
     "simulate_cells",
     "batch_runs",
+    "use_batch",
     "BATCH_COMPILE_CELLS",
     "OUTCOMES",
     "PULSES",
@@ -78,10 +80,11 @@ def pulse_label(pulse) -> str:
     return str(pulse)
 
 
-#: A map of fewer cells runs one `map_cell` per cell unless the batch kernels are ready:
-#: their one-off compile costs more than the batch saves on so few cells (2-core machine,
-#: load 3: compile 47 s, per-cell path ~1.0 ms per cell, batched ~0.07 ms; quiet: 0.49 and
-#: 0.11 ms, a compile of 25-35 s; break-even 50 000-90 000 cells; docs/guide/speed.md).
+#: A map of fewer cells (a suite of fewer runs) runs one `map_cell` per cell unless the
+#: batch kernels are ready (`use_batch`): their one-off compile costs more than the batch
+#: saves on so few cells (2-core machine, load 3: compile 47 s, per-cell path ~1.0 ms per
+#: cell, batched ~0.07 ms; quiet: 0.49 and 0.11 ms, a compile of 25-35 s; break-even
+#: 50 000-90 000 cells; docs/guide/speed.md).
 BATCH_COMPILE_CELLS = 50_000
 #: Cells per chunk of a batched map (one compiled call each; ~5-20 ms of work).
 CHUNK_CELLS = 64
@@ -197,23 +200,37 @@ def _map_chunk(chunk: _Chunk) -> list[tuple]:
     return out
 
 
-def batch_runs(st, options, cells: int | None = None):
-    """The compiled batch for this map's cells (`BlockRuns`), or None to run them per cell.
+def use_batch(setting: bool | None, runs: int) -> bool:
+    """Whether `runs` runs of a rigid block go in the compiled batch, where it reproduces them
+    (the rule of maps and suites alike).
 
-    With `cells`, the cells the map expects to run: None as well when the batch kernels
-    are not ready (`block_runs.batch_ready`: neither loaded nor in numba's disk cache) and
-    the map has fewer than `BATCH_COMPILE_CELLS` cells, too few for their compile to pay
-    off; the per-cell path gives the same results. Without `cells`: the batch whenever it
-    reproduces the cells.
+    Parameters
+    ----------
+    setting : bool or None
+        True: always, compiling the batch kernels if need be; False: never. None: when the
+        batch kernels are ready (`multimass.engines.fast.block_runs.batch_ready`: loaded, or
+        in numba's disk cache) or there are at least `BATCH_COMPILE_CELLS` runs, enough to
+        pay for their one-off compile. The per-run path gives the same results.
+    runs : int
+        The runs (map cells, suite runs) expected.
     """
+    if setting is not None:
+        return bool(setting)
+    if runs >= BATCH_COMPILE_CELLS:
+        return True
+    from multimass.engines.fast import block_runs
+
+    return block_runs.batch_ready()
+
+
+def batch_runs(st, options):
+    """The compiled batch for a map's cells (`BlockRuns`), or None if it cannot reproduce
+    them (then they run one `map_cell` each). Whether it is worth it: `use_batch`."""
     if options.get("backend") != "compiled":
         return None
     from multimass.engines.fast import block_runs
 
-    runs = block_runs.BlockRuns.of(st, options, QUIET_DELAY, UNDECIDED_RETRY)
-    if runs is None or cells is None or cells >= BATCH_COMPILE_CELLS:
-        return runs
-    return runs if block_runs.batch_ready() else None
+    return block_runs.BlockRuns.of(st, options, QUIET_DELAY, UNDECIDED_RETRY)
 
 
 def chunk_count(n: int, workers: int) -> int:

@@ -40,6 +40,7 @@ from .map_cells import (
     pulse_family,
     pulse_label,
     simulate_cells,
+    use_batch,
 )
 from .map_store import (
     STORE_CHUNK_CELLS,
@@ -66,7 +67,7 @@ __all__ = [
 _CODE = {name: i for i, name in enumerate(OUTCOMES)}
 
 #: Run supported maps in compiled chunks: None (default) when the batch kernels are ready
-#: or the map is large enough to pay for their compile (`map_cells.batch_runs`,
+#: or the map is large enough to pay for their compile (`map_cells.use_batch`,
 #: `map_cells.BATCH_COMPILE_CELLS`); True always (compiling them if need be); False never:
 #: every cell as one `map_cell` job, the reference the batched path is compared with
 #: (tests/multimass/sweeps/test_batched_maps.py, benchmarks/batched_maps.py).
@@ -441,8 +442,8 @@ def overturning_map(
         **{k_: v for k_, v in sim_options.items()},
     }
     expected = omega_p.size * (amp.size + int(refine))  # the grid, a boundary per ω/p refined
-    runs = None if BATCHED is False else batch_runs(st, options, None if BATCHED else expected)
     compiled = options.get("backend") == "compiled"
+    runs = batch_runs(st, options) if compiled and use_batch(BATCHED, expected) else None
     simulated = [0.0]  # seconds in the executor's runs
     batched = runs is not None
     with executor_session(executor, workers, compiled, batched, per_run=not batched) as ex:

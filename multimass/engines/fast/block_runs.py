@@ -606,7 +606,7 @@ def batch_ready() -> bool:
     in this process's memory, or in numba's disk cache for the current sources (loaded in
     ~0.1 s; `multimass.engines.fast.compile.cached_on_disk`). Compiles and loads nothing.
 
-    `multimass.sweeps.map_cells.batch_runs` asks it before batching a small map.
+    `multimass.sweeps.map_cells.use_batch` asks it before batching a small map or suite.
     """
     kernel = bk.run_cells
     if _READY is not None or not hasattr(kernel, "overloads"):  # no JIT: nothing to compile

@@ -222,40 +222,6 @@ def test_drawn_shapes_need_a_peak_acceleration_measure(tmp_path):
         Suite.from_toml(_toml(tmp_path, text))
 
 
-def test_block_suites_run_in_compiled_batches_with_the_same_table(monkeypatch):
-    from multimass.suites import runs as runs_mod
-
-    s = _block_suite(draws=4)
-    batched = run_suite(s, executor="serial", progress=False).runs
-    monkeypatch.setattr(runs_mod, "BATCHED", False)
-    per_run = run_suite(s, executor="serial", progress=False).runs
-    pd.testing.assert_frame_equal(batched, per_run)
-    assert batched.overturned.any() and (~batched.overturned).any()
-
-
-def test_a_block_under_records_batched_as_per_run(monkeypatch):
-    import multimass
-    from multimass.suites import runs as runs_mod
-    from multimass.suites.spec import Distribution
-
-    rec = multimass.read_record(RECORDS / "kobe_1995.dat", units="m/s2", name="Kobe")
-    s = Suite(
-        name="B6M under Kobe",
-        structure=multimass.rigid_block("B6M"),
-        records=(rec,),
-        measure="pga",
-        levels=np.array([0.3, 0.6, 0.9]) * G,
-        draws=3,
-        restitution="modified",
-        k=Distribution("normal", 0.82, 0.05),
-        t_free=2.0,
-    )
-    batched = run_suite(s, executor="serial", progress=False).runs
-    monkeypatch.setattr(runs_mod, "BATCHED", False)
-    pd.testing.assert_frame_equal(batched, run_suite(s, executor="serial", progress=False).runs)
-    assert batched.n_impacts.gt(0).any()
-
-
 def test_sa_columns_are_the_listed_periods_and_the_measure_s(tmp_path):
     rec = _record(RECORDS / "kobe_1995.dat", "m/s2")
     body = "[intensity]\nmeasure = 'sa'\nperiod_s = 0.5\nlevels = [0.5]\nunit = 'g'\n"

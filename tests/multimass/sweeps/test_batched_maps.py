@@ -142,6 +142,22 @@ def test_a_map_large_enough_to_pay_for_the_compile_is_batched(monkeypatch, refin
     assert bool(sizes) is batched
 
 
+def test_use_batch_is_the_rule_of_maps_and_suites(monkeypatch):
+    # BATCHED True or False decides alone; None: ready kernels, or enough runs to pay
+    n = map_cells.BATCH_COMPILE_CELLS
+    for ready in (False, True):
+        monkeypatch.setattr(block_runs, "batch_ready", lambda ready=ready: ready)
+        assert map_cells.use_batch(True, 1) and not map_cells.use_batch(False, 10 * n)
+        assert map_cells.use_batch(None, 1) is ready
+        assert map_cells.use_batch(None, n - 1) is ready
+
+    def not_asked():
+        raise AssertionError("a map or suite this large is batched without asking the cache")
+
+    monkeypatch.setattr(block_runs, "batch_ready", not_asked)
+    assert map_cells.use_batch(None, n) and map_cells.use_batch(None, 10 * n)
+
+
 def test_batch_ready_once_the_batch_kernels_are_compiled_or_loaded():
     # after `ensure_ready` this process has them, and numba's disk cache holds them for a
     # new process (the index of `run_cells` for this machine and the current fingerprint)
