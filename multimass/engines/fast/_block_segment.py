@@ -134,7 +134,7 @@ def _accepted_step(t, y, f, h_abs, t_stop, cfg, method, tab, work, model):
             scale[j] = atol + max(abs(y[j]), abs(ynew[j])) * rtol
         err = _error_norm(method, Kst, h, scale, ns, ytmp)
         # SciPy's control (β = 0): a block's steps are solve_ivp's
-        accepted, h_abs = step_control(err, exponent, rejected, h, h_abs, 1.0, 0.0, 0.0)
+        accepted, h_abs, _ = step_control(err, exponent, rejected, h, h_abs, 0.0, 0.0, 0.0)
         if accepted:
             return True, t_new, h, h_abs, nfev
         rejected = True

@@ -30,7 +30,6 @@ from ._rk import (
     FAILED,
     OK,
     PI_BETA,
-    PI_ERR_FLOOR,
     PI_KAPPA,
     _brent,
     _dense_eval,
@@ -58,10 +57,11 @@ def _tableau(method):
 
 @njit(cache=True, error_model="numpy")
 def _accepted_step(
-    t, y, f, h_abs, err_prev, t_stop, max_step, rtol, atol, method, tab, work, model
+    t, y, f, h_abs, log_prev, t_stop, max_step, rtol, atol, method, tab, work, model
 ):
     """One accepted step from (t, y): `._rk.step_control` with the tableau's β and κ
-    (SciPy's RungeKutta control at β = 0), `err_prev` the last accepted step's error norm.
+    (SciPy's RungeKutta control at β = 0), `log_prev` ln of the last accepted step's
+    error norm (0: none).
 
     Under a record no step crosses a sample of ü_g (`._maths.piece_end`: ü_g has a kink
     there, which an explicit pair sees as a large local error and answers with a
@@ -69,7 +69,7 @@ def _accepted_step(
     into equal steps no longer than the proposed size, and a step shortened so does
     not shorten the next proposal.
 
-    Returns (ok, t_new, h, next |h|, error norm, RHS calls); the new state is in work[1]
+    Returns (ok, t_new, h, next |h|, ln of its error norm, RHS calls); the new state is in work[1]
     and the stages in work[0]. ok is False when |h| fell below 10 ulp(t).
     """
     A, Bw, C, ns, exponent, beta, kappa = tab
@@ -86,7 +86,7 @@ def _accepted_step(
     rejected = False
     while True:
         if h_abs < min_step:
-            return False, t, 0.0, h_abs, err_prev, nfev
+            return False, t, 0.0, h_abs, log_prev, nfev
         h, t_new = trial_step(t, h_abs, t_end, piece)
         _rk_step(
             t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, m, H, K, C_, mp, fp, kind, par, smp
@@ -95,9 +95,11 @@ def _accepted_step(
         for j in range(y.size):
             scale[j] = atol + max(abs(y[j]), abs(ynew[j])) * rtol
         err = _error_norm(method, Kst, h, scale, ns, ytmp)
-        accepted, h_abs = step_control(err, exponent, rejected, h, h_abs, err_prev, beta, kappa)
+        accepted, h_abs, log_err = step_control(
+            err, exponent, rejected, h, h_abs, log_prev, beta, kappa
+        )
         if accepted:
-            return True, t_new, h, h_abs, err, nfev
+            return True, t_new, h, h_abs, log_err, nfev
         rejected = True
 
 
@@ -243,8 +245,8 @@ def integrate_phase(
         passes the same array from one phase segment to the next, so a segment starts
         at the step size the last one ended with instead of a guess that the
         controller must first cut down (a rejected DOP853 step costs 12 calls). With
-        two entries, hint[1] carries the PI controller's err_{n−1} (`._rk.step_control`;
-        0: none) the same way.
+        two entries, hint[1] carries the PI controller's ln err_{n−1}
+        (`._rk.step_control`; 0: none) the same way.
 
     Returns
     -------
@@ -313,14 +315,14 @@ def _steps(t0, t_stop, y, t_eval, samples, model, events, ep, method, tol, hint,
     pi = method == _DOP and m.size > 0
     beta, kappa = (PI_BETA, PI_KAPPA) if pi else (0.0, 0.0)
     tab = (A, Bw, C, ns, -1.0 / (err_order + 1), beta, kappa)
-    err_prev = 1.0  # no memory (a first segment, a block): the factor is err^(exponent + κβ)
+    log_prev = 0.0  # no memory (a first segment, a block): the factor is err^(exponent + κβ)
     work = (Kst, ynew, ytmp, scale)
     t, i_eval, n_nt = t0, 0, np.int64(0)  # int64, not the literal 0: _push compiles once
     rhs_call(t, y, f, side, m, H, K, C_, mp, fp, kind, par, smp)
     nfev = 1
     h_abs = hint[0]
-    if hint.size > 1 and hint[1] > 0.0:
-        err_prev = hint[1]
+    if hint.size > 1:
+        log_prev = hint[1]
     if not (h_abs > 0.0):
         h_abs = _first_step(
             t, y, f, t_stop, max_step, err_order, rtol, atol, ytmp, ynew, side, m, H, K, C_,
@@ -329,14 +331,13 @@ def _steps(t0, t_stop, y, t_eval, samples, model, events, ep, method, tol, hint,
         nfev = 2
     _event_values(t, y, g, events, ep, model)
     while True:
-        ok, t_new, h, h_abs, err, calls = _accepted_step(
-            t, y, f, h_abs, err_prev, t_stop, max_step, rtol, atol, method, tab, work, model
+        ok, t_new, h, h_abs, log_prev, calls = _accepted_step(
+            t, y, f, h_abs, log_prev, t_stop, max_step, rtol, atol, method, tab, work, model
         )
         nfev += calls
-        err_prev = max(err, PI_ERR_FLOOR)
         hint[0] = h_abs
         if hint.size > 1:
-            hint[1] = err_prev
+            hint[1] = log_prev
         if not ok:
             return FAILED, t, -1, nfev, i_eval, buf, n_nt
         t_old, t = t, t_new
