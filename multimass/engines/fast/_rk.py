@@ -22,10 +22,12 @@ the same events:
 * the output grid `t_eval` is filled from the dense output of the step
   that covers each time.
 
-Two departures, both in `._kernel`: under a record no step crosses one of its
-samples (ü_g has a kink there; solve_ivp steps across it), and a column's phase
-segment starts at the step the previous one proposed (solve_ivp guesses anew each
-call; a rigid block's segments still do, so its steps stay solve_ivp's).
+Three departures: under a record no step crosses one of its samples (ü_g has a
+kink there; solve_ivp steps across it; `._kernel`); a column's phase segment starts
+at the step the previous one proposed (solve_ivp guesses anew each call; `._kernel`);
+and a column's DOP853 steps are set by a PI controller (`step_control`, `PI_BETA`: a
+quarter of SciPy's attempts in free rocking were rejected). A rigid block's segments
+keep SciPy's guess and control, so its steps stay solve_ivp's.
 
 Differences from the reference start at round-off (sums are accumulated in
 loops, not by BLAS). A rigid block then takes the very same steps (states agree
