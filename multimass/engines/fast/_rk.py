@@ -96,7 +96,7 @@ def trial_step(t, h_abs, t_end, piece):
 #: *Solving ODEs II*, Sec. IV.2); κ = 0.75 as in Hairer's DOPRI5 (α = 1/5 − 0.75 β). β
 #: from S1–S3's whole runs released and under El Centro and an S1 spectrum
 #: (docs/guide/speed.md, "Where a whole column run's steps go"): 0.03 takes 13–14 %
-#: fewer right-hand sides released (10 % less CPU time for S1) and 0.2–4 % fewer under
+#: fewer right-hand sides released (8–11 % less CPU time for S1) and 0.2–4 % fewer under
 #: the record (but 3 % more CPU time for S1: more accepted steps, each with its events);
 #: 0.02 gains half as much released at the same cost under the record; 0.04 takes more
 #: right-hand sides under the record. A rigid block's steps keep SciPy's controller (β = 0).
