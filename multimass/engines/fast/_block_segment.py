@@ -133,7 +133,8 @@ def _accepted_step(t, y, f, h_abs, t_stop, cfg, method, tab, work, model):
         for j in range(NY):
             scale[j] = atol + max(abs(y[j]), abs(ynew[j])) * rtol
         err = _error_norm(method, Kst, h, scale, ns, ytmp)
-        accepted, h_abs = step_control(err, exponent, rejected, h, h_abs)
+        # SciPy's control (β = 0): a block's steps are solve_ivp's
+        accepted, h_abs, _ = step_control(err, exponent, rejected, h, h_abs, 0.0, 0.0, 0.0)
         if accepted:
             return True, t_new, h, h_abs, nfev
         rejected = True

@@ -283,7 +283,7 @@ def column_run(
     phi, w, z, gam, h_max, screen = modes
     L_r, lam_r, V_r, W_r, wt_r = rock
     exp_cache = new_cache(lam_r.size)
-    hints = (np.zeros(1), np.zeros(1))  # integrate_phase's next step: full contact, rocking
+    hints = (np.zeros(2), np.zeros(2))  # integrate_phase's next step: full contact, rocking
     has_force = cfg[CF_FORCE] != 0.0
     tdmin, delay, window = cfg[CF_TDMIN], cfg[CF_DELAY], cfg[CF_WINDOW]
     ring = np.empty(int(cfg[CF_COUNT]))

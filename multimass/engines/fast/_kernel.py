@@ -29,6 +29,8 @@ from ._rk import (
     EVENT,
     FAILED,
     OK,
+    PI_BETA,
+    PI_KAPPA,
     _brent,
     _dense_eval,
     _dense_prepare,
@@ -54,8 +56,12 @@ def _tableau(method):
 
 
 @njit(cache=True, error_model="numpy")
-def _accepted_step(t, y, f, h_abs, t_stop, max_step, rtol, atol, method, tab, work, model):
-    """One accepted step from (t, y) with SciPy's RungeKutta step-size control.
+def _accepted_step(
+    t, y, f, h_abs, log_prev, t_stop, max_step, rtol, atol, method, tab, work, model
+):
+    """One accepted step from (t, y): `._rk.step_control` with the tableau's β and κ
+    (SciPy's RungeKutta control at β = 0), `log_prev` ln of the last accepted step's
+    error norm (0: none).
 
     Under a record no step crosses a sample of ü_g (`._maths.piece_end`: ü_g has a kink
     there, which an explicit pair sees as a large local error and answers with a
@@ -63,10 +69,10 @@ def _accepted_step(t, y, f, h_abs, t_stop, max_step, rtol, atol, method, tab, wo
     into equal steps no longer than the proposed size, and a step shortened so does
     not shorten the next proposal.
 
-    Returns (ok, t_new, h, next |h|, RHS calls); the new state is in work[1] and
-    the stages in work[0]. ok is False when |h| fell below 10 ulp(t).
+    Returns (ok, t_new, h, next |h|, ln of its error norm, RHS calls); the new state is in work[1]
+    and the stages in work[0]. ok is False when |h| fell below 10 ulp(t).
     """
-    A, Bw, C, ns, exponent = tab
+    A, Bw, C, ns, exponent, beta, kappa = tab
     Kst, ynew, ytmp, scale = work
     side, m, H, K, C_, mp, fp, kind, par, smp = model
     nfev = 0
@@ -80,7 +86,7 @@ def _accepted_step(t, y, f, h_abs, t_stop, max_step, rtol, atol, method, tab, wo
     rejected = False
     while True:
         if h_abs < min_step:
-            return False, t, 0.0, h_abs, nfev
+            return False, t, 0.0, h_abs, log_prev, nfev
         h, t_new = trial_step(t, h_abs, t_end, piece)
         _rk_step(
             t, y, f, h, A, Bw, C, ns, Kst, ynew, ytmp, side, m, H, K, C_, mp, fp, kind, par, smp
@@ -89,9 +95,11 @@ def _accepted_step(t, y, f, h_abs, t_stop, max_step, rtol, atol, method, tab, wo
         for j in range(y.size):
             scale[j] = atol + max(abs(y[j]), abs(ynew[j])) * rtol
         err = _error_norm(method, Kst, h, scale, ns, ytmp)
-        accepted, h_abs = step_control(err, exponent, rejected, h, h_abs)
+        accepted, h_abs, log_err = step_control(
+            err, exponent, rejected, h, h_abs, log_prev, beta, kappa
+        )
         if accepted:
-            return True, t_new, h, h_abs, nfev
+            return True, t_new, h, h_abs, log_err, nfev
         rejected = True
 
 
@@ -231,12 +239,14 @@ def integrate_phase(
         `METHOD_CODES` of ``RK23``, ``RK45`` or ``DOP853``.
     rtol, atol, max_step : float
         As in solve_ivp.
-    hint : ndarray (1,)
+    hint : ndarray (1,) or (2,)
         The first step to try if hint[0] > 0 (else the Hairer–Nørsett–Wanner guess of
         `._rk._first_step`); on return, the step the controller proposes next. A run
         passes the same array from one phase segment to the next, so a segment starts
         at the step size the last one ended with instead of a guess that the
-        controller must first cut down (a rejected DOP853 step costs 12 calls).
+        controller must first cut down (a rejected DOP853 step costs 12 calls). With
+        two entries, hint[1] carries the PI controller's ln err_{n−1}
+        (`._rk.step_control`; 0: none) the same way.
 
     Returns
     -------
@@ -300,12 +310,19 @@ def _steps(t0, t_stop, y, t_eval, samples, model, events, ep, method, tol, hint,
     ny, ne = y.size, ev_code.size
     model = (side, m, H, K, C_, mp, fp, kind, par, smp)
     events = (ev_code, ev_dir, ev_term, ev_quiet, ev_ton)
-    tab = (A, Bw, C, ns, -1.0 / (err_order + 1))
+    # a column's DOP853 steps: the PI controller (`._rk.PI_BETA`); a rigid block's (no
+    # masses) and the other pairs': SciPy's (β = 0), the same steps as solve_ivp's
+    pi = method == _DOP and m.size > 0
+    beta, kappa = (PI_BETA, PI_KAPPA) if pi else (0.0, 0.0)
+    tab = (A, Bw, C, ns, -1.0 / (err_order + 1), beta, kappa)
+    log_prev = 0.0  # no memory (a first segment, a block): the factor is err^(exponent + κβ)
     work = (Kst, ynew, ytmp, scale)
     t, i_eval, n_nt = t0, 0, np.int64(0)  # int64, not the literal 0: _push compiles once
     rhs_call(t, y, f, side, m, H, K, C_, mp, fp, kind, par, smp)
     nfev = 1
     h_abs = hint[0]
+    if hint.size > 1:
+        log_prev = hint[1]
     if not (h_abs > 0.0):
         h_abs = _first_step(
             t, y, f, t_stop, max_step, err_order, rtol, atol, ytmp, ynew, side, m, H, K, C_,
@@ -314,11 +331,13 @@ def _steps(t0, t_stop, y, t_eval, samples, model, events, ep, method, tol, hint,
         nfev = 2
     _event_values(t, y, g, events, ep, model)
     while True:
-        ok, t_new, h, h_abs, calls = _accepted_step(
-            t, y, f, h_abs, t_stop, max_step, rtol, atol, method, tab, work, model
+        ok, t_new, h, h_abs, log_prev, calls = _accepted_step(
+            t, y, f, h_abs, log_prev, t_stop, max_step, rtol, atol, method, tab, work, model
         )
         nfev += calls
         hint[0] = h_abs
+        if hint.size > 1:
+            hint[1] = log_prev
         if not ok:
             return FAILED, t, -1, nfev, i_eval, buf, n_nt
         t_old, t = t, t_new

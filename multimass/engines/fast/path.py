@@ -150,7 +150,7 @@ class FastPath:
     exp_cache: tuple | None = None  # its φ-tables and last step, kept between phases
     # the Runge–Kutta kernel's next step in full contact and while rocking, kept between
     # phases (`._kernel.integrate_phase`'s hint)
-    rk_hints: tuple = field(default_factory=lambda: (np.zeros(1), np.zeros(1)))
+    rk_hints: tuple = field(default_factory=lambda: (np.zeros(2), np.zeros(2)))
 
     @classmethod
     def of(

@@ -244,7 +244,8 @@ def test_a_segment_restarts_at_the_step_the_last_one_ended_with():
     # S1 rocking under El Centro (DD2's force off): one segment of 0.2 s from a fresh guess
     # (HNW's, which here proposes the 5 ms cap: the controller cuts it down to the
     # stiffest mode's ~1 ms by rejections), then the next 0.2 s twice: from a fresh
-    # guess and from the step the first segment ended with (`integrate_phase`'s hint).
+    # guess and from the step the first segment ended with (`integrate_phase`'s hint, with
+    # the PI controller's last error norm as the runs pass it).
     # The hinted restart is within a factor 3 of the steps the segment takes, saves the
     # rejected attempts, and lands on the same state to the tolerance of the reference
     # (solve_ivp DOP853 at rtol 1e-12).
@@ -272,12 +273,12 @@ def test_a_segment_restarts_at_the_step_the_last_one_ended_with():
         )  # fmt: skip
         return out[5][-1], out[4]
 
-    hint = np.zeros(1)
+    hint = np.zeros(2)
     y1, nfev0 = segment(2.0, y0, hint)
     typical = 0.2 / (nfev0 / 12)  # DOP853: 12 calls per attempt
     assert typical / 3 < hint[0] < 3 * typical
     hinted, n_hinted = segment(2.2, y1, hint)
-    fresh, n_fresh = segment(2.2, y1, np.zeros(1))
+    fresh, n_fresh = segment(2.2, y1, np.zeros(2))
     assert n_hinted < n_fresh - 12  # at least one rejected attempt saved
     ref = solve_ivp(
         rocking_rhs(Model.of(st), 1, rec, None), (2.2, 2.4), y1, method="DOP853",

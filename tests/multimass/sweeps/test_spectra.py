@@ -157,7 +157,11 @@ def test_a_record_spectrum_batch_gives_each_run_as_it_runs_alone(ground_motions)
         for scale, seed in zip(sp.table.scale, sp.table.seed)
     ]
     _same_rows(sp.table, _per_run(points))
-    assert sp.table.n_impacts.min() >= 1 and sp.table.theta_max.nunique() == 9
+    # each run its own draws: the completed runs' θ_max all differ, and so do the overturned
+    # runs' times of overturning (their θ_max is the overturning angle, π/2 to round-off)
+    t, done = sp.table, sp.table.status == "completed"
+    assert t.n_impacts.min() >= 1 and done.sum() == 6
+    assert t.theta_max[done].nunique() == 6 and t.overturn_time[~done].nunique() == 3
 
 
 def test_a_batch_of_pulses_gives_each_run_as_it_runs_alone():
