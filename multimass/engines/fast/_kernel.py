@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._maths import event_value, piece_end, rhs_call
+from ._maths import EXC_RECORD, event_value, piece_end, rhs_call
 from ._rk import (
     _A3,
     _A5,
@@ -42,7 +42,7 @@ from ._rk import (
 )
 from ._unowned import unowned
 
-__all__ = ["integrate_phase"]
+__all__ = ["integrate_phase", "controller"]
 
 
 @njit(cache=True, error_model="numpy")
@@ -53,6 +53,19 @@ def _tableau(method):
     if method == 1:
         return _A5, _B5, _C5, 6, 7, 4, 4
     return _A3, _B3, _C3, 3, 4, 2, 3
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def controller(method, n_masses, kind):
+    """(β, κ) of `._rk.step_control` for a phase: a column's DOP853 steps take the PI
+    controller (`._rk.PI_BETA`, `PI_KAPPA`), except under a record, whose samples cut
+    the steps (`._maths.piece_end`): there it took 0.2–4 % fewer right-hand sides but
+    3 % more CPU time for S1 under El Centro (more accepted steps, each with its
+    events). A rigid block's (no masses) and the other pairs': SciPy's (β = 0), the same
+    steps as solve_ivp's."""
+    if method == _DOP and n_masses > 0 and kind != EXC_RECORD:
+        return PI_BETA, PI_KAPPA
+    return 0.0, 0.0
 
 
 @njit(cache=True, error_model="numpy")
@@ -310,10 +323,7 @@ def _steps(t0, t_stop, y, t_eval, samples, model, events, ep, method, tol, hint,
     ny, ne = y.size, ev_code.size
     model = (side, m, H, K, C_, mp, fp, kind, par, smp)
     events = (ev_code, ev_dir, ev_term, ev_quiet, ev_ton)
-    # a column's DOP853 steps: the PI controller (`._rk.PI_BETA`); a rigid block's (no
-    # masses) and the other pairs': SciPy's (β = 0), the same steps as solve_ivp's
-    pi = method == _DOP and m.size > 0
-    beta, kappa = (PI_BETA, PI_KAPPA) if pi else (0.0, 0.0)
+    beta, kappa = controller(method, m.size, kind)
     tab = (A, Bw, C, ns, -1.0 / (err_order + 1), beta, kappa)
     log_prev = 0.0  # no memory (a first segment, a block): the factor is err^(exponent + κβ)
     work = (Kst, ynew, ytmp, scale)

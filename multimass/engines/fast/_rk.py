@@ -26,7 +26,7 @@ Three departures: under a record no step crosses one of its samples (ü_g has a
 kink there; solve_ivp steps across it; `._kernel`); a column's phase segment starts
 at the step the previous one proposed (solve_ivp guesses anew each call; `._kernel`);
 and a column's DOP853 steps are set by a PI controller (`step_control`, `PI_BETA`: a
-quarter of SciPy's attempts in free rocking were rejected). A rigid block's segments
+quarter of SciPy's attempts in free rocking were rejected), except under a record. A rigid block's segments
 keep SciPy's guess and control, so its steps stay solve_ivp's.
 
 Differences from the reference start at round-off (sums are accumulated in

@@ -90,3 +90,18 @@ def test_a_step_shortened_to_a_sample_does_not_shorten_the_next():
     # = 0.999: 0.9 · 0.999^−0.1025 · 0.999^0.03 = 0.9 · 0.999^−0.0725 = 0.900065
     _, h_next, _ = step_control(0.999, EXP8, False, H / 4, H, LN(0.999), 0.03, 0.75)
     assert h_next == pytest.approx(0.900065 * H, rel=1e-6)
+
+
+def test_which_runs_take_the_pi_controller():
+    # a column's DOP853 steps, released or under a pulse; not under a record (its samples
+    # cut the steps), not a rigid block's (no masses: solve_ivp's steps), not RK23/RK45
+    from multimass.engines.fast._kernel import controller
+    from multimass.engines.fast._maths import EXC_NONE, EXC_RECORD, EXC_SINE
+    from multimass.engines.fast._rk import METHOD_CODES
+
+    dop, rk45 = METHOD_CODES["DOP853"], METHOD_CODES["RK45"]
+    assert controller(dop, 5, EXC_NONE) == (PI_BETA, PI_KAPPA)
+    assert controller(dop, 5, EXC_SINE) == (PI_BETA, PI_KAPPA)
+    assert controller(dop, 5, EXC_RECORD) == (0.0, 0.0)
+    assert controller(dop, 0, EXC_NONE) == (0.0, 0.0)
+    assert controller(rk45, 5, EXC_NONE) == (0.0, 0.0)
