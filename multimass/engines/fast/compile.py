@@ -387,6 +387,20 @@ def _drop_stale_cache(cache_dir: Path, stamp_file: str, stamp: str, own: Iterabl
                 pass
 
 
+def _fresh_fast_cache(cache_dir: Path) -> None:
+    """Drop the fast kernels' cached code in `cache_dir` if their sources changed, as
+    `warm_up` does, and stamp it. The other groups call those kernels: a group recompiled
+    after an edit of ``._rk`` or ``._maths`` alone would otherwise link the cached code of
+    ``._kernel`` (numba checks only the file defining each function), compiled from the
+    old sources, in a process that never ran `warm_up`."""
+    stamp = _fingerprint(_sources())
+    _drop_stale_cache(cache_dir, _STAMP, stamp, _KERNEL_MODULES)
+    try:
+        (cache_dir / _STAMP).write_text(stamp)
+    except OSError:
+        pass
+
+
 def compile_once(
     what: str,
     call: Callable[[], object],
@@ -435,6 +449,8 @@ def compile_once(
     start, hits_before = time.perf_counter(), hits()
     if stamp_file:  # numba names its cache files after the source file's stem
         stems = [Path(importlib.import_module(m).__file__).stem for m in modules]
+        if stamp_file != _STAMP:  # the group calls the fast kernels: theirs first
+            _fresh_fast_cache(cache_dir)
         _drop_stale_cache(cache_dir, stamp_file, stamp, stems)
     with watch_compiles(what, modules, str(cache_dir), progress, estimate, load) as watch:
         call()

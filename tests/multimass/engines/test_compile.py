@@ -190,6 +190,26 @@ def test_drop_stale_cache_removes_only_the_groups_files(tmp_path):
     assert sorted(p.name for p in tmp_path.glob("*.nb?")) == ["other.f-3.py311.nbi"]
 
 
+def test_another_group_first_drops_the_fast_kernels_stale_code(probe):
+    # a group that calls the fast kernels (the contact, the whole runs, the exponential
+    # method) in a process that never ran `warm_up`: numba would link `._kernel`'s cached
+    # code compiled from an older `._rk`, so the group drops it first, as `warm_up` would
+    folder, load = probe
+    cache = folder / "__pycache__"
+    cache.mkdir()
+    fast = ["_kernel.integrate_phase-200.py311.nbi", "_rk.step_control-90.py311.1.nbc"]
+    for name in fast:
+        (cache / name).write_text("old machine code")
+    (cache / fc._STAMP).write_text("the fingerprint of older sources")
+    _compile(folder, load())
+    assert not any((cache / f).exists() for f in fast)
+    assert (cache / fc._STAMP).read_text() == fc._fingerprint(fc._sources())
+    for name in fast:  # now current: kept
+        (cache / name).write_text("current machine code")
+    _compile(folder, load())
+    assert all((cache / f).exists() for f in fast)
+
+
 # ---------------------------------------------------------------------------- cache folder
 @pytest.fixture
 def no_numba_cache_dir(monkeypatch):
