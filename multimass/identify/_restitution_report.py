@@ -84,11 +84,12 @@ def parameter_report(track: Track, given: dict, fitted: dict, spec) -> dict:
 #: S1-038 (seed 0; 196 Hz, 3 % noise) θ0 was 0.14212 ± 1.0e-4 for 0.14232 (2.0 std):
 #: least squares had converged (xtol; tighter tolerances and 40 evaluations end at the
 #: same point), yet the cost at the whole truth is 4.2 lower, and refitted with θ0 held
-#: at the truth from either point it stops 126–139 higher, in another minimum. On the
-#: 45 estimated θ0 of S1 at seed 0 the intervals covered 39 (87 %; mean z² 1.28, the
-#: misses 2.0–3.2 std off, 0.05–0.14 % of θ0); with this floor, 45. On the free S1
-#: draws of seeds 1 and 2 (`multimass.bench.coverage_draws`, 16 each, not used to choose
-#: it) 18 of 19 (16 without; the miss 0.31 % off, 3.5 std with the floor).
+#: at the truth from either point it stops 126–139 higher, in another minimum. Chosen
+#: on S1's first 50 draws of seed 0 (39 of 45 estimated θ0 covered without it, 45 with
+#: it); over its 100 draws 56 of 64 without it (88 %; mean z² 1.32, the misses 2.0–3.2
+#: std and 0.05–0.14 % of θ0 off) and 64 with it. On the free S1 draws of seeds 1 and 2
+#: (`multimass.bench.coverage_draws`, 16 each) 18 of 19 (16 without; the miss 0.31 %
+#: off, 3.5 std with the floor). docs/identify/coverage.md.
 THETA0_REL_FLOOR = 5e-4
 
 
