@@ -164,7 +164,7 @@ from ..progress import Progress
 from ..result import json_ready
 from . import _calibration_result as result
 from ._calibration_fit import Problem
-from ._calibration_input import input_check
+from ._calibration_input import DRAWS, INPUT_NFEV, input_check
 from ._calibration_model import Simulator, TrialRejected
 from ._calibration_params import (
     PARAMETERS,
@@ -559,6 +559,8 @@ def calibrate(
     n_est = sum(  # simulations: the scan, stage 1, the seeds, stage 2's Jacobians
         13 + 8 * (len(pset.fit) + 3) + 12 * min(c.n_impacts, history)
         + 12 * (len(pset.fit) + 2 + min(c.n_impacts, history))
+        # with table motion, `input_check`: its draws and at most a refit's Jacobians
+        + (0 if c.free else DRAWS + INPUT_NFEV * (len(pset.fit) + 2 + min(c.n_impacts, history)))
         for c in cs
     )  # fmt: skip
     show = progress if progress is not None else n_est * sim.seconds / max(sim.n_runs, 1) > 3.0
