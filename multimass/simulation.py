@@ -360,11 +360,15 @@ class _Plan:
     def _whole_traced(self, lean: bool):
         """`run` by the whole-run kernel with its log (`multimass.engines.fast.column_trace`):
         the phase loop's result from the same numbers, without Python between the phases.
-        None where the kernel does not apply, where a progress bar is to be shown (the
-        kernel reports none) or where the kernel could not finish the run."""
+        None where the kernel does not apply, where its kernels are not compiled yet
+        (`_columns_ready`: their compile is a sweep's to pay, or `multimass warm-up`'s),
+        where a progress bar is to be shown (the kernel reports none) or where the kernel
+        could not finish the run."""
         o = self.options
         show = o.progress if o.progress is not None else self.cost.seconds >= PROGRESS_AFTER_S
-        run = None if show else self.column_run()
+        if show or self.fast is None or not _columns_ready():
+            return None
+        run = self.column_run()
         if run is None:
             return None
         from .engines.fast.column_trace import trace  # numba: "compiled" only
@@ -478,6 +482,14 @@ class _Plan:
                 engine="newmark",
             )
         return r
+
+
+def _columns_ready() -> bool:
+    """Whether the whole column runs are compiled (`multimass.engines.fast.columns_ready`):
+    `simulate` takes its one-call path only then, not to compile them for one run."""
+    from .engines.fast.compile import columns_ready  # numba: "compiled" only
+
+    return columns_ready()
 
 
 def _whole_summary(run, o: SimulationOptions) -> RunSummary | None:

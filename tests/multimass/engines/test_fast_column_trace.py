@@ -27,6 +27,30 @@ from .test_fast_column_runs import ELCENTRO, _record
 SEEDS = job_seeds(0, 4)
 
 
+@pytest.fixture(scope="module", autouse=True)
+def whole_runs_compiled():
+    """`simulate` takes its one-call path only where the whole column runs are compiled
+    (`columns_ready`); compiled here, so that every test below compares that path."""
+    from multimass.engines.fast import compile as fc
+
+    fc.warm_up_columns(progress=False)
+    assert fc.columns_ready()
+
+
+def test_simulate_takes_the_one_call_path_only_when_its_kernels_are_ready(s1, monkeypatch):
+    from multimass.engines.fast import column_trace
+
+    calls = []
+    real = column_trace.trace
+    monkeypatch.setattr(column_trace, "trace", lambda *a, **k: calls.append(1) or real(*a, **k))
+    kw = dict(backend="compiled", progress=False, output_dt=None)
+    multimass.simulate(s1, FreeRelease(0.11), "DD2", 1.0, **kw)
+    assert len(calls) == 1
+    monkeypatch.setattr(simulation, "_columns_ready", lambda: False)  # a cold machine
+    multimass.simulate(s1, FreeRelease(0.11), "DD2", 1.0, **kw)
+    assert len(calls) == 1  # the phase loop, not the compile of the whole runs
+
+
 def _both(st, exc, impact, t_end, lean=False, **kw):
     """(`simulate` or `simulate_outcome`, the same run in the phase loop)."""
     kw = {"backend": "compiled", "progress": False} | kw
