@@ -86,7 +86,7 @@ def _nscd(progress):
 GROUPS = {
     "fast": ("simulate(..., backend='compiled'), spectra, sweeps", _fast),
     "contact": ("a column's full contact in closed form (records, releases)", _contact),
-    "columns": ("spectra of columns: whole runs in one call", _columns),
+    "columns": ("a column's whole run in one call: simulate, spectra, suites", _columns),
     "blocks": ("overturning maps of rigid blocks, batched", _blocks),
     "newmark": ("simulate(..., integrator='newmark')", _newmark),
     "nscd": ("multimass nscd (block on a beam)", _nscd),
