@@ -64,7 +64,7 @@ from .._run import QUIET_DELAY
 from . import _block_kernel as bk
 from . import _maths as mx
 from ._rk import METHOD_CODES
-from .compile import _drop_stale_cache, _fingerprint, cached_on_disk
+from .compile import _drop_stale_cache, _fingerprint, kernel_ready
 from .excitation import encode
 from .path import ROCKING_EVENTS, event_params
 
@@ -604,14 +604,11 @@ def ensure_ready(progress: bool | None = None):
 def batch_ready() -> bool:
     """Whether the batch kernels are ready without compiling them (~35 s on a 2-core machine):
     in this process's memory, or in numba's disk cache for the current sources (loaded in
-    ~0.1 s; `multimass.engines.fast.compile.cached_on_disk`). Compiles and loads nothing.
+    ~0.1 s; `multimass.engines.fast.compile.kernel_ready`). Compiles and loads nothing.
 
     `multimass.sweeps.map_cells.use_batch` asks it before batching a small map or suite.
     """
-    kernel = bk.run_cells
-    if _READY is not None or not hasattr(kernel, "overloads"):  # no JIT: nothing to compile
-        return True
-    return bool(kernel.overloads) or cached_on_disk(kernel, _STAMP, _sources())
+    return _READY is not None or kernel_ready(bk.run_cells, _STAMP, _sources)
 
 
 def warm_up_blocks() -> float:

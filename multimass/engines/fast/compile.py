@@ -48,6 +48,7 @@ of numba's version beside the cache, and drops the cached kernels when it change
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import importlib
 import os
@@ -70,6 +71,7 @@ __all__ = [
     "warm_up_exponential",
     "compile_once",
     "cached_on_disk",
+    "kernel_ready",
     "watch_compiles",
     "CompileReport",
     "CacheChoice",
@@ -742,29 +744,34 @@ def warm_up_columns(progress: bool | None = None) -> CompileReport:
     )
 
 
-#: `columns_ready`'s answer once asked (the sources do not change in a process)
-_COLUMNS_READY: list[bool] = []
+def kernel_ready(kernel, stamp_file: str, sources: Callable[[], Iterable[Path]]) -> bool:
+    """Whether the ``cache=True`` function `kernel` runs without compiling: numba's JIT is
+    off, it is compiled in this process, or `cached_on_disk` (with `stamp_file` and the
+    group's ``sources()``, listed only if needed). Compiles and loads nothing."""
+    if not hasattr(kernel, "overloads"):  # no JIT: nothing to compile
+        return True
+    return bool(kernel.overloads) or cached_on_disk(kernel, stamp_file, sources())
+
+
+@functools.cache
+def _columns_on_disk() -> bool:
+    """`kernel_ready` of the whole column runs, asked once (the sources do not change in a
+    process)."""
+    kernel = importlib.import_module(f"{__package__}.{_COLUMNS}").column_run
+    return kernel_ready(kernel, _COLUMNS_STAMP, lambda: _sources(columns=True))
 
 
 def columns_ready() -> bool:
     """Whether the whole column runs (`warm_up_columns`) are ready without compiling them:
     in this process's memory, or in numba's disk cache for the current sources (loaded in
-    ~0.1 s; `cached_on_disk`). Compiles and loads nothing.
+    ~0.1 s; `kernel_ready`). Compiles and loads nothing.
 
     `simulate` asks it before running a column in one compiled call: compiling the group
     cold took 50 s on an idle 2-core machine (11 kernels, each the whole run's code)
     where the phase loop's kernels took 18 s, for a call that saves ~5 ms per run; a
     sweep of columns or `multimass warm-up` compiles it.
     """
-    if _COLUMNS in _GROUP_REPORTS:
-        return True
-    if not _COLUMNS_READY:
-        kernel = importlib.import_module(f"{__package__}.{_COLUMNS}").column_run
-        ready = not hasattr(kernel, "overloads")  # no JIT: nothing to compile
-        ready = ready or bool(kernel.overloads)
-        ready = ready or cached_on_disk(kernel, _COLUMNS_STAMP, _sources(columns=True))
-        _COLUMNS_READY.append(ready)
-    return _COLUMNS_READY[0]
+    return _COLUMNS in _GROUP_REPORTS or _columns_on_disk()
 
 
 def warm_up_exponential(progress: bool | None = None) -> CompileReport:

@@ -158,6 +158,22 @@ def test_cached_on_disk_foretells_whether_compile_once_loads_or_compiles(probe):
     assert not fc.cached_on_disk(mod.outer, "another.sources", sources)  # no such stamp
 
 
+def test_kernel_ready_lists_the_sources_only_when_it_must_look_on_disk(probe):
+    folder, load = probe
+    listed = []
+
+    def sources():
+        listed.append(1)
+        return [folder / "probe.py", folder / "equations.py"]
+
+    mod = load()
+    assert not fc.kernel_ready(mod.outer, "probe.sources", sources) and listed == [1]
+    _compile(folder, mod)  # compiled in this process: no look on disk
+    assert fc.kernel_ready(mod.outer, "probe.sources", sources) and listed == [1]
+    assert fc.kernel_ready(load().outer, "probe.sources", sources) and listed == [1, 1]
+    assert fc.kernel_ready(mod.outer.py_func, "probe.sources", sources)  # JIT off
+
+
 def test_cached_on_disk_is_false_without_a_cache():
     from numba import njit
 
