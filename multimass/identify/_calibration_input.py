@@ -41,6 +41,10 @@ majority of several draws, not one, and ill-posed rather than widened: a few ref
 draws of the input's effect, too few to measure its spread, and one need not leave the
 fit's interval where the test of the runs fails on most draws. A free-vibration trace
 has no ``ag``: nothing is run.
+
+`renoised_runs` draws the copies and `noise_reason` words the reason for this check and
+for `restitution`'s (`multimass.identify._restitution_input`): the same noise for the
+same trace.
 """
 
 from __future__ import annotations
