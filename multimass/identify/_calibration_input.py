@@ -41,6 +41,10 @@ majority of several draws, not one, and ill-posed rather than widened: a few ref
 draws of the input's effect, too few to measure its spread, and one need not leave the
 fit's interval where the test of the runs fails on most draws. A free-vibration trace
 has no ``ag``: nothing is run.
+
+`renoised_runs` draws the copies and `noise_reason` words the reason for this check and
+for `restitution`'s (`multimass.identify._restitution_input`): the same noise for the
+same trace.
 """
 
 from __future__ import annotations
@@ -58,8 +62,8 @@ from ._calibration_fit import Problem, solve
 from ._calibration_model import TrialRejected
 from ._calibration_params import PARAMETERS
 
-__all__ = ["input_noise", "perturbed", "input_check", "decides", "reasons", "DRAWS",
-           "INPUT_SEED", "INPUT_NFEV", "NOISE_SHARE"]  # fmt: skip
+__all__ = ["input_noise", "perturbed", "renoised_runs", "input_check", "decides", "reasons",
+           "noise_reason", "DRAWS", "INPUT_SEED", "INPUT_NFEV", "NOISE_SHARE"]  # fmt: skip
 
 #: Re-noised copies of ``ag`` tested (a majority failing decides).
 DRAWS = 5
@@ -110,6 +114,29 @@ def perturbed(case, sigma: float, rng: np.random.Generator, tag: str):
     return replace(case, excitation_record=rec, input_tag=tag)
 
 
+def renoised_runs(cases, run, progress=None) -> tuple[dict, list]:
+    """(label → the ``ag`` noise's std, m/s², of each table-motion case of `cases`;
+    `run`'s answer per draw): `run`(k, cases) for k = 0 … `DRAWS` − 1, with every
+    table-motion case of `cases` driven by its recorded ``ag`` re-noised by that std
+    (`perturbed`; the free ones as they are), None where a run was rejected or failed.
+    One seeded stream (`INPUT_SEED`) for every draw, case after case: `calibrate`'s and
+    `restitution`'s checks draw the same noise for the same trace. `progress`, if
+    given, is called with the number of draws done after each."""
+    rng = np.random.default_rng(INPUT_SEED)
+    noise = {c.label: input_noise(c.trace.ag, c.fs) for c in cases if not c.free}
+    out = []
+    for k in range(DRAWS):
+        drawn = [c if c.free else perturbed(c, noise[c.label], rng, f"ag re-noised {k}")
+                 for c in cases]  # fmt: skip
+        try:
+            out.append(run(k, drawn))
+        except (TrialRejected, SolverError):
+            out.append(None)
+        if progress is not None:
+            progress(k + 1)
+    return noise, out
+
+
 def input_check(sim, pset, problem: Problem, x: np.ndarray, test, max_nfev: int = INPUT_NFEV):
     """Whether the fit still reproduces the traces with every table-motion trace's ``ag``
     re-noised (see the module docstring); None without table motion.
@@ -140,26 +167,20 @@ def input_check(sim, pset, problem: Problem, x: np.ndarray, test, max_nfev: int 
     if not any(not c.free for c in problem.cases):
         return None
     wall, runs = time.perf_counter(), sim.n_runs
-    rng = np.random.default_rng(INPUT_SEED)
-    noise = {c.label: input_noise(c.trace.ag, c.fs) for c in problem.cases if not c.free}
     start = {un.label: float(v) for un, v in zip(problem.unknowns, x)}
-    draws, problems = [], []
-    for k in range(DRAWS):
-        cases = [
-            c if c.free else perturbed(c, noise[c.label], rng, f"ag re-noised {k}")
-            for c in problem.cases
-        ]
+    problems = []
+
+    def one(k: int, cases: list):
         q = Problem(sim, pset, cases, 2, problem.per_impact, problem.sigma_r, start=start,
                     frozen=problem.frozen)  # fmt: skip
         q.scales = dict(problem.scales)
-        try:
-            tested = test(q, q.x0())
-        except (TrialRejected, SolverError):
-            draws.append(None)
-            continue
+        tested = test(q, q.x0())
         worst = max(tested.items(), key=lambda kv: kv[1], default=None)
-        draws.append(None if worst is None else (f"{worst[0][0]}:{worst[0][1]}", float(worst[1])))
-        problems.append((draws[-1][1] if worst is not None else -math.inf, k, q))
+        draw = None if worst is None else (f"{worst[0][0]}:{worst[0][1]}", float(worst[1]))
+        problems.append((draw[1] if draw is not None else -math.inf, k, q))
+        return draw
+
+    noise, draws = renoised_runs(problem.cases, one)
     info = {"noise": noise, "draws": draws, "decided": decides(draws), "x": None, "nfev": 0,
             "message": ""}  # fmt: skip
     if info["decided"] and problems:
@@ -193,20 +214,26 @@ def reasons(names, x_fit: dict, checked) -> dict:
     in `x_fit` and ``checked["x"]``: log for C_p and ζ)."""
     if not checked or not checked.get("decided"):
         return {}
-    levels = ", ".join(f"{s:.3g} m/s² on {lab}" for lab, s in checked["noise"].items())
-    ratios = [d[1] for d in checked["draws"] if d is not None]
-    failing = [r for r in ratios if r > 1.0]
-    worst = max((d for d in checked["draws"] if d is not None), key=lambda d: d[1])
+    why = noise_reason(checked["noise"], checked["draws"])
     other = checked.get("x") or {}
     out = {}
     for name in names:
         p = PARAMETERS[name]
         refit = f", {p.to_value(other[name]):.4g} refitted with it" if name in other else ""
-        out[name] = (
-            f"the table motion's noise decides the fit: driven by the recorded ag re-noised "
-            f"by as much as it holds ({levels}), the fitted model no longer reproduces the "
-            f"trace in {len(failing)} of {len(checked['draws'])} draws (residual mean square "
-            f"up to {worst[1]:.3g} × the most the noise leaves, {worst[0]}); "
-            f"{p.to_value(x_fit[name]):.4g} with the recorded ag{refit}"
-        )
+        out[name] = f"{why}; {p.to_value(x_fit[name]):.4g} with the recorded ag{refit}"
     return out
+
+
+def noise_reason(noise: dict, draws: list) -> str:
+    """Why a value is ill-posed where most of the re-noised ``ag`` `draws` (per draw:
+    (channel, ratio) of its worst channel, or None) fail the fit's test: the noise's
+    levels (`noise`: label → std, m/s²), how many draws failed and the worst."""
+    levels = ", ".join(f"{s:.3g} m/s² on {lab}" for lab, s in noise.items())
+    failing = [d[1] for d in draws if d is not None and d[1] > 1.0]
+    worst = max((d for d in draws if d is not None), key=lambda d: d[1])
+    return (
+        f"the table motion's noise decides the fit: driven by the recorded ag re-noised "
+        f"by as much as it holds ({levels}), the fitted model no longer reproduces the "
+        f"trace in {len(failing)} of {len(draws)} draws (residual mean square "
+        f"up to {worst[1]:.3g} × the most the noise leaves, {worst[0]})"
+    )

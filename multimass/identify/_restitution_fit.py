@@ -40,6 +40,7 @@ __all__ = [
     "THETA_MODEL_FLOOR",
     "NOISE_TOL",
     "consider_covariance",
+    "reproduces",
 ]
 
 R_LOW = 0.05  # lowest coefficient tried (PerImpact's clip)
@@ -150,6 +151,9 @@ class Track:
     #: After `fit_impacts`: the model parameters estimated and θ0 → the slice check of the
     #: last fit's linearisation along it (`_calibration_stats.slice_probe`)
     rough: dict = field(default_factory=dict)
+    #: After `fit_impacts`: the last fit's (trace samples, model time its runs stop at,
+    #: trace time of the last window's end): what `reproduces` tests
+    fitted_span: tuple = ()
 
     @property
     def t(self) -> np.ndarray:
@@ -712,8 +716,8 @@ def fit_impacts(track: Track, n_fit: int, bar, warnings: list) -> dict:
         for j, b in enumerate(labels)
         if i < j and math.isfinite(corr[i, j]) and abs(corr[i, j]) > LIMITS["correlation"]
     }
-    rec = track.run(track.values, p.t_stop)
-    ref = _reference(track, rec, impacts[0].t)
+    track.fitted_span = (p.idx, p.t_stop, seq.t_end)
+    per, track.misfit, rec = reproduces(track, fitted)
     for i, f in fitted.items():
         m = impacts[i]
         f.r = track.values[f.model_impact]
@@ -725,11 +729,29 @@ def fit_impacts(track: Track, n_fit: int, bar, warnings: list) -> dict:
         idx = track.span(m.t, t_next)
         e = track.residuals(rec, idx, track.nuis, weighted=False)["theta"]
         f.rms = float(np.sqrt(np.mean(e * e)))
-        # the test over what sets r: its half-cycle and the next one (the next impact's
-        # time), within the span fitted
-        t_two = impacts[i + 2].t if i + 2 < len(impacts) else half[impacts[-1].after].t_stop
-        two = track.span(m.t, max(min(t_two, seq.t_end), t_next))
-        f.misfit, f.misfit_channel = _misfit(track, rec, two, ref)
-    # the whole span fitted: the test of the model parameters and the nuisance ones
-    track.misfit = _misfit(track, rec, p.idx, ref)
+        f.misfit, f.misfit_channel = per[i]
     return fitted
+
+
+def reproduces(track: Track, fitted: dict) -> tuple[dict, tuple, object]:
+    """The test of the fit (`misfit_test` via `_misfit`) with `track`'s values, run over
+    the span fitted (`Track.fitted_span`): (trace impact i of `fitted` → (the worst
+    channel's ratio to its limit, the channel) over what sets its r — its half-cycle
+    and the next one, the next impact's time, within the span fitted —; the same over
+    the whole span fitted, the test of the model parameters and the nuisance ones; the
+    run). The accelerometers' reference is the run's own residuals before the first
+    impact (`_reference`). `_restitution_input` runs it with the table motion's
+    ``ag`` re-noised."""
+    seg = track.case.segments
+    half, impacts = seg.half_cycles, seg.impacts
+    idx, t_stop, t_end = track.fitted_span
+    rec = track.run(track.values, t_stop)
+    ref = _reference(track, rec, impacts[0].t)
+    per = {}
+    for i in fitted:
+        m = impacts[i]
+        t_next = impacts[i + 1].t if i + 1 < len(impacts) else half[m.after].t_stop
+        t_two = impacts[i + 2].t if i + 2 < len(impacts) else half[impacts[-1].after].t_stop
+        two = track.span(m.t, max(min(t_two, t_end), t_next))
+        per[i] = _misfit(track, rec, two, ref)
+    return per, _misfit(track, rec, idx, ref), rec

@@ -19,6 +19,7 @@ from ._calibration_params import PARAMETERS
 from ._calibration_setup import unseen_damping
 from ._calibration_stats import LIMITS, MODEL_REL_FLOOR, rough_reason, rough_std
 from ._restitution_fit import MODEL_PARAMETERS, Track, consider_covariance
+from ._restitution_input import span_reason
 
 __all__ = ["parameter_report", "consider_std", "mean_std", "sigma_interval"]
 
@@ -31,11 +32,12 @@ def _label_name(label: str, times: dict) -> str:
     return label
 
 
-def parameter_report(track: Track, given: dict, fitted: dict, spec) -> dict:
+def parameter_report(track: Track, given: dict, fitted: dict, spec, checked=None) -> dict:
     """Every parameter of the fit with where its value came from (`_parameter_status`):
     the model parameters (``cp``, ``zeta1``, ``zeta2``: given, estimated or ill-posed;
     C_p not used by CIM), the trace's nuisance parameters (``theta0``, ``t_offset``,
-    ``theta_bias``, ``sensor_bias``: estimated) and the specimen's structure (fixed)."""
+    ``theta_bias``, ``sensor_bias``: estimated) and the specimen's structure (fixed);
+    `checked` is `_restitution_input.input_check`'s answer (None: free vibration)."""
     seg = track.case.segments
     times = {f.model_impact: seg.impacts[i].t for i, f in fitted.items()}
     partners: dict = {}
@@ -69,6 +71,7 @@ def parameter_report(track: Track, given: dict, fitted: dict, spec) -> dict:
             out[name] = ps.fixed(track.nuis[name], what, "not fitted")
     _damping_shown(track, out)
     _misfit(track, out)
+    _table_noise(out, checked)
     _explored(track, out)
     out["sensor_bias"] = _sensor_biases(track)
     out["structure"] = ps.fixed(
@@ -115,6 +118,18 @@ def _misfit(track: Track, out: dict) -> None:
         f"the fit does not reproduce the trace over the span fitted ({channel}'s "
         f"residual mean square {worst:.3g} × the most its noise leaves)"
     )
+    for p in out.values():
+        if p["status"] in (ps.ESTIMATED, ps.ILL_POSED):
+            p["status"] = ps.ILL_POSED
+            p["reason"] = "; ".join(x for x in (p.get("reason"), reason) if x)
+
+
+def _table_noise(out: dict, checked) -> None:
+    """Every parameter estimated over the whole span is ill-posed where most of the
+    re-noised ``ag`` draws fail the test over it (`_restitution_input.span_reason`)."""
+    reason = span_reason(checked)
+    if not reason:
+        return
     for p in out.values():
         if p["status"] in (ps.ESTIMATED, ps.ILL_POSED):
             p["status"] = ps.ILL_POSED
