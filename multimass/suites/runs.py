@@ -41,7 +41,7 @@ from ..sweeps.engine import _Bar, run_batches, run_jobs
 from ..sweeps.kernel_pools import kernel_session, preload_modules
 from ..sweeps.map_cells import use_batch
 from ..sweeps.maps import default_backend
-from ..sweeps.method_choice import AUTO, resolve
+from ..sweeps.method_choice import AUTO, resolve, sweep_method
 from ..sweeps.seeding import job_seed
 from .spec import Distribution, Suite
 
@@ -525,7 +525,7 @@ def run_suite(
             )
     n_l, n_d = len(levels), int(suite.draws)
     n = len(ms) * n_l * n_d
-    options = default_backend(dict(suite.options))
+    options = sweep_method(st, default_backend(dict(suite.options)))
     chosen = {}
     p = float(getattr(st, "p", math.nan) or math.nan)
 
