@@ -18,6 +18,11 @@ half-cycles' peaks, the events (kind, time) and the right-hand sides. The runs:
   the draws of ``record_spectrum(..., repeats=5, seed=0)`` (`job_seeds(0, 85)`);
   ``--quick``: its first 2 scales. ``--ref-atol``: the reference's atol (1e-14).
 
+``--specimen uniform20`` (or S2, S3) runs the spectrum on that column instead of S1
+(`multimass.bench.scaling.uniform_column`: a uniform 20-node column like S1),
+``--method`` gives the default runs a method (``exponential``; the reference stays
+DOP853 at rtol 1e-12), ``--no-cases`` leaves out the six cases above.
+
 ``compare`` prints, as JSON, the errors of the default runs of RUNS against the
 rtol 1e-12 runs of REFERENCE (RUNS' own if not given): per case the RHS counts,
 |θ_max − reference|, the largest peak and impact-time differences (when both have as
@@ -56,20 +61,21 @@ def _summary(r) -> dict:
     )
 
 
-def _runs(quick: bool) -> list[tuple]:
+def _runs(quick: bool, specimen: str = "S1", cases: bool = True) -> list[tuple]:
     """(name, structure, excitation, impact, t_end, seed) of every run."""
     import multimass
     from multimass import FreeRelease
+    from multimass.bench.scaling import uniform_column
     from multimass.sweeps.seeding import job_seeds
 
     rec = multimass.read_record(str(ELCENTRO), units="g")
     out = []
-    for name in ("S1", "S2", "S3"):
+    for name in ("S1", "S2", "S3") if cases else ():
         st = multimass.column(name)
         out.append((f"{name} release DD2", st, FreeRelease(0.11), "DD2", 10.0, None))
         out.append((f"{name} El Centro DD5", st, rec, "DD5", 20.0, 3))
     short = multimass.read_record(str(RECORD_15S), units="g")
-    st = multimass.column("S1")
+    st = uniform_column(20) if specimen == "uniform20" else multimass.column(specimen)
     grid = [(s, k) for s in SCALES for k in range(REPEATS)]
     seeds = job_seeds(0, len(grid))
     for (s, k), sd in list(zip(grid, seeds))[: 2 * REPEATS if quick else None]:
@@ -78,17 +84,26 @@ def _runs(quick: bool) -> list[tuple]:
     return out
 
 
-def dump(path: str, quick: bool = False, ref_atol: float = REF["atol"]) -> None:
-    """Run every run with the default options and against rtol 1e-12 (atol `ref_atol`);
-    pickle them."""
+def dump(
+    path: str,
+    quick: bool = False,
+    ref_atol: float = REF["atol"],
+    method: str | None = None,
+    specimen: str = "S1",
+    cases: bool = True,
+) -> None:
+    """Run every run with the default options (and `method` if given) and against DOP853 at
+    rtol 1e-12 (atol `ref_atol`); pickle them."""
     import multimass
     from multimass import simulate_outcome
 
     out = {"multimass": str(Path(multimass.__file__).parent), "ref_atol": ref_atol, "runs": {}}
-    for name, st, exc, impact, t_end, seed in _runs(quick):
+    out["method"], out["specimen"] = method or "default", specimen
+    how = {"method": method} if method else {}
+    for name, st, exc, impact, t_end, seed in _runs(quick, specimen, cases):
         kw = dict(backend="compiled", output_dt=None, progress=False, seed=seed)
         out["runs"][name] = {
-            "run": _summary(simulate_outcome(st, exc, impact, t_end, **kw)),
+            "run": _summary(simulate_outcome(st, exc, impact, t_end, **kw, **how)),
             "ref": _summary(
                 simulate_outcome(st, exc, impact, t_end, **kw, **(REF | {"atol": ref_atol}))
             ),
@@ -128,6 +143,8 @@ def compare(runs: dict, refs: dict) -> dict:
         "runs": runs["multimass"],
         "reference": refs["multimass"],
         "reference_atol": refs.get("ref_atol"),
+        "method": runs.get("method", "default"),
+        "specimen": runs.get("specimen", "S1"),
         "cases": cases,
         "spectrum": dict(
             runs=len(spectrum),
@@ -149,12 +166,15 @@ def main(argv=None) -> None:
     d.add_argument("out")
     d.add_argument("--quick", action="store_true")
     d.add_argument("--ref-atol", type=float, default=REF["atol"], help="the reference's atol")
+    d.add_argument("--method", help="the default runs' method (the reference: DOP853)")
+    d.add_argument("--specimen", default="S1", choices=("S1", "S2", "S3", "uniform20"))
+    d.add_argument("--no-cases", action="store_true", help="the spectrum only")
     c = sub.add_parser("compare")
     c.add_argument("runs")
     c.add_argument("reference", nargs="?")
     a = p.parse_args(argv)
     if a.cmd == "dump":
-        dump(a.out, a.quick, a.ref_atol)
+        dump(a.out, a.quick, a.ref_atol, a.method, a.specimen, not a.no_cases)
         return
     load = lambda path: pickle.load(open(path, "rb"))
     runs = load(a.runs)

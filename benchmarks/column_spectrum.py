@@ -33,7 +33,14 @@ or the path of a Python interpreter that has the baseline installed.
 Each repeat then runs the same default spectrum (``record_spectrum`` with its defaults,
 as a user calls it) once under each interpreter, in fresh processes that first warm
 up (load the compiled kernels, start the pool), alternating which goes first; the
-ratio of a repeat is the baseline's wall time over this checkout's.
+ratio of a repeat is the baseline's wall time over this checkout's. ``--specimen``
+takes S2, S3 or ``uniform20`` (`multimass.bench.scaling.uniform_column`: a uniform
+20-node column like S1) instead of S1; ``--method`` gives this checkout's spectrum a
+method (``auto``, ``exponential``; the baseline keeps its default, DOP853), for what a
+user who asks for it waits:
+
+    python -m benchmarks.column_spectrum --against 9d845f3 --specimen uniform20 \
+        --method auto --repeats 2 --repeat 3
 """
 
 from __future__ import annotations
@@ -110,8 +117,12 @@ def compare(a, b) -> dict:
     }
 
 
-# One timed spectrum in a fresh process of either installation (its API as of d97163c):
-# argv = record, workers, repeats, table path; prints the wall time.
+#: The columns ``--specimen`` takes: a bundled specimen's name, or ``uniform20``.
+SPECIMENS = ("S1", "S2", "S3", "uniform20")
+
+# One timed spectrum in a fresh process of either installation (its API as of d97163c;
+# uniform20 as of 9d845f3): argv = record, workers, repeats, table path, specimen,
+# method ("" for the default); prints the wall time.
 _CHILD = """
 import sys, time
 import numpy as np
@@ -119,24 +130,39 @@ import multimass
 from multimass.sweeps.spectra import record_spectrum
 rec = multimass.read_record(sys.argv[1], units="g")
 workers, repeats = int(sys.argv[2]), int(sys.argv[3])
+st = sys.argv[5]
+if st == "uniform20":
+    from multimass.bench.scaling import uniform_column
+    st = uniform_column(20)
 kw = dict(seed=0, executor="process" if workers > 1 else "serial", workers=workers, progress=False)
-record_spectrum("S1", rec, np.linspace(0.4, 2.0, 17)[:2], repeats=1, **kw)  # warm up
+kw |= dict(method=sys.argv[6]) if sys.argv[6] else {}
+record_spectrum(st, rec, np.linspace(0.4, 2.0, 17)[:2], repeats=1, **kw)  # warm up
 t = time.perf_counter()
-sp = record_spectrum("S1", rec, np.linspace(0.4, 2.0, 17), impact="DD5", repeats=repeats, **kw)
+sp = record_spectrum(st, rec, np.linspace(0.4, 2.0, 17), impact="DD5", repeats=repeats, **kw)
 wall = time.perf_counter() - t
 sp.table.to_pickle(sys.argv[4])
 print(wall)
 """
 
 
-def _child(python: str, workers: int, repeats: int, table: Path, env=None):
-    """(wall time s, table) of one default spectrum under the interpreter `python`, in
-    the environment `env` (this process's if None)."""
+def _child(
+    python: str,
+    workers: int,
+    repeats: int,
+    table: Path,
+    env=None,
+    specimen: str = "S1",
+    method: str = "",
+):
+    """(wall time s, table) of one spectrum of `specimen` (`method`, or the default if
+    empty) under the interpreter `python`, in the environment `env` (this process's if
+    None)."""
     import subprocess
 
     import pandas as pd
 
     args = [python, "-c", _CHILD, str(RECORD), str(workers), str(repeats), str(table)]
+    args += [specimen, method]
     out = subprocess.run(args, check=True, capture_output=True, text=True, cwd="/", env=env)
     return float(out.stdout.strip().splitlines()[-1]), pd.read_pickle(table)
 
@@ -171,8 +197,11 @@ def baseline_python(spec: str) -> str:
     return str(python)
 
 
-def against(python: str, repeat: int, workers: int, repeats: int) -> dict:
-    """The default spectrum under the baseline interpreter `python` and under this one."""
+def against(
+    python: str, repeat: int, workers: int, repeats: int, specimen: str = "S1", method: str = ""
+) -> dict:
+    """The default spectrum of `specimen` under the baseline interpreter `python` and under
+    this one (with `method` if given)."""
     import sys
     import tempfile
     from types import SimpleNamespace
@@ -182,17 +211,19 @@ def against(python: str, repeat: int, workers: int, repeats: int) -> dict:
     bare = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     with tempfile.TemporaryDirectory() as tmp:
         for r in range(repeat):
-            ways = [("baseline", python, bare), ("this", sys.executable, None)]
+            ways = [("baseline", python, bare, ""), ("this", sys.executable, None, method)]
             got = {}
-            for name, exe, env in ways if r % 2 == 0 else ways[::-1]:
-                got[name] = _child(exe, workers, repeats, Path(tmp) / f"{name}.pkl", env)
+            for name, exe, env, how in ways if r % 2 == 0 else ways[::-1]:
+                table = Path(tmp) / f"{name}.pkl"
+                got[name] = _child(exe, workers, repeats, table, env, specimen, how)
             for name in times:
                 times[name].append(got[name][0])
             ratios.append(got["baseline"][0] / got["this"][0])
     stat = lambda x: {"median": statistics.median(x), "min": min(x), "max": max(x)}
     tables = {k: SimpleNamespace(table=v[1]) for k, v in got.items()}
     return {
-        "case": f"S1, El Centro 15 s, DD5, {len(SCALES)} scales x {repeats} repeats, defaults",
+        "case": f"{specimen}, El Centro 15 s, DD5, {len(SCALES)} scales x {repeats} repeats, "
+        + (f"method {method} here, the baseline's default" if method else "defaults"),
         "baseline": python,
         "workers": workers,
         "cpus": os.cpu_count(),
@@ -216,10 +247,17 @@ def main(argv=None) -> dict:
         metavar="REV_OR_PYTHON",
         help="time a baseline: a git revision (installed once) or a Python interpreter",
     )
+    ap.add_argument("--specimen", choices=SPECIMENS, default="S1", help="with --against")
+    ap.add_argument(
+        "--method",
+        choices=("auto", "exponential"),
+        default="",
+        help="with --against: this checkout's method (the baseline keeps DOP853)",
+    )
     args = ap.parse_args(argv)
     if args.against:
         python = baseline_python(args.against)
-        out = against(python, args.repeat, args.workers, args.repeats)
+        out = against(python, args.repeat, args.workers, args.repeats, args.specimen, args.method)
         print(json.dumps(out, indent=1))
         return out
     spectra("auto", 1, args.workers)  # warm: compile and start the pool's imports once

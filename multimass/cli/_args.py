@@ -199,11 +199,12 @@ def add_solver_args(p) -> None:
     g = p.add_argument_group("solver (scipy.integrate.solve_ivp, or its compiled twin)")
     g.add_argument(
         "--method",
-        default=DEFAULTS["method"],
+        default=None,
         help="RK23, RK45, DOP853, Radau, BDF or LSODA, or with --backend compiled "
         "exponential (the rocking phases of a column); `multimass spectrum` also takes auto "
         "(chosen for the column from its stiffness and a sample run timed and checked each "
-        f"way; multimass.sweeps.method_choice). Default {DEFAULTS['method']}",
+        f"way; multimass.sweeps.method_choice). Default {DEFAULTS['method']}; a column's "
+        "spectrum on the compiled path: auto",
     )
     g.add_argument(
         "--rtol",
@@ -263,13 +264,14 @@ def add_solver_args(p) -> None:
 
 def solver_kwargs(args) -> dict:
     kw = dict(
-        method=args.method,
         rtol=args.rtol,
         atol=args.atol,
         max_step=args.max_step,
         output_dt=args.output_dt,
         energy_tol=args.energy_tol,
     )
+    if args.method is not None:  # else the function's own default
+        kw["method"] = args.method
     if getattr(args, "backend", None) is not None:
         kw["backend"] = args.backend
     if getattr(args, "full_contact", None) is not None:

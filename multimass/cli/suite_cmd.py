@@ -57,7 +57,8 @@ def register(sub) -> None:
         default=None,
         help="integrator of a column's rocking phases: DOP853, exponential, or auto (chosen "
         "for the column from its stiffness and a sample run timed and checked each way; "
-        "multimass.sweeps.method_choice). Default: the suite file's [model] method, else DOP853",
+        "multimass.sweeps.method_choice). Default: the suite file's [model] method, else auto "
+        "for a column on the compiled path (DOP853 for a bundled specimen: not stiff)",
     )
     add_executor_args(p)
     p.add_argument("--json", action="store_true", help="print the summary as JSON")

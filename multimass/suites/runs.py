@@ -41,7 +41,7 @@ from ..sweeps.engine import _Bar, run_batches, run_jobs
 from ..sweeps.kernel_pools import kernel_session, preload_modules
 from ..sweeps.map_cells import use_batch
 from ..sweeps.maps import default_backend
-from ..sweeps.method_choice import AUTO, resolve
+from ..sweeps.method_choice import AUTO, resolve, sweep_method
 from ..sweeps.seeding import job_seed
 from .spec import Distribution, Suite
 
@@ -273,6 +273,19 @@ def suite_columns(jobs: list) -> list[tuple]:
     return out
 
 
+def _batch_reproduces(st, options: dict) -> bool:
+    """Whether the compiled batch gives a rigid block's runs with these options (one run's:
+    the runs differ in their restitution draws and seed only), as `suite_batch` would find
+    run by run (`multimass.engines.fast.block_runs.BlockRuns.of_runs`,
+    `restitution_pairs`): if not, every run goes per run and a pool need not load the
+    batch kernels."""
+    from ..engines.fast.block_runs import BlockRuns, restitution_pairs
+
+    return (
+        BlockRuns.of_runs(st, options) is not None and restitution_pairs(st, [options]) is not None
+    )
+
+
 def suite_batch(jobs: list) -> list[tuple]:
     """`suite_run` of every job, a rigid block's in compiled batches where they reproduce
     `simulate_outcome` run for run (`multimass.sweeps.block_outcomes.simulate_outcomes`; the
@@ -346,7 +359,8 @@ def suite_cost(suite: Suite, n: int, one: RunCost, executor="process", workers=N
     )
 
 
-#: Rigid-block suites in compiled batches (`suite_batch`): None (default) when the batch
+#: Rigid-block suites in compiled batches (`suite_batch`), where the batch reproduces their
+#: options (`_batch_reproduces`; else one job per run): None (default) when the batch
 #: kernels are ready or the suite has enough runs to pay for their compile
 #: (`multimass.sweeps.map_cells.use_batch`, the maps' rule); True always (compiling them if
 #: need be); False never: one job per run (`suite_run`), the same results.
@@ -511,7 +525,7 @@ def run_suite(
             )
     n_l, n_d = len(levels), int(suite.draws)
     n = len(ms) * n_l * n_d
-    options = default_backend(dict(suite.options))
+    options = sweep_method(st, default_backend(dict(suite.options)))
     chosen = {}
     p = float(getattr(st, "p", math.nan) or math.nan)
 
@@ -596,7 +610,9 @@ def run_suite(
     )
     tables = {}
     compiled = options.get("backend") == "compiled"
-    batched = compiled and st.n == 0 and use_batch(BATCHED, n)  # n: as in `suite_cost`
+    batched = (  # n: as in `suite_cost`; the probe's options are every run's but the draws
+        compiled and st.n == 0 and _batch_reproduces(st, probe.options) and use_batch(BATCHED, n)
+    )
     try:
         columns = compiled and st.n > 0  # whole runs (`multimass.engines.fast.column_runs`)
         preload = preload_modules(st.n > 0, bool(suite.records), batched) if compiled else ()

@@ -9,8 +9,8 @@ A `Suite` is built in Python or read from TOML (`Suite.from_toml`)::
     impact = "CIM"                    # CIM (blocks) | DD1 … DD5 | DD (columns)
     restitution = "modified"          # modified | housner | a value | Table 2's (omit)
     t_free_s = 5.0                    # free response after the motion (s)
-    method = "DOP853"                 # | exponential | auto (a column's rocking phases;
-                                      #   multimass.sweeps.method_choice)
+    method = "auto"                   # | DOP853 | exponential (a column's rocking phases;
+                                      #   multimass.sweeps.method_choice; auto by default)
     [monte_carlo]
     draws = 50                        # runs per motion and level
     seed = 1

@@ -51,7 +51,15 @@ from ..cost import spectral_radius
 from ..simulation import simulate_outcome
 from ..simulation_options import SimulationOptions
 
-__all__ = ["MethodChoice", "choose_method", "resolve", "stiffness", "STIFF", "AUTO"]
+__all__ = [
+    "MethodChoice",
+    "choose_method",
+    "resolve",
+    "sweep_method",
+    "stiffness",
+    "STIFF",
+    "AUTO",
+]
 
 #: The method name that asks for a choice.
 AUTO = "auto"
@@ -214,6 +222,17 @@ def _errors(r, ref) -> dict:
         "theta": float(abs(r.theta_max - ref.theta_max)),
         "impact": (float(np.abs(a - b).max()) if a.size else 0.0) if same else None,
     }
+
+
+def sweep_method(structure, options: dict) -> dict:
+    """A sweep's options with its default method: ``method="auto"`` for a column on the
+    compiled path that names none (its spectra and suites run the exponential method
+    where their sample run shows it faster and as accurate; a bundled specimen keeps
+    DOP853 without a run, S < `STIFF`), else the options as given (DOP853 by default)."""
+    column = getattr(structure, "n", 0) > 0
+    if column and "method" not in options and options.get("backend") == "compiled":
+        return options | {"method": AUTO}
+    return options
 
 
 def resolve(structure, excitation, t_end: float, seed, options: dict) -> tuple[dict, dict]:

@@ -25,7 +25,7 @@ from .engine import run_batches
 from .kernel_pools import kernel_session, preload_modules
 from .map_cells import pulse_label
 from .maps import default_backend
-from .method_choice import resolve
+from .method_choice import resolve, sweep_method
 from .ranges import check_values
 from .seeding import job_seeds
 
@@ -222,9 +222,11 @@ def pulse_spectrum(
         Free response after the pulse (s).
     **sim_options :
         Passed to `simulate`; ``backend="compiled"`` (the fast path) unless given.
-        ``method="auto"``: DOP853 or the exponential rocking integrator, chosen for the
-        structure on the spectrum's longest run (`multimass.sweeps.method_choice`); the
-        choice and why are in ``options["method_choice"]``.
+        ``method="auto"`` (a column's default on the compiled path,
+        `multimass.sweeps.method_choice.sweep_method`): DOP853 or the exponential rocking
+        integrator, chosen for the structure on the spectrum's longest run
+        (`multimass.sweeps.method_choice`); the choice and why are in
+        ``options["method_choice"]``. ``method="DOP853"`` keeps DOP853 without a choice.
 
     Returns
     -------
@@ -239,7 +241,7 @@ def pulse_spectrum(
     kind = getattr(st.specimen, "kind", "column")
     grid = [(w, a, r) for a in amps for w in omegas for r in range(int(repeats))]
     seeds = job_seeds(seed, len(grid))
-    options = dict(impact=impact) | default_backend(sim_options)
+    options = sweep_method(st, dict(impact=impact) | default_backend(sim_options))
     if isinstance(pulse, MPShape):
         build, label = pulse, pulse_label(pulse)
     else:
@@ -308,7 +310,7 @@ def record_spectrum(
     repeats, seed, t_free = _common(repeats, seed, t_free)
     grid = [(s, r) for s in scales for r in range(int(repeats))]
     seeds = job_seeds(seed, len(grid))
-    options = dict(impact=impact) | default_backend(sim_options)
+    options = sweep_method(st, dict(impact=impact) | default_backend(sim_options))
     points = [
         _Point(st, record, record.duration + t_free, sd, options, float(s))
         for (s, _), sd in zip(grid, seeds)

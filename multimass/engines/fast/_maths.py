@@ -49,6 +49,7 @@ __all__ = [
     "rhs",
     "rhs_call",
     "event_value",
+    "activation_reach",
     "EXC_NONE",
     "EXC_SINE",
     "EXC_COSINE",
@@ -318,6 +319,18 @@ def _activate(side, y, m, H, K, mp, ep):
     L = _pivot_momentum(y, m, H, mp)
     theta_i = gf.activation_angle(ep[EP_Z], width)
     return gf.activation_margin(y[n], theta_i, side, L, ep[EP_LREF], thd, ep[EP_TDMIN])
+
+
+@njit(cache=True, error_model="numpy")
+def activation_reach(side, y, m, H, K, mp, ep):
+    """The widest activation angle ``|θ_i|`` at the energy of state y: Eq 15's width with
+    θ̇_i = 0 (the force's peak bound at its lowest), so no state of that energy activates
+    the force at a larger ``|θ|``."""
+    E = _total_energy(side, y, m, H, K, mp)
+    width = gf.impact_width(
+        E, ep[EP_R_PENDING], mp[MP_B], mp[MP_MT], mp[MP_G], ep[EP_CP], 0.0, ep[EP_NMIN]
+    )
+    return gf.activation_angle(ep[EP_Z], width)
 
 
 @njit(cache=True, error_model="numpy")

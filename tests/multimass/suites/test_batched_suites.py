@@ -7,8 +7,11 @@ the same outcome, status, impacts, overturning time and peak angle, bit for bit 
 compiled integrator and event code; tests/multimass/sweeps/test_batched_maps.py compares
 maps the same way). Whether a suite is batched follows the maps' rule
 (`multimass.sweeps.map_cells.use_batch`): always or never when `BATCHED` says so; by default
-when the batch kernels are ready or the suite has at least `BATCH_COMPILE_CELLS` runs.
+when the batch kernels are ready or the suite has at least `BATCH_COMPILE_CELLS` runs —
+and in either case only where the batch reproduces the suite's options.
 """
+
+import dataclasses
 
 import numpy as np
 import pandas as pd
@@ -115,3 +118,19 @@ def test_a_block_suite_is_batched_when_the_kernels_are_ready_or_it_is_large(
     r = run_suite(s, executor="serial", progress=False).runs
     assert (seen["batch"], seen["per_run"]) == ((len(r), 0) if batched else (0, len(r)))
     assert seen["preload_batched"] == [batched]  # a pool preloads the batch kernels only then
+
+
+@pytest.mark.parametrize("setting", [None, True])
+def test_a_block_suite_the_batch_cannot_reproduce_runs_per_run_without_its_kernels(
+    monkeypatch, setting
+):
+    # the Dirac-delta force (DD5) is not the batch's classical impact
+    # (`block_runs.BlockRuns.of`): however many runs, or BATCHED = True, no batch and no
+    # batch kernels in a pool
+    seen = _counted(monkeypatch)
+    monkeypatch.setattr(runs_mod, "BATCHED", setting)
+    monkeypatch.setattr(map_cells, "BATCH_COMPILE_CELLS", 1)  # "large enough to pay"
+    s = dataclasses.replace(_block_suite(draws=1), impact="DD5")
+    r = run_suite(s, executor="serial", progress=False).runs
+    assert (seen["batch"], seen["per_run"]) == (0, len(r))
+    assert seen["preload_batched"] == [False]

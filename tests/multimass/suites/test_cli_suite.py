@@ -136,3 +136,11 @@ def test_suite_method_auto_reports_its_choice(tmp_path, capsys):
     assert main(args + ["--method", "auto", "--json"]) == 0
     choice = json.loads(capsys.readouterr().out)["summary"]["method_choice"]
     assert choice["method"] == "DOP853" and "not stiff" in choice["reason"]
+    # auto is a column suite's default on the compiled path; --method DOP853 asks for none
+    # (another folder each: a suite file with other settings is another suite's runs)
+    args[3] = str(tmp_path / "default")
+    assert main(args + ["--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["summary"]["method_choice"] == choice
+    args[3] = str(tmp_path / "dop853")
+    assert main(args + ["--method", "DOP853", "--json"]) == 0
+    assert "method_choice" not in json.loads(capsys.readouterr().out)["summary"]

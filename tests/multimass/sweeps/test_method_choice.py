@@ -15,7 +15,7 @@ import pytest
 import multimass
 from multimass import FreeRelease, G
 from multimass.bench.scaling import uniform_column
-from multimass.sweeps.method_choice import STIFF, choose_method, stiffness
+from multimass.sweeps.method_choice import AUTO, STIFF, choose_method, stiffness, sweep_method
 from multimass.sweeps.spectra import pulse_spectrum
 
 
@@ -88,3 +88,30 @@ def test_a_spectrum_with_auto_reports_its_choice():
     assert sp.options["method"] == "DOP853"
     assert sp.options["method_choice"]["method"] == "DOP853"
     assert "not stiff" in sp.summary()["options"]["method_choice"]["reason"]
+
+
+def test_a_column_sweep_on_the_compiled_path_chooses_by_default():
+    s1, block = multimass.column("S1"), multimass.rigid_block("B6M")
+    compiled = {"backend": "compiled", "impact": "DD5"}
+    assert sweep_method(s1, compiled) == compiled | {"method": AUTO}
+    for st, options in [
+        (s1, compiled | {"method": "DOP853"}),  # a method asked for stays
+        (s1, {"backend": "scipy"}),  # solve_ivp: no exponential method
+        (block, {"backend": "compiled"}),  # a rigid block: DOP853
+    ]:
+        assert sweep_method(st, options) == options
+
+
+def test_a_stiff_columns_spectrum_takes_the_exponential_method_by_default():
+    # the 20-node column (S ≈ 88): its sample run each way decides, as with method="auto"
+    sp = pulse_spectrum(
+        uniform_column(20), "cosine", 15.0, 0.4 * G, impact="DD2", t_free=0.5, executor="serial"
+    )
+    assert sp.options["method"] == "exponential", sp.options["method_choice"]["reason"]
+    assert "agrees with DOP853" in sp.options["method_choice"]["reason"]
+    asked = pulse_spectrum(
+        uniform_column(20), "cosine", 15.0, 0.4 * G, impact="DD2", t_free=0.5,
+        executor="serial", method="DOP853",
+    )  # fmt: skip
+    assert asked.options["method"] == "DOP853" and "method_choice" not in asked.options
+    assert sp.table.theta_max[0] == pytest.approx(asked.table.theta_max[0], rel=1e-7)
