@@ -365,19 +365,23 @@ def _sweep(t, y, h, co, modes, model, work):
         for i in range(nm, ny):
             ytmp[i] = y[i]  # (f does not depend on the ledger)
         _nonlinear(t + cq * h, ytmp, Nnew, Lm, lx, model)
-        _to_modes(W, Nnew, zz)
-        for j in range(k):
-            Zq[q, j] = zz[j]
+        _to_modes(W, Nnew, Zq[q])
         for i in range(nm, ny):
             dl[_GAUSS + q, i] = Nnew[i]
-    for j in range(k):  # the interpolating polynomial and its exponential quadrature
+    # the interpolating polynomial, E[p] = Σ_q T_pq Zq[q] (real T: `_times`), each sum
+    # in the order of q, one vector loop over the real components per term
+    Ef, Zf = E.view(np.float64), Zq.view(np.float64)
+    for p in range(_GAUSS):
+        for m in range(2 * k):
+            Ef[p, m] = 0.0
+        for q in range(_GAUSS):
+            tpq = _TO_POLY[p, q]
+            for m in range(2 * k):
+                Ef[p, m] += tpq * Zf[q, m]
+    for j in range(k):  # and its exponential quadrature
         acc = one[j] * zy[j]
         for p in range(_GAUSS):
-            e = 0j
-            for q in range(_GAUSS):
-                e += _times(_TO_POLY[p, q], Zq[q, j])
-            E[p, j] = e
-            acc += co[_R_HGAUSS + p, j] * e  # (h φ-row: cached with the table)
+            acc += co[_R_HGAUSS + p, j] * E[p, j]  # (h φ-row: cached with the table)
         zz[j] = acc
     _from_modes(V, wt, zz, ynew)
     for i in range(nm, ny):  # the ledger: the same with L = 0 (Gauss–Legendre)
