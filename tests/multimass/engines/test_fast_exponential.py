@@ -12,6 +12,8 @@ References, each independent of the code under test:
 * the nonlinear rocking runs: the compiled DOP853 at rtol 1e-12 (its own accuracy is
   checked against solve_ivp in tests/multimass/test_fast.py);
 * the energy ledger's closure, an invariant.
+* the transforms and L x on their real layouts: the plain complex products in Python,
+  summed in the same order (to the bit); a kept φ-table: `_coefficients` of its size.
 """
 
 from pathlib import Path
@@ -333,3 +335,63 @@ def test_series_on_the_output_grid_from_the_dense_output():
     la, lb = got.ledger, ref.ledger
     for col in ("damping", "impact"):  # J; the integrals, not derived from the energy
         assert np.abs(la[col] - lb[col]).max() < 1e-6 * np.abs(lb[col]).max()
+
+
+def test_transforms_are_the_plain_complex_products_to_the_bit():
+    """`_to_modes`, `_from_modes` and N's L x on their real layouts give the numbers of the
+    plain complex products, summed in the same order (Python's complex arithmetic, the
+    same formulas as numba's), to the bit."""
+    from multimass.engines.fast._exp_kernel import _from_modes, _layout, _nonlinear, _to_modes
+
+    st = multimass.column("S1")
+    L, lam, V, W, wt = RockingModes.of(st).arrays
+    LT, lx, V2, W2 = _layout(L, V, W)
+    nm, k = V.shape
+    rng = np.random.default_rng(5)
+    x = rng.standard_normal(nm + 3) * 1e-2
+    x[: nm // 2 : 2] = 0.0  # zeros are skipped: the same sums
+    z = np.empty(k, complex)
+    _to_modes(W2, x, z)
+    for j in range(k):
+        acc = 0j
+        for i in range(nm):
+            acc += complex(W[j, i]) * complex(float(x[i]))
+        assert z[j] == acc
+    zin = rng.standard_normal(k) + 1j * rng.standard_normal(k)
+    out = np.empty(nm + 3)
+    _from_modes(V2, wt, zin, out)
+    for i in range(nm):
+        acc = 0.0
+        for j in range(k):
+            v = complex(V[i, j])
+            acc += float(wt[j]) * (v.real * zin[j].real - v.imag * zin[j].imag)
+        assert out[i] == acc
+    m, H, K, C, mp = _arrays(st)
+    model = (1, m, H, K, C, mp, np.zeros(mx.FP_SIZE), mx.EXC_NONE, np.zeros(mx.PAR_SIZE),
+             np.zeros(2))  # fmt: skip
+    f, got = np.empty(nm + 3), np.empty(nm + 3)
+    mx.rhs_call(0.0, x, f, *model)
+    _nonlinear(0.0, x, got, LT, lx, model)
+    for i in range(nm):
+        acc = 0.0
+        for j in range(nm):
+            acc += float(L[i, j]) * float(x[j])
+        assert got[i] == f[i] - acc
+    assert np.array_equal(got[nm:], f[nm:])
+
+
+def test_a_spare_table_is_the_one_computed_for_its_size():
+    """A φ-table put out of the slots and taken back for the same size holds the numbers
+    `_coefficients` computes for that size; a size a few ulps away is computed anew."""
+    from multimass.engines.fast._exp_kernel import _SLOTS, _coefficients, _table
+
+    lam = RockingModes.of(multimass.column("S1")).lam
+    tables, sizes, slots, _ = new_cache(lam.size)
+    hs = [1e-3 * 2.0 ** (-i / 4) for i in range(_SLOTS + 1)]  # one more than the slots
+    for h in hs:
+        _table(h, 1.0, lam, tables, sizes, slots)
+    fresh = np.empty_like(tables[0])
+    for h in (hs[0], hs[1] * (1.0 + 8e-16)):  # a spare; a size near a spare's
+        got = _table(h, 1.0, lam, tables, sizes, slots).copy()
+        _coefficients(h, lam, fresh)
+        assert np.array_equal(got, fresh)
