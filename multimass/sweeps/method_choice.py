@@ -14,21 +14,21 @@ docs/guide/speed.md):
 ==================  ======  ==================
 column              S       DOP853 / exp.
 ==================  ======  ==================
-S1 released         1.9     1.34, 1.22, 0.70
-S1, El Centro       1.9     0.67, 0.67, 0.62
-S2, S3              2–2.4   0.68 … 1.73
-S1 × 100 stiffer    19.5    6.56, 3.54, 1.71
-20-node column      88      21.3, 12.1, 6.35
+S1 released         1.9     1.68, 1.13, 0.80
+S1, El Centro       1.9     0.71, 0.76, 0.72
+S2, S3              2–2.4   0.77 … 2.00
+S1 × 100 stiffer    19.5    6.33, 3.59, 1.73
+20-node column      88      45.4, 23.6, 13.0
 ==================  ======  ==================
 
 `choose_method` therefore
 
 1. keeps DOP853 where the exponential method does not apply (not a column on the
    compiled path, no diagonalisable rocking phase) or S < `STIFF` (the bundled columns,
-   S ≈ 2–2.4: under a record DOP853 is faster or the two within 8 %; released, the
-   exponential method is up to 1.7× faster at rtol 1e-6 and 1e-8 but further from the
-   reference, its impact times up to 160× and its ledger 100–850× DOP853's errors at
-   the same rtol);
+   S ≈ 2–2.4: under a record DOP853 is faster for S1 and S3, the exponential method
+   up to 1.25× for S2; released, the exponential method is up to 2.0× faster at rtol
+   1e-6 and 1e-8 but further from the reference, its impact times up to 160× and its
+   ledger 100–850× DOP853's errors at the same rtol);
 2. otherwise runs the sweep's sample run (its longest) each way, and picks the
    exponential method only if it was faster *and* as accurate at the same tolerance: as
    many impacts as DOP853's run, θ_max and every impact time within `FLOOR` × rtol (of
