@@ -280,6 +280,9 @@ def test_spectrum_json(capsys, tmp_path):
     info = _json(capsys)
     assert info["n_simulations"] == 2 and len(info["stats"]) == 2
     assert (tmp_path / "S1_spectrum_omega.png").is_file()
+    # a column's spectrum chooses its method unless --method names one (S1: not stiff)
+    assert info["options"]["method"] == "DOP853"
+    assert "not stiff" in info["options"]["method_choice"]["reason"]
 
 
 # --- what a user sees: one line for a mistake, a status for a doubtful run --------------------
