@@ -103,7 +103,7 @@ from numba import njit
 from ._maths import (
     EV_ACTIVATE,
     EXC_RECORD,
-    activation_reach,
+    activation_angle,
     event_value,
     piece_end,
     rhs_call,
@@ -135,8 +135,9 @@ _GAUSS = 5
 _NODES = 0.5 * (np.polynomial.legendre.leggauss(_GAUSS)[0] + 1.0)
 _TO_POLY = np.ascontiguousarray(np.linalg.inv(np.vander(_NODES, increasing=True)))
 #: The Gauss nodes at which an accepted step's dense output is tested for the activation
-#: of the Dirac-delta force (`_exp_steps`).
-_SCAN = np.arange(_GAUSS)
+#: of the Dirac-delta force (`_exp_steps`): the middle three (c = 0.23, 0.5, 0.77), whose
+#: pieces are no longer (0.27 h at most) than those of all five.
+_SCAN = np.arange(1, _GAUSS - 1)
 #: Rows of the step's coefficient table (`_coefficients`).
 _R_KROG = 0  # 7 rows: e^{hL/2}, ½φ_1(hL/2), φ_2(hL/2), e^{hL}, φ_1, φ_2, φ_3 (of hL)
 _R_GAUSS = 7  # 5 rows: k! φ_{k+1}(hL), k = 0 … 4
@@ -500,9 +501,9 @@ def _activation_scan(
     for i in range(ne):  # (a rocking phase has one activation event)
         if ev_code[i] != EV_ACTIVATE or n_act > n_ends or not (t > ev_ton[i]):
             continue
-        reach = 2.0 * activation_reach(side, y, m, H, K, mp, ep)
         n = m.size
-        near = side * y_old[n] < reach or side * y[n] < reach
+        near = side * y_old[n] < 2.0 * activation_angle(side, y_old, m, H, K, mp, ep)
+        near = near or side * y[n] < 2.0 * activation_angle(side, y, m, H, K, mp, ep)
         if not near and not _crosses(g[i], g_new[i], ev_dir[i]):
             continue
         g_a = g[i]
@@ -855,9 +856,10 @@ def _exp_steps(
         # momentum and θ̇, which swing with the elastic modes that the step follows
         # exactly: within one step it can dip below zero and back (measured on a 20-node
         # column under El Centro, DD5: a 9 ms window missed at 5 ms steps). Only where θ
-        # comes within twice the widest activation angle of the step's end energy
-        # (`activation_reach`) at either end: elsewhere the margin's angle term holds it
-        # positive (a step moves θ near its turning points by far less than that).
+        # comes within twice its activation angle at either end (`._maths.activation_angle`,
+        # Eq 15's width at that state's energy and θ̇): elsewhere the margin's angle term
+        # holds it positive (away from a turning point θ moves one way over a step; near
+        # one θ̇ ≈ 0 and the angle is at its widest at the ends too).
         n_act, a_t, b_t = _activation_scan(
             t_old, t, h, co, zy_old, E, y_old, y, g, g_new, active, n_act, zs[6], ytmp,
             model, events, ep, modes,

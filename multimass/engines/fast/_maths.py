@@ -49,7 +49,7 @@ __all__ = [
     "rhs",
     "rhs_call",
     "event_value",
-    "activation_reach",
+    "activation_angle",
     "EXC_NONE",
     "EXC_SINE",
     "EXC_COSINE",
@@ -311,25 +311,20 @@ def _uplift(sgn, t, y, m, H, K, C, mp, ep, kind, par, samples):
 def _activate(side, y, m, H, K, mp, ep):
     """Dirac-delta activation (as `multimass.engines._events`' activate)."""
     n = m.size
-    E = _total_energy(side, y, m, H, K, mp)
     thd = y[2 * n + 1]
-    width = gf.impact_width(
-        E, ep[EP_R_PENDING], mp[MP_B], mp[MP_MT], mp[MP_G], ep[EP_CP], thd, ep[EP_NMIN]
-    )
     L = _pivot_momentum(y, m, H, mp)
-    theta_i = gf.activation_angle(ep[EP_Z], width)
+    theta_i = activation_angle(side, y, m, H, K, mp, ep)
     return gf.activation_margin(y[n], theta_i, side, L, ep[EP_LREF], thd, ep[EP_TDMIN])
 
 
 @njit(cache=True, error_model="numpy")
-def activation_reach(side, y, m, H, K, mp, ep):
-    """The widest activation angle ``|θ_i|`` at the energy of state y: Eq 15's width with
-    θ̇_i = 0 (the force's peak bound at its lowest), so no state of that energy activates
-    the force at a larger ``|θ|``."""
+def activation_angle(side, y, m, H, K, mp, ep):
+    """The activation angle ``|θ_i|`` of state y: Eq 15's width at its energy and θ̇."""
     E = _total_energy(side, y, m, H, K, mp)
     width = gf.impact_width(
-        E, ep[EP_R_PENDING], mp[MP_B], mp[MP_MT], mp[MP_G], ep[EP_CP], 0.0, ep[EP_NMIN]
-    )
+        E, ep[EP_R_PENDING], mp[MP_B], mp[MP_MT], mp[MP_G], ep[EP_CP], y[2 * m.size + 1],
+        ep[EP_NMIN],
+    )  # fmt: skip
     return gf.activation_angle(ep[EP_Z], width)
 
 
