@@ -548,7 +548,9 @@ def run_suite(
     longest = max(range(len(ms)), key=lambda mi: ms[mi].excitation(1.0, 0).duration)
     probe = job(longest * n_l * n_d + (n_l - 1) * n_d)
     if options.get("method") == AUTO:  # the suite's method, chosen on its longest run
-        picked, chosen = resolve(st, probe.ground(), probe.t_end, probe.seed, probe.options)
+        picked, chosen = resolve(
+            st, probe.ground(), probe.t_end, probe.seed, probe.options, progress
+        )
         options = options | {"method": picked["method"]}  # `job` reads it from here on
         probe = job(longest * n_l * n_d + (n_l - 1) * n_d)
     one = estimate(st, probe.ground(), t_end=probe.t_end, seed=probe.seed, **probe.options)

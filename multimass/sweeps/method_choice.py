@@ -127,7 +127,9 @@ def _why_not(structure, options: SimulationOptions) -> str | None:
     return f"{structure.name}: {modes}" if isinstance(modes, str) else None
 
 
-def choose_method(structure, excitation, t_end: float, impact, seed, options: dict) -> MethodChoice:
+def choose_method(
+    structure, excitation, t_end: float, impact, seed, options: dict, progress=None
+) -> MethodChoice:
     """The method of a sweep whose runs are like this sample run (`method="auto"`).
 
     Parameters
@@ -137,6 +139,8 @@ def choose_method(structure, excitation, t_end: float, impact, seed, options: di
         The sample run: the sweep's longest.
     options : dict
         The sweep's other options (`multimass.simulate`'s keywords, without ``method``).
+    progress : bool or None
+        The sweep's: False shows no bar for the sample runs; else a bar if one is long.
 
     Returns
     -------
@@ -156,13 +160,14 @@ def choose_method(structure, excitation, t_end: float, impact, seed, options: di
             "s), where DOP853 was measured as fast or faster",
             s,
         )
-    return _by_sample(structure, excitation, t_end, impact, seed, options, s, o.rtol)
+    shown = False if progress is False else None
+    return _by_sample(structure, excitation, t_end, impact, seed, options, s, o.rtol, shown)
 
 
-def _by_sample(st, excitation, t_end, impact, seed, options, s, rtol) -> MethodChoice:
+def _by_sample(st, excitation, t_end, impact, seed, options, s, rtol, shown) -> MethodChoice:
     """The choice from the sample run each way (timed by `simulate_outcome`, kernels loaded
     before its clock), checked against each other and, if they differ, a reference."""
-    run = dict(options) | {"seed": seed, "progress": None}  # a bar if a sample run is long
+    run = dict(options) | {"seed": seed, "progress": shown}  # None: a bar if a run is long
     got = {m: simulate_outcome(st, excitation, impact, t_end, **run | {"method": m}) for m in _BOTH}
     wall = {m: float(got[m].wall_time_s) for m in _BOTH}
     dop, exp = got["DOP853"], got["exponential"]
@@ -235,12 +240,15 @@ def sweep_method(structure, options: dict) -> dict:
     return options
 
 
-def resolve(structure, excitation, t_end: float, seed, options: dict) -> tuple[dict, dict]:
+def resolve(
+    structure, excitation, t_end: float, seed, options: dict, progress=None
+) -> tuple[dict, dict]:
     """A sweep's options with ``method="auto"`` replaced by `choose_method`'s choice for
-    its sample run, and what to report (``{"method_choice": ...}``; empty if not "auto")."""
+    its sample run (`progress`: the sweep's), and what to report
+    (``{"method_choice": ...}``; empty if not "auto")."""
     if options.get("method") != AUTO:
         return options, {}
     rest = {k: x for k, x in options.items() if k not in ("method", "impact")}
     impact = options.get("impact", "DD2")
-    choice = choose_method(structure, excitation, t_end, impact, seed, rest)
+    choice = choose_method(structure, excitation, t_end, impact, seed, rest, progress)
     return options | {"method": choice.method}, {"method_choice": choice.describe()}

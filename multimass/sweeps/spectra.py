@@ -144,14 +144,14 @@ def _common(repeats, seed, t_free) -> tuple:
     return repeats, seed, v.positive("t_free", t_free, "free response after the excitation, s")
 
 
-def _check_in_parent(points) -> tuple[list, dict]:
+def _check_in_parent(points, progress=None) -> tuple[list, dict]:
     """Validate the options and the cost of the longest run here, before any worker starts;
     with ``method="auto"``, choose the method on that run (`multimass.sweeps.method_choice`;
     of the longest, the last: the largest scale or amplitude, the one that rocks most).
 
     Returns the points with the method chosen, and the choice to report (or {})."""
     p = max(reversed(points), key=lambda q: q.t_end)
-    options, chosen = resolve(p.structure, p.ground(), p.t_end, p.seed, p.options)
+    options, chosen = resolve(p.structure, p.ground(), p.t_end, p.seed, p.options, progress)
     if chosen:
         points = [dataclasses.replace(q, options=options) for q in points]
     estimate(p.structure, p.ground(), t_end=p.t_end, seed=p.seed, **options)
@@ -251,7 +251,7 @@ def pulse_spectrum(
     for (w, a, _), s in zip(grid, seeds):
         exc = build(amplitude=a, omega=w)
         points.append(_Point(st, exc, exc.duration + t_free, s, options))
-    points, chosen = _check_in_parent(points)
+    points, chosen = _check_in_parent(points, progress)
     cols = {
         "omega": [g[0] for g in grid],
         "amp": [g[1] for g in grid],
@@ -315,7 +315,7 @@ def record_spectrum(
         _Point(st, record, record.duration + t_free, sd, options, float(s))
         for (s, _), sd in zip(grid, seeds)
     ]
-    points, chosen = _check_in_parent(points)
+    points, chosen = _check_in_parent(points, progress)
     cols = {"scale": [g[0] for g in grid], "repeat": [g[1] for g in grid], "seed": list(seeds)}
     return _run(
         st,

@@ -103,7 +103,7 @@ from numba import njit
 from ._maths import (
     EV_ACTIVATE,
     EXC_RECORD,
-    activation_angle,
+    activation_angle_at,
     event_value,
     piece_end,
     rhs_call,
@@ -502,8 +502,8 @@ def _activation_scan(
         if ev_code[i] != EV_ACTIVATE or n_act > n_ends or not (t > ev_ton[i]):
             continue
         n = m.size
-        near = side * y_old[n] < 2.0 * activation_angle(side, y_old, m, H, K, mp, ep)
-        near = near or side * y[n] < 2.0 * activation_angle(side, y, m, H, K, mp, ep)
+        near = side * y_old[n] < 2.0 * activation_angle_at(side, y_old, m, H, K, mp, ep)
+        near = near or side * y[n] < 2.0 * activation_angle_at(side, y, m, H, K, mp, ep)
         if not near and not _crosses(g[i], g_new[i], ev_dir[i]):
             continue
         g_a = g[i]
@@ -856,7 +856,7 @@ def _exp_steps(
         # momentum and θ̇, which swing with the elastic modes that the step follows
         # exactly: within one step it can dip below zero and back (measured on a 20-node
         # column under El Centro, DD5: a 9 ms window missed at 5 ms steps). Only where θ
-        # comes within twice its activation angle at either end (`._maths.activation_angle`,
+        # comes within twice its activation angle at either end (`._maths.activation_angle_at`,
         # Eq 15's width at that state's energy and θ̇): elsewhere the margin's angle term
         # holds it positive (away from a turning point θ moves one way over a step; near
         # one θ̇ ≈ 0 and the angle is at its widest at the ends too).

@@ -49,7 +49,7 @@ __all__ = [
     "rhs",
     "rhs_call",
     "event_value",
-    "activation_angle",
+    "activation_angle_at",
     "EXC_NONE",
     "EXC_SINE",
     "EXC_COSINE",
@@ -313,12 +313,12 @@ def _activate(side, y, m, H, K, mp, ep):
     n = m.size
     thd = y[2 * n + 1]
     L = _pivot_momentum(y, m, H, mp)
-    theta_i = activation_angle(side, y, m, H, K, mp, ep)
+    theta_i = activation_angle_at(side, y, m, H, K, mp, ep)
     return gf.activation_margin(y[n], theta_i, side, L, ep[EP_LREF], thd, ep[EP_TDMIN])
 
 
 @njit(cache=True, error_model="numpy")
-def activation_angle(side, y, m, H, K, mp, ep):
+def activation_angle_at(side, y, m, H, K, mp, ep):
     """The activation angle ``|θ_i|`` of state y: Eq 15's width at its energy and θ̇."""
     E = _total_energy(side, y, m, H, K, mp)
     width = gf.impact_width(

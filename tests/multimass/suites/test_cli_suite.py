@@ -88,6 +88,7 @@ def test_failed_runs_are_reported_in_text_mode_with_their_message(tmp_path, caps
         return out
 
     monkeypatch.setattr(runs, "suite_batch", one_fails)
+    monkeypatch.setattr(runs, "BATCHED", True)  # batched whether or not its kernels are cached
     suite = tmp_path / "small.toml"
     suite.write_text(SMALL.replace("draws = 4", "draws = 1"))
     out = tmp_path / "out"

@@ -115,3 +115,21 @@ def test_a_stiff_columns_spectrum_takes_the_exponential_method_by_default():
     )  # fmt: skip
     assert asked.options["method"] == "DOP853" and "method_choice" not in asked.options
     assert sp.table.theta_max[0] == pytest.approx(asked.table.theta_max[0], rel=1e-7)
+
+
+def test_the_sample_runs_show_a_bar_only_if_the_sweep_may(monkeypatch):
+    from multimass.sweeps import method_choice
+
+    seen, real = [], method_choice.simulate_outcome
+
+    def recorded(*args, **kw):
+        seen.append(kw["progress"])
+        return real(*args, **kw)
+
+    monkeypatch.setattr(method_choice, "simulate_outcome", recorded)
+    st, run = uniform_column(20), (FreeRelease(0.11), 0.2, "DD2", None, {"backend": "compiled"})
+    choose_method(st, *run, progress=False)  # a sweep run with progress=False (--no-progress)
+    assert seen and set(seen) == {False}
+    seen.clear()
+    choose_method(st, *run)  # else: a bar if a sample run is long (simulate's own rule)
+    assert seen and set(seen) == {None}
