@@ -134,8 +134,9 @@ def compare(runs: dict, refs: dict) -> dict:
             same_events=kinds(r) == kinds(ref),
             event_time_error=_pair(times(r), times(ref)) if kinds(r) == kinds(ref) else None,
         )
-        (spectrum if name.startswith("spectrum") else [None]).append(row)
-        if not name.startswith("spectrum"):
+        if name.startswith("spectrum"):
+            spectrum.append(row)
+        else:
             cases[name] = row
     same = [x for x in spectrum if x["same_events"]]
     part = [x for x in spectrum if not x["same_events"]]
