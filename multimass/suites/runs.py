@@ -443,21 +443,31 @@ def _manifest(suite: Suite) -> dict:
     return {"format": 1, "suite": desc, "hash": hashlib.sha256(text.encode()).hexdigest()}
 
 
-def _open(folder: Path, manifest: dict) -> None:
-    folder.mkdir(parents=True, exist_ok=True)
+def _recorded(folder: Path, manifest: dict) -> dict | None:
+    """The manifest of a folder's earlier runs of this suite, None for a new folder.
+
+    Raises `SuiteMismatch` for a folder of another suite (or of other settings)."""
     path = folder / MANIFEST
-    if path.exists():
-        try:
-            old = json.loads(path.read_text())
-        except (OSError, ValueError):
-            old = {}
-        if old.get("hash") != manifest["hash"]:
-            raise SuiteMismatch(
-                f"{folder}: holds the runs of another suite ({old.get('suite', {}).get('name')!r} "
-                "or other settings); give another --out folder, or delete this one to start over"
-            )
-        return
-    path.write_text(json.dumps(manifest, indent=1, default=str))
+    if not path.exists():
+        return None
+    try:
+        old = json.loads(path.read_text())
+    except (OSError, ValueError):
+        old = {}
+    if old.get("hash") != manifest["hash"]:
+        raise SuiteMismatch(
+            f"{folder}: holds the runs of another suite ({old.get('suite', {}).get('name')!r} "
+            "or other settings); give another --out folder, or delete this one to start over"
+        )
+    return old
+
+
+def _open(folder: Path, manifest: dict, old: dict | None) -> None:
+    """Write the manifest of a new folder, or add to an old one what it lacks (the method
+    of its runs: folders written before it was recorded)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    if old is None or any(k not in old for k in manifest):
+        (folder / MANIFEST).write_text(json.dumps((old or {}) | manifest, indent=1, default=str))
 
 
 def _write(path: Path, table: pd.DataFrame) -> None:
@@ -527,6 +537,9 @@ def run_suite(
     n = len(ms) * n_l * n_d
     options = sweep_method(st, default_backend(dict(suite.options)))
     chosen = {}
+    folder = Path(out) if out is not None else None
+    manifest = _manifest(suite)
+    before = _recorded(folder, manifest) if folder is not None else None
     p = float(getattr(st, "p", math.nan) or math.nan)
 
     def job(i: int) -> _Job:
@@ -548,9 +561,14 @@ def run_suite(
     longest = max(range(len(ms)), key=lambda mi: ms[mi].excitation(1.0, 0).duration)
     probe = job(longest * n_l * n_d + (n_l - 1) * n_d)
     if options.get("method") == AUTO:  # the suite's method, chosen on its longest run
-        picked, chosen = resolve(
-            st, probe.ground(), probe.t_end, probe.seed, probe.options, progress
-        )
+        if before is not None and ("method" in before or "method" not in suite.options):
+            # resumed: the method its runs used, as recorded (a folder from before the
+            # record, of a suite naming no method: DOP853, the default then)
+            picked, chosen = {"method": before.get("method", "DOP853")}, before.get("chosen", {})
+        else:
+            picked, chosen = resolve(
+                st, probe.ground(), probe.t_end, probe.seed, probe.options, progress
+            )
         options = options | {"method": picked["method"]}  # `job` reads it from here on
         probe = job(longest * n_l * n_d + (n_l - 1) * n_d)
     one = estimate(st, probe.ground(), t_end=probe.t_end, seed=probe.seed, **probe.options)
@@ -599,9 +617,8 @@ def run_suite(
 
     chunk = int(chunk_runs) if chunk_runs else int(np.clip(math.ceil(n / 40), 20, 2000))
     n_chunks = -(-n // chunk)
-    folder = Path(out) if out is not None else None
-    if folder is not None:
-        _open(folder, _manifest(suite))
+    if folder is not None:  # with the method of its runs: a resumed suite keeps it
+        _open(folder, manifest | {"method": options.get("method"), "chosen": chosen}, before)
         (folder / "runs").mkdir(exist_ok=True)
     part = lambda c: folder / "runs" / f"part-{c:05d}.parquet"
     todo = [c for c in range(n_chunks) if folder is None or not part(c).exists()]

@@ -127,6 +127,44 @@ def test_resume_skips_finished_chunks_and_refuses_another_suite(tmp_path):
         run_suite(dataclasses.replace(s, draws=4), out=tmp_path, executor="serial", progress=False)
 
 
+def test_a_resumed_column_suite_keeps_the_method_its_runs_used(tmp_path, monkeypatch):
+    # the manifest records the method the runs used; a resumed suite reads it there and
+    # does not choose again (method "auto" times a sample run each way: its choice can
+    # change between calls or versions, and a suite's runs must all use one method)
+    import json
+
+    import multimass.suites.runs as runs
+
+    s, out = _column_suite(), tmp_path / "out"
+    first = run_suite(s, out=out, executor="serial", chunk_runs=2, progress=False)
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["method"] == "DOP853" == first.chosen["method_choice"]["method"]
+
+    used = []
+    real_estimate = runs.estimate
+    monkeypatch.setattr(
+        runs, "estimate", lambda *a, **kw: used.append(kw["method"]) or real_estimate(*a, **kw)
+    )
+    monkeypatch.setattr(runs, "resolve", lambda *a, **kw: pytest.fail("chose again on resume"))
+
+    def resume(record):
+        (out / "manifest.json").write_text(json.dumps(record))
+        (out / "runs" / "part-00001.parquet").unlink()
+        return run_suite(s, out=out, executor="serial", chunk_runs=2, progress=False)
+
+    # as if auto had picked the exponential method: the resumed runs use it too
+    again = resume(manifest | {"method": "exponential"})
+    assert used[-1] == "exponential" and again.computed == 2
+    assert again.chosen == first.chosen
+    # a folder written before the method was recorded: its runs used DOP853, the default
+    # of every version before auto; the manifest gains the record
+    old = {k: v for k, v in manifest.items() if k not in ("method", "chosen")}
+    again = resume(old)
+    assert used[-1] == "DOP853" and again.computed == 2
+    pd.testing.assert_frame_equal(again.runs, first.runs)
+    assert json.loads((out / "manifest.json").read_text())["method"] == "DOP853"
+
+
 # --------------------------------------------------------------------------- bad input
 @pytest.mark.parametrize(
     "body, words",
