@@ -34,7 +34,8 @@ from multimass.model._phase import Model, full_contact_rhs, rocking_rhs
 from multimass.simulation import outcome_summary
 from tests.multimass.engines.test_fast import _arrays  # (m, H, K, C, mp) of a structure
 
-ELCENTRO = "/work/shared/data/ground_motions/elcentro_1940_NS.dat"
+#: El Centro 1940 NS in g, the copy the examples carry (the same file as the shared record).
+ELCENTRO = Path(__file__).parents[3] / "examples" / "data" / "records" / "elcentro_1940_NS.dat"
 #: The README's record: the first 15 s of El Centro 1940 NS, in g.
 RECORD_15S = Path(__file__).parents[3] / "examples" / "data" / "elcentro_1940_NS_15s.dat"
 
