@@ -1,7 +1,7 @@
 """The exponential rocking integrator against DOP853 on the compiled path: work and precision.
 
 Run:  python -m benchmarks.exponential_rocking [--repeat 3] [--rtols 1e-6 1e-8 1e-10]
-      [--quick] [--chart docs/bench/exponential_wp.png] [--compile]
+      [--quick] [--chart docs/bench/exponential_wp.png] [--compile] [--no-scipy]
 
 Cases (each a whole compiled run, `multimass.simulation.outcome_summary`, the
 path of spectra and suites): S1, S2, S3 of paper 001 released from 0.11 rad (DD2,
@@ -17,6 +17,11 @@ which goes first; the ratio of a repeat is DOP853's wall time over the exponenti
 rtol 1e-12, atol 1e-14: θ_max, every half-cycle's peak and the impact times (when
 both runs have as many) and the ledger's closure; they come from `simulate_outcome` (the
 same kernels, bit for bit: tests/multimass/test_fast_exponential.py).
+
+Beside them, the solve_ivp path (``backend="scipy"``: SciPy's DOP853 on the same
+equations, its events located by solve_ivp) at the same tolerances, timed `--scipy-repeat`
+times (once by default: a run takes seconds to a minute, and the compiled methods'
+ratio to it is what the chart shows), its errors against the same reference.
 
 The machine is shared and noisy (2 cores, other jobs): compare medians and ratios
 within one run, never absolute times across runs.
@@ -51,6 +56,8 @@ __all__ = ["main", "cases", "measure", "physical_limit", "compile_times"]
 SHARED = Path(__file__).resolve().parents[2] / "shared"
 ELCENTRO = str(SHARED / "data" / "ground_motions" / "elcentro_1940_NS.dat")
 METHODS = ("DOP853", "exponential")
+#: The solve_ivp path's series (SciPy's DOP853, ``backend="scipy"``).
+SCIPY = "solve_ivp"
 REF = dict(method="DOP853", rtol=1e-12, atol=1e-14)
 
 
@@ -96,8 +103,23 @@ def _peak_error(r, ref) -> float | None:
     return float(np.abs(a - b).max()) if a.size == b.size and a.size else None
 
 
-def measure(case, rtols, repeat: int) -> list[dict]:
-    """Rows of one case: per rtol and method, wall times (ms), RHS calls and errors."""
+def _errors(r, ref) -> dict:
+    """θ_max, peak, impact-time and ledger errors of run `r` against the reference."""
+    a, b = _impacts(r), _impacts(ref)
+    return dict(
+        n_rhs=int(r.n_rhs),
+        theta_max_error=abs(r.theta_max - ref.theta_max),
+        peak_error=_peak_error(r, ref),
+        impact_time_error=float(np.abs(a - b).max()) if a.size == b.size and a.size else None,
+        impacts=(int(a.size), int(b.size)),
+        energy_balance_error=float(r.energy_balance_error),
+        status=r.status,
+    )
+
+
+def measure(case, rtols, repeat: int, scipy_repeat: int = 1) -> list[dict]:
+    """Rows of one case: per rtol and method, wall times (ms), RHS calls and errors
+    (with `scipy_repeat` > 0, the solve_ivp path's row too)."""
     ref = _run(case, False, **REF)
     rows = []
     for rtol in rtols:
@@ -113,7 +135,6 @@ def measure(case, rtols, repeat: int) -> list[dict]:
         ratios = [d / e for d, e in zip(times["DOP853"], times["exponential"])]
         for method in METHODS:
             r = _run(case, False, method=method, **tol)
-            a, b = _impacts(r), _impacts(ref)
             rows.append(
                 dict(
                     case=case[0],
@@ -124,16 +145,29 @@ def measure(case, rtols, repeat: int) -> list[dict]:
                     ms_max=max(times[method]),
                     dop853_over_exponential=statistics.median(ratios),
                     ratio_spread=(min(ratios), max(ratios)),
-                    n_rhs=int(r.n_rhs),
-                    theta_max_error=abs(r.theta_max - ref.theta_max),
-                    peak_error=_peak_error(r, ref),
-                    impact_time_error=(
-                        float(np.abs(a - b).max()) if a.size == b.size and a.size else None
-                    ),
-                    impacts=(int(a.size), int(b.size)),
-                    energy_balance_error=float(r.energy_balance_error),
-                    status=r.status,
                 )
+                | _errors(r, ref)
+            )
+        if scipy_repeat > 0:
+            ms = []
+            for _ in range(scipy_repeat):
+                t0 = time.perf_counter()
+                r = _run(case, False, method="DOP853", backend="scipy", **tol)
+                ms.append(1e3 * (time.perf_counter() - t0))
+            dop = statistics.median(times["DOP853"])
+            rows.append(
+                dict(
+                    case=case[0],
+                    rtol=rtol,
+                    method=SCIPY,
+                    ms_median=statistics.median(ms),
+                    ms_min=min(ms),
+                    ms_max=max(ms),
+                    over_compiled_dop853=statistics.median(ms) / dop,
+                    over_exponential=statistics.median(ms)
+                    / statistics.median(times["exponential"]),
+                )
+                | _errors(r, ref)
             )
     return rows
 
@@ -196,19 +230,21 @@ def chart(rows, path) -> None:
         math.ceil(len(names) / cols), cols, figsize=(3.6 * cols, 3.0 * math.ceil(len(names) / cols))
     )
     for ax, name in zip(np.atleast_1d(axes).ravel(), names):
-        for method, mark in zip(METHODS, ("o-", "s--")):
+        for method, mark in zip(METHODS + (SCIPY,), ("o-", "s--", "^:")):
             sel = [
                 r
                 for r in rows
                 if r["case"] == name and r["method"] == method and r["peak_error"] is not None
             ]
             err = [max(r["peak_error"], 1e-16) for r in sel]
-            ax.loglog(err, [r["ms_median"] for r in sel], mark, label=method)
+            label = f"{method} (compiled)" if method in METHODS else "solve_ivp (DOP853)"
+            ax.loglog(err, [r["ms_median"] for r in sel], mark, label=label)
             for r, e in zip(sel, err):
                 ax.annotate(f"{r['rtol']:.0e}", (e, r["ms_median"]), fontsize=6)
         ax.xaxis.set_minor_formatter(NullFormatter())
         ax.yaxis.set_major_formatter(FormatStrFormatter("%g"))
-        ax.yaxis.set_minor_formatter(FormatStrFormatter("%g"))
+        lo, hi = ax.get_ylim()  # minor labels only within a decade (else they crowd)
+        ax.yaxis.set_minor_formatter(FormatStrFormatter("%g") if hi < 10 * lo else NullFormatter())
         ax.set_title(name, fontsize=8)
         ax.set_xlabel("largest |peak − reference| (rad)", fontsize=7)
         ax.set_ylabel("wall time per run (ms)", fontsize=7)
@@ -216,8 +252,8 @@ def chart(rows, path) -> None:
     np.atleast_1d(axes).ravel()[0].legend(fontsize=7)
     for ax in np.atleast_1d(axes).ravel()[len(names) :]:
         ax.axis("off")
-    fig.suptitle("Compiled whole runs: DOP853 against the exponential rocking integrator "
-                 "(labels: rtol; shared noisy machine, medians)", fontsize=8)  # fmt: skip
+    fig.suptitle("Whole runs: the compiled DOP853 and exponential rocking integrator, and "
+                 "solve_ivp (labels: rtol; shared noisy machine, medians)", fontsize=8)  # fmt: skip
     fig.tight_layout()
     fig.savefig(path, dpi=120)
 
@@ -229,6 +265,8 @@ def main(argv=None) -> dict:
     p.add_argument("--quick", action="store_true", help="S1 only")
     p.add_argument("--chart", default=None, help="PNG of the work-precision chart")
     p.add_argument("--compile", action="store_true", help="also the cold compile times")
+    p.add_argument("--scipy-repeat", type=int, default=1, help="timed solve_ivp runs (1)")
+    p.add_argument("--no-scipy", action="store_true", help="without the solve_ivp path")
     a = p.parse_args(argv)
     os.environ.setdefault("MULTIMASS_QUIET", "1")
     from multimass.engines.fast import warm_up, warm_up_contact, warm_up_exponential
@@ -238,9 +276,9 @@ def main(argv=None) -> dict:
         f(progress=False)
     out = {"rows": [], "limit": []}
     for case in cases(a.quick):
-        out["rows"] += measure(case, a.rtols, a.repeat)
+        out["rows"] += measure(case, a.rtols, a.repeat, 0 if a.no_scipy else a.scipy_repeat)
         out["limit"].append(physical_limit(case, 1e-8))
-        print(json.dumps(out["rows"][-2 * len(a.rtols) :]), file=sys.stderr)
+        print(json.dumps([r for r in out["rows"] if r["case"] == case[0]]), file=sys.stderr)
     if a.compile:
         out["compile_s"] = compile_times()
     if a.chart:
