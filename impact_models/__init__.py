@@ -7,9 +7,9 @@ if __name__ != "multimass.impact_models":  # one import name (a linked folder)
         f"`{__name__}` (is the repository's root on sys.path before site-packages?)"
     )
 
-from .complementarity import LCPError, LCPSolution, lemke
+import importlib
+
 from .models import Classical, DiracDelta, ImpactModel, Transition
-from .poisson import PoissonImpact, poisson_impact
 from .restitution import housner_eta, modified_eta, r_h
 from .sources import (
     AngularMomentumRestitution,
@@ -53,3 +53,21 @@ __all__ = [
     "r_h",
     "restitution_source",
 ]
+
+#: Names of the LCP and Poisson's law, imported at their first use (~7 ms that the runs
+#: with another impact model do not pay).
+_LAZY = {
+    "LCPError": ".complementarity",
+    "LCPSolution": ".complementarity",
+    "lemke": ".complementarity",
+    "PoissonImpact": ".poisson",
+    "poisson_impact": ".poisson",
+}
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        value = getattr(importlib.import_module(_LAZY[name], __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -11,7 +11,6 @@ import math
 
 from multimass.errors import InputError
 
-from .lcp_model import PoissonLCP
 from .models import Classical, DiracDelta, ImpactModel
 from .sources import (
     AngularMomentumRestitution,
@@ -156,6 +155,8 @@ def impact_model(
         )
     kind, rest_name, cp = IMPACT_MODELS[name]
     if kind == "poisson":
+        from .lcp_model import PoissonLCP  # with its LCP solver: imported by LCP runs only
+
         return PoissonLCP(eps_p=0.0 if eps_p is None else float(eps_p))
     if eps_p is not None:
         raise InputError(f"`eps_p` = {eps_p!r} applies to impact='LCP' only (got {impact!r})")

@@ -46,7 +46,6 @@ from . import validation as v
 from .checks import energy_check, judge, scale_floor
 from .cost import OUTPUT_BUDGET, check_output, series_columns, simulation_cost
 from .engines._events import overturn_message
-from .engines._newmark_response import check_newmark, simulate_newmark
 from .engines._recorder import Recorder
 from .engines._run import QUIET_DELAY, PhaseLoop, segment_ends
 from .errors import InputError
@@ -452,6 +451,8 @@ class _Plan:
         )
 
     def _newmark(self, lean: bool):
+        from .engines._newmark_response import simulate_newmark  # ~10 ms: Newmark runs only
+
         o, model = self.options, self.model
         options = self.describe() | {"backend": None}
         for key in ("method", "rtol", "atol", "max_step"):
@@ -557,6 +558,8 @@ def _prepare(structure, excitation, impact, t_end, o: SimulationOptions) -> _Pla
     start = _initial_state(st, excitation)
     fast = None
     if o.integrator == "newmark":
+        from .engines._newmark_response import check_newmark
+
         check_newmark(st, model)
     elif o.backend == "compiled":
         from .engines.fast import FastPath  # numba loads only for backend="compiled"

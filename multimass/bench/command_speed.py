@@ -18,10 +18,13 @@ Three figures, each a ratio measured within one run, repeated (median, min, max)
   the same outcome (and impacts) in every cell, grid and refinement alike.
 
 ``breakdown_s`` splits the command's time (spawn and exit, start-up to the map, the map
-outside its cells, the cells outside the kernel); ``start_up_floor_s`` times, in a
-fresh process, what every run pays before its first cell: the interpreter, the imports
-of numpy, numba and multimass, numba's target start-up and loading the kernel from its
-cache.
+outside its cells, the cells outside the kernel: numba's target start-up and the
+kernel's cache load happen at the first compiled call, in the cells); ``start_up_floor_s``
+times, in a fresh process, what every run pays before its first cell: the interpreter,
+the imports of numpy, numba and multimass, numba's target start-up and loading the
+kernel from its cache. ``floor_over_kernel`` is the ratio the command would reach if
+everything but the kernel, the interpreter and numba's import and start-up (numpy, its
+target, the cache load: `FLOOR_PARTS`) cost nothing.
 
 ``python -m benchmarks.stability_command`` or ``multimass bench --command --out DIR``.
 """
@@ -46,10 +49,13 @@ __all__ = [
     "startup_floor",
     "measure",
     "TARGETS",
+    "FLOOR_PARTS",
 ]
 
 #: ``command_over_kernel`` at most, ``scipy_over_compiled`` at least
 TARGETS = {"command_over_kernel": 1.3, "scipy_over_compiled": 150.0}
+#: The parts of `startup_floor` that no change to multimass removes (``floor_over_kernel``).
+FLOOR_PARTS = ("interpreter", "numpy", "numba", "numba_target", "kernel_cache_load")
 
 
 def command_argv(n: int) -> list[str]:
@@ -250,6 +256,9 @@ def _report(argv, n, small_n, rows, same_as_kernel) -> dict:
         "command_cpu_ms_per_simulation": spread([1e3 * cpu_sim(r) for r in rows]),
         "kernel_ms_per_cell": spread([1e3 * r["kernel"]["wall_s_per_cell"] for r in rows]),
         "kernel_cpu_ms_per_cell": spread([1e3 * r["kernel"]["cpu_s_per_cell"] for r in rows]),
+        "floor_over_kernel": spread(
+            [(sum(r["floor"][p] for p in FLOOR_PARTS) + k) / k for r, k in zip(rows, kernel)]
+        ),
         "kernel_outcomes_as_command": same_as_kernel,
         "breakdown_s": {
             "subprocess_wall": spread([r["command"]["wall_s"] for r in rows]),

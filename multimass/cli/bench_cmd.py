@@ -200,10 +200,12 @@ def _run_command_speed(size: str, out: Path, as_json: bool) -> int:
         print(json.dumps(res, indent=1))
         return 0
     r, s = res["command_over_kernel"], res["small_map"]["scipy_over_compiled"]
+    f = res["floor_over_kernel"]
     print(
         f"bench --command ({size}) -> {out / 'command_speed.json'}\n"
         f"  command / kernel per simulation  {r['median']:.2f} [{r['min']:.2f}-{r['max']:.2f}]"
-        f"  (target <= {res['targets']['command_over_kernel']})\n"
+        f"  (target <= {res['targets']['command_over_kernel']}; floor: the kernel, the "
+        f"interpreter, numpy and numba's start-up alone {f['median']:.2f})\n"
         f"  solve_ivp / compiled ({small_n}x{small_n})  {s['median']:.0f}x "
         f"[{s['min']:.0f}-{s['max']:.0f}]  (target >= {res['targets']['scipy_over_compiled']:.0f}; "
         f"identical outcomes: {res['small_map']['identical_outcomes']})"

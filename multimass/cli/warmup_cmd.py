@@ -4,7 +4,9 @@ The numba kernels compile on their first use on a machine and are cached on disk
 (`multimass.engines.fast.compile`). This command does it on purpose — when building a
 container image, after installing on a cluster's nodes, before timing a sweep —
 and reports, for each group of kernels, whether it was compiled or loaded, how
-long it took and where the machine code is kept.
+long it took and where the machine code is kept. It also writes the bytecode of the
+package's own modules (`bytecode`), which Python does not write where
+``PYTHONDONTWRITEBYTECODE`` is set (as in many container images).
 """
 
 from __future__ import annotations
@@ -12,8 +14,9 @@ from __future__ import annotations
 import json
 import math
 import time
+from pathlib import Path
 
-__all__ = ["register", "run", "GROUPS", "warm"]
+__all__ = ["register", "run", "GROUPS", "warm", "bytecode"]
 
 
 def _fast(progress):
@@ -106,7 +109,8 @@ def register(sub) -> None:
         "__pycache__ beside the package's sources; if that folder is read-only, the "
         "per-user cache ($XDG_CACHE_HOME or ~/.cache)/multimass/numba. A first use "
         "prints a notice with a progress bar while it compiles; set MULTIMASS_QUIET=1 "
-        "to silence it. Groups: "
+        "to silence it. It also writes the bytecode of multimass's own modules, which "
+        "Python does not write itself where PYTHONDONTWRITEBYTECODE is set. Groups: "
         + "; ".join(f"{name}: {serves}" for name, (serves, _) in GROUPS.items())
         + ".",
     )
@@ -123,6 +127,33 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
+def bytecode() -> dict:
+    """Write the bytecode (``__pycache__/*.pyc``) of multimass's own modules where it is
+    missing or older than its source.
+
+    Python writes it at a module's first import, unless ``PYTHONDONTWRITEBYTECODE`` is
+    set; then every run compiles the sources of the ~90 modules a command imports again
+    (~0.1 s of the start-up of ``multimass stability``; docs/guide/speed.md). pip writes
+    it when it installs a wheel; a source checkout or an editable install relies on the
+    first import.
+
+    Returns
+    -------
+    dict
+        ``folder`` (the package's), ``written`` (False if some file could not be
+        written, e.g. a read-only folder: Python then compiles those sources at each
+        import, as before) and ``seconds``.
+    """
+    import compileall
+
+    import multimass
+
+    start = time.perf_counter()
+    folder = Path(multimass.__file__).parent
+    ok = compileall.compile_dir(folder, quiet=2)  # skips the files whose bytecode is fresh
+    return {"folder": str(folder), "written": bool(ok), "seconds": time.perf_counter() - start}
+
+
 def warm(names=None, progress: bool | None = None) -> dict:
     """Warm the groups `names` (default all, in the order of `GROUPS`).
 
@@ -131,7 +162,7 @@ def warm(names=None, progress: bool | None = None) -> dict:
     dict
         ``cache`` (the folder numba writes to and why), ``groups`` (one
         `multimass.engines.fast.CompileReport` as a dict per group, with its ``group``
-        name) and ``seconds`` (the total).
+        name), ``bytecode`` (`bytecode`, whatever the groups) and ``seconds`` (the total).
     """
     from multimass.engines.fast.compile import CACHE
 
@@ -143,6 +174,7 @@ def warm(names=None, progress: bool | None = None) -> dict:
     return {
         "cache": {"numba_cache_dir": CACHE.path, "reason": CACHE.reason},
         "groups": rows,
+        "bytecode": bytecode(),
         "seconds": time.perf_counter() - start,
     }
 
@@ -164,5 +196,10 @@ def run(args) -> int:
     for r in out["groups"]:
         print(f"{r['what']:<{width}}  {_line(r)}  [{r['group']}]")
         print(f"{'':<{width}}  cache: {r['cache_dir']}")
+    b = out["bytecode"]
+    print(
+        f"bytecode of multimass's modules {'up to date' if b['written'] else 'NOT all written'} "
+        f"in {b['seconds']:.1f} s: {b['folder']}"
+    )
     print(f"ready in {out['seconds']:.1f} s; numba's cache: {out['cache']['reason']}")
     return 0

@@ -14,11 +14,10 @@ import sys
 import traceback
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from functools import partial
+from functools import cache, partial
 from typing import Any
 
 import numpy as np
-from tqdm import tqdm
 
 from ..errors import InputError, SolverError
 from .base import Executor
@@ -195,10 +194,34 @@ def _show_progress(progress: Any, n_jobs: int) -> bool:
     return progress
 
 
-class _Bar(tqdm):
-    """tqdm without its monitor thread (a live thread makes forking workers unsafe)."""
+class _HiddenBar:
+    """A progress bar that is not shown: `update` and `close` do nothing (no tqdm import)."""
 
-    monitor_interval = 0
+    def update(self, n=1) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
+
+
+@cache
+def _bar_class():
+    from tqdm import tqdm
+
+    class MonitorlessBar(tqdm):
+        """tqdm without its monitor thread (a live thread makes forking workers unsafe)."""
+
+        monitor_interval = 0
+
+    return MonitorlessBar
+
+
+def _Bar(**options):
+    """A tqdm bar without its monitor thread; with ``disable=True``, a `_HiddenBar`: tqdm
+    (~20 ms to import) is imported only for a bar that is shown."""
+    if options.get("disable"):
+        return _HiddenBar()
+    return _bar_class()(**options)
 
 
 def _raise_job_error(fail: _Failure, index: int, n_jobs: int, executor: Executor):

@@ -8,20 +8,21 @@ is in `multimass.sweeps.base`.
 
 from __future__ import annotations
 
-import multiprocessing
 import os
 import pickle
 import sys
 import threading
 import time
 import types
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager, nullcontext
+from typing import TYPE_CHECKING
 
 from ..errors import InputError
 from .base import Executor, available_workers, validate_workers
 from .dask_executor import DaskExecutor
+
+if TYPE_CHECKING:  # multiprocessing and its pool: imported by the pool's first use (~5 ms)
+    from concurrent.futures import ProcessPoolExecutor
 
 __all__ = [
     "SerialExecutor",
@@ -66,6 +67,8 @@ def _default_start_method() -> str:
     deadlock or kill the child (``python -m benchmarks.sweep_overhead
     --fork-hazard`` shows it); Python 3.14 made the same change.
     """
+    import multiprocessing
+
     methods = multiprocessing.get_all_start_methods()
     return "forkserver" if "forkserver" in methods else "spawn"
 
@@ -203,6 +206,8 @@ class ProcessExecutor(Executor):
     name = "process"
 
     def __init__(self, workers: int | None = None, start_method: str | None = None, preload=()):
+        import multiprocessing
+
         self._workers = validate_workers(workers) or available_workers()
         methods = multiprocessing.get_all_start_methods()
         if start_method is not None and start_method not in methods:
@@ -239,6 +244,9 @@ class ProcessExecutor(Executor):
 
     def _get_pool(self) -> ProcessPoolExecutor:
         if self._pool is None:
+            import multiprocessing
+            from concurrent.futures import ProcessPoolExecutor
+
             ctx = multiprocessing.get_context(self.start_method)
             self._pool = ProcessPoolExecutor(
                 self._workers,
@@ -249,6 +257,9 @@ class ProcessExecutor(Executor):
         return self._pool
 
     def map_unordered(self, fn, args):
+        from concurrent.futures import FIRST_COMPLETED, wait
+        from concurrent.futures.process import BrokenProcessPool
+
         pool = self._get_pool()
         args = list(args)
         hide = self.start_method != "fork" and not _refers_to_main((fn, args))

@@ -4,9 +4,10 @@
 while undecided — and classifies its outcome. `simulate_cells` runs a list of cells
 on an executor: in compiled chunks (`multimass.engines.fast.block_runs`, one call per chunk
 of cells, no Python per cell) when `batch_runs` says the batch reproduces these cells
-exactly, else as one `map_cell` job per cell. `use_batch` decides whether a map's cells,
-or a suite's runs, are worth the batch: a small map or suite on a machine without the
-batch kernels compiled runs per cell.
+exactly, else as one `map_cell` job per cell; either way it returns `CellResults`, the
+results as columns (the kernel's arrays, never a tuple per cell). `use_batch` decides
+whether a map's cells, or a suite's runs, are worth the batch: a small map or suite on a
+machine without the batch kernels compiled runs per cell.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from .engine import run_jobs
 
 __all__ = [
     "map_cell",
+    "CellResults",
     "simulate_cells",
     "batch_runs",
     "use_batch",
@@ -121,6 +123,78 @@ class _Chunk(NamedTuple):
     runs: object  # multimass.engines.fast.block_runs.BlockRuns
 
 
+class CellResults:
+    """`map_cell` results of many cells, as columns: one array per field of its tuple.
+
+    Attributes
+    ----------
+    outcome : ndarray of int8
+        Position in `OUTCOMES`.
+    overturn_time, theta_max_over_alpha : ndarray of float
+    n_impacts, n_rhs : ndarray of int64
+    accurate : ndarray of bool
+
+    Indexing and iterating give `map_cell`'s tuples (outcome name, overturn time,
+    max|θ|/α, impacts, rhs evaluations, accurate), the same floats; whole maps read the
+    columns instead, with no Python per cell.
+    """
+
+    FIELDS = ("outcome", "overturn_time", "theta_max_over_alpha", "n_impacts", "n_rhs", "accurate")
+    _DTYPES = (np.int8, float, float, np.int64, np.int64, bool)
+    __slots__ = FIELDS
+
+    def __init__(self, outcome, overturn_time, theta_max_over_alpha, n_impacts, n_rhs, accurate):
+        values = (outcome, overturn_time, theta_max_over_alpha, n_impacts, n_rhs, accurate)
+        for name, dtype, value in zip(self.FIELDS, self._DTYPES, values):
+            setattr(self, name, np.asarray(value, dtype=dtype))
+
+    @classmethod
+    def empty(cls, n: int) -> CellResults:
+        """Columns for `n` cells, to be filled."""
+        return cls(*(np.empty(n, dtype) for dtype in cls._DTYPES))
+
+    @classmethod
+    def of_rows(cls, rows) -> CellResults:
+        """The columns of a list of `map_cell` tuples."""
+        out = cls.empty(len(rows))
+        for i, row in enumerate(rows):
+            out[i] = row
+        return out
+
+    def __len__(self) -> int:
+        return self.outcome.size
+
+    def __getitem__(self, i: int) -> tuple:
+        return (
+            OUTCOMES[self.outcome[i]],
+            float(self.overturn_time[i]),
+            float(self.theta_max_over_alpha[i]),
+            int(self.n_impacts[i]),
+            int(self.n_rhs[i]),
+            bool(self.accurate[i]),
+        )
+
+    def __setitem__(self, i: int, row: tuple) -> None:
+        """Cell `i` from a `map_cell` tuple."""
+        for name, value in zip(self.FIELDS, (OUTCOMES.index(row[0]), *row[1:])):
+            getattr(self, name)[i] = value
+
+    def __iter__(self):
+        return (self[i] for i in range(len(self)))
+
+    def names(self) -> np.ndarray:
+        """The outcomes as names (an object array)."""
+        return np.array(OUTCOMES, dtype=object)[self.outcome]
+
+    def put(self, index, other: CellResults) -> None:
+        """Cells `index` (an index array or slice) from `other`'s columns."""
+        for name in self.FIELDS:
+            getattr(self, name)[index] = getattr(other, name)
+
+    def __reduce__(self):  # __slots__ without __dict__: pickle through the constructor
+        return (type(self), tuple(getattr(self, name) for name in self.FIELDS))
+
+
 def _classify(resp) -> str:
     if resp.outcome == "overturned":
         return "overturned"
@@ -167,25 +241,24 @@ def map_cell(cell: _Cell) -> tuple:
     )
 
 
-def _map_chunk(chunk: _Chunk) -> list[tuple]:
+def _map_chunk(chunk: _Chunk) -> CellResults:
     """`map_cell` of every cell of a chunk, in one compiled call (`multimass.engines.fast.block_runs`).
 
     A cell the batch cannot finish as `map_cell` would (its run fails) is run by
     `map_cell`, which reports the failure.
     """
-    from multimass.engines.fast.block_runs import OUTCOMES as CODES
     from multimass.engines.fast.block_runs import run_pulses
 
     st = chunk.structure
     b = run_pulses(chunk.runs, chunk.pulse, chunk.a0, chunk.omega, chunk.t_free)
-    columns = (
-        b.overturn_time.tolist(),
-        (b.theta_max / st.alpha_cg).tolist(),  # the same division as map_cell's, per cell
-        b.n_impacts.tolist(),
-        b.n_rhs.tolist(),
-        b.accurate.tolist(),
+    out = CellResults(
+        b.outcome,
+        b.overturn_time,
+        b.theta_max / st.alpha_cg,  # the same division as map_cell's, per cell
+        b.n_impacts,
+        b.n_rhs,
+        b.accurate,
     )
-    out = [(CODES[c], *rest) for c, *rest in zip(b.outcome.tolist(), *columns)]
     for i in np.flatnonzero(b.outcome < 0).tolist():
         out[i] = map_cell(
             _Cell(
@@ -242,14 +315,16 @@ def chunk_count(n: int, workers: int) -> int:
     return max(math.ceil(n / CHUNK_CELLS), min(n, CHUNKS_PER_WORKER * workers))
 
 
-def simulate_cells(pairs, cells_for, chunks_for, runs, executor, progress, desc) -> list:
-    """`map_cell` results of the (ω/p, a0/(α g)) `pairs`, in order: in compiled chunks when
-    `runs` is a `BlockRuns` (``chunks_for(pairs, k)``: k strided chunks), else one job per
-    cell (``cells_for(pairs)``)."""
-    if runs is None or not pairs:
-        cells = cells_for(pairs)
-        return run_jobs(map_cell, cells, executor=executor, progress=progress, desc=desc)
+def simulate_cells(pairs, cells_for, chunks_for, runs, executor, progress, desc) -> CellResults:
+    """`map_cell` results of the (ω/p, a0/(α g)) `pairs` (a list, or an (n, 2) array), in
+    order, as `CellResults`: in compiled chunks when `runs` is a `BlockRuns`
+    (``chunks_for(pairs, k)``: k strided chunks), else one job per cell
+    (``cells_for(pairs)``)."""
     n = len(pairs)
+    if runs is None or n == 0:
+        cells = cells_for(pairs)
+        done = run_jobs(map_cell, cells, executor=executor, progress=progress, desc=desc)
+        return CellResults.of_rows(done)
     k = chunk_count(n, executor.workers)
     done = run_jobs(
         _map_chunk,
@@ -260,7 +335,7 @@ def simulate_cells(pairs, cells_for, chunks_for, runs, executor, progress, desc)
         weights=[len(range(j, n, k)) for j in range(k)],  # chunk j: cells j, j + k, ...
         unit="cell",
     )
-    out: list = [None] * n
+    out = CellResults.empty(n)
     for j, results in enumerate(done):  # chunk j holds cells j, j + k, j + 2k, ...
-        out[j::k] = results
+        out.put(slice(j, None, k), results)
     return out

@@ -32,6 +32,7 @@ import numpy as np
 
 from ..errors import InputError
 from .engine import _Bar
+from .map_cells import CellResults
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -108,17 +109,18 @@ def _chunk_path(folder: Path, c: int) -> Path:
 def _table(w, a, results, grid: bool):
     import pyarrow as pa
 
-    outcome, t_over, theta, impacts, _, accurate = (list(c) for c in zip(*results))
+    if not isinstance(results, CellResults):
+        results = CellResults.of_rows(results)
     w, a = np.asarray(w, float), np.asarray(a, float)
     return pa.table(
         {
             "omega_p": pa.array(w, pa.float64()),
             "amp": pa.array(a, pa.float64()),
-            "outcome": pa.array(outcome, pa.string()).dictionary_encode(),
-            "overturn_time": pa.array(t_over, pa.float64()),
-            "theta_max_over_alpha": pa.array(theta, pa.float64()),
-            "n_impacts": pa.array(impacts, pa.int64()),
-            "accurate": pa.array(accurate, pa.bool_()),
+            "outcome": pa.array(results.names(), pa.string()).dictionary_encode(),
+            "overturn_time": pa.array(results.overturn_time, pa.float64()),
+            "theta_max_over_alpha": pa.array(results.theta_max_over_alpha, pa.float64()),
+            "n_impacts": pa.array(results.n_impacts, pa.int64()),
+            "accurate": pa.array(results.accurate, pa.bool_()),
             "grid": pa.array(np.full(len(w), grid), pa.bool_()),
         }
     )
@@ -171,7 +173,8 @@ def run_stored(
 ):
     """Compute the missing chunks of a stored map, then its refinement; return a `StoredMap`.
 
-    ``simulate(pairs, desc)`` returns the `map_cell` results of (ω/p, a0/(α g)) pairs;
+    ``simulate(pairs, desc)`` returns the `map_cell` results (`CellResults`) of (ω/p,
+    a0/(α g)) pairs;
     ``bisect(segments, rounds, simulate)`` is `maps._bisect`. The map's ``wall_time_s``
     counts from `started` (a `time.perf_counter` reading; default: this call) to the
     map read back from disk; ``simulated[0]`` holds the seconds `simulate` spent, read
@@ -200,7 +203,7 @@ def run_stored(
         for c in todo:
             i = np.arange(c * chunk_cells, min((c + 1) * chunk_cells, n))
             w, a = omega_p[i % n_w], amp[i // n_w]
-            results = simulate(list(zip(w.tolist(), a.tolist())), None)
+            results = simulate(np.column_stack([w, a]), None)
             _write_chunk(_chunk_path(folder, c), _table(w, a, results, True))
             bar.update(len(i))
     finally:

@@ -33,6 +33,7 @@ from .map_adaptive import ADAPTIVE_COARSE, adaptive_cells, check_coarse
 from .map_cells import (
     OUTCOMES,
     UNDECIDED_RETRY,
+    CellResults,
     _Cell,
     _Chunk,
     batch_runs,
@@ -63,8 +64,6 @@ __all__ = [
     "default_backend",
     "WALL_TIME_COVERS",
 ]
-
-_CODE = {name: i for i, name in enumerate(OUTCOMES)}
 
 #: Run supported maps in compiled chunks: None (default) when the batch kernels are ready
 #: or the map is large enough to pay for their compile (`map_cells.use_batch`,
@@ -422,7 +421,7 @@ def overturning_map(
         ]
 
     def chunks_for(pairs, k):  # the same ω and a0 as cells_for, strided into k chunks
-        wa = np.array(pairs, dtype=float).reshape(-1, 2)
+        wa = np.asarray(pairs, dtype=float).reshape(-1, 2)
         omega, a0 = wa[:, 0] * st.p, wa[:, 1] * scale_a
         return [_Chunk(st, pulse, omega[j::k], a0[j::k], t_free, options, runs) for j in range(k)]
 
@@ -483,17 +482,14 @@ def overturning_map(
         else:
             w = np.tile(omega_p, amp.size)  # amp-major, as the grid's rows
             a = np.repeat(amp, omega_p.size)
-            results = simulate(list(zip(w.tolist(), a.tolist())), f"{st.name} {label} map")
-            codes = np.array([_CODE[r[0]] for r in results], np.int8).reshape(amp.size, -1)
+            results = simulate(np.column_stack([w, a]), f"{st.name} {label} map")
+            codes = results.outcome.reshape(amp.size, -1)
             extra, boundaries = _bisect(grid_segments(codes, omega_p, amp), int(refine), simulate)
             cells = _cells_columns(w, a, results, True)
             if extra:  # the refinement's rows after the grid's
                 ew, ea, er = zip(*extra)
                 more = _cells_columns(ew, ea, er, False)
-                cells = {
-                    k: col + more[k] if isinstance(col, list) else np.concatenate([col, more[k]])
-                    for k, col in cells.items()
-                }
+                cells = {k: np.concatenate([col, more[k]]) for k, col in cells.items()}
             cells = _Pending(cells)
     boundaries = _Pending(list(boundaries), _SEGMENT_COLUMNS)
     return OverturningMap(
@@ -531,17 +527,18 @@ def _cells_table(w, a, results, grid: bool) -> pd.DataFrame:
 
 def _cells_columns(w, a, results, grid: bool) -> dict:
     """The columns of `OverturningMap.cells` for cells (``w``, ``a``) and their `map_cell`
-    `results` (no Python per cell beyond reading the results)."""
-    outcome, t_over, theta, impacts, _, accurate = zip(*results) if len(results) else ((),) * 6
+    `results` (`CellResults`, read as columns, or a list of `map_cell` tuples)."""
+    if not isinstance(results, CellResults):
+        results = CellResults.of_rows(results)
     return {
         "omega_p": np.asarray(w, dtype=float),
         "amp": np.asarray(a, dtype=float),
-        "outcome": list(outcome),
-        "overturn_time": np.asarray(t_over, dtype=float),
-        "theta_max_over_alpha": np.asarray(theta, dtype=float),
-        "n_impacts": np.asarray(impacts, dtype=np.int64),
-        "accurate": np.asarray(accurate, dtype=bool),
-        "grid": np.full(len(outcome), grid),
+        "outcome": results.names(),
+        "overturn_time": results.overturn_time,
+        "theta_max_over_alpha": results.theta_max_over_alpha,
+        "n_impacts": results.n_impacts,
+        "accurate": results.accurate,
+        "grid": np.full(len(results), grid),
     }
 
 

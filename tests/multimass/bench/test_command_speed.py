@@ -6,7 +6,9 @@ benchmark measures and that its comparisons are like for like; its numbers mean 
 
 import json
 
-from multimass.bench.command_speed import command_argv
+import pytest
+
+from multimass.bench.command_speed import FLOOR_PARTS, command_argv
 from multimass.cli import main
 
 
@@ -19,9 +21,13 @@ def test_command_benchmark_compares_like_for_like(tmp_path, capsys):
     small = res["small_map"]
     assert small["identical_outcomes"] and small["identical_impacts"]
     assert small["n_simulations"][0] == small["n_simulations"][1] >= 16
-    for key in ("command_over_kernel", "command_over_kernel_cpu"):
+    for key in ("command_over_kernel", "command_over_kernel_cpu", "floor_over_kernel"):
         assert res[key]["median"] > 0.0 and len(res[key]["values"]) == 1
     parts = res["breakdown_s"]
+    # the floor: the kernel plus what no change to multimass removes, over the kernel
+    kernel = parts["kernel_on_its_cells"]["median"]
+    fixed = sum(res["start_up_floor_s"][p]["median"] for p in FLOOR_PARTS)
+    assert res["floor_over_kernel"]["median"] == pytest.approx((kernel + fixed) / kernel)
     assert parts["command_wall_time_s"]["median"] <= parts["subprocess_wall"]["median"]
     floor = {"numba", "multimass", "numba_target", "kernel_cache_load", "not_imported_pandas"}
     assert set(res["start_up_floor_s"]) >= floor

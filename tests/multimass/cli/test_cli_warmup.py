@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 
+import multimass
 from multimass.cli import main
 from multimass.cli.warmup_cmd import GROUPS
 from multimass.engines.fast import compile as fc
@@ -77,3 +78,25 @@ def test_cold_compile_then_load_in_fresh_processes(tmp_path):
     assert "multimass: compiled the fast kernels in" in cold_err
     assert warm["source"] == "disk cache" and warm["kernels_compiled"] == 0
     assert "compil" not in warm_err  # loading is silent
+
+
+def test_writes_the_bytecode_python_does_not_write_itself(capsys):
+    # PYTHONDONTWRITEBYTECODE (container images, this suite's CI) leaves the package's
+    # modules to be compiled from source at every import; warm-up writes their bytecode,
+    # whose header Python checks against the source (importlib: mtime and size)
+    import importlib.util
+
+    import multimass.inputs.units as module
+
+    source = Path(module.__file__)
+    pyc = Path(importlib.util.cache_from_source(str(source)))
+    pyc.unlink(missing_ok=True)
+    assert main(["warm-up", "--only", "newmark", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)["bytecode"]
+    assert out["written"] and Path(out["folder"]) == Path(multimass.__file__).parent
+    header, stat = pyc.read_bytes()[:16], source.stat()
+    assert header[:4] == importlib.util.MAGIC_NUMBER
+    assert int.from_bytes(header[8:12], "little") == int(stat.st_mtime) & 0xFFFFFFFF
+    assert int.from_bytes(header[12:16], "little") == stat.st_size & 0xFFFFFFFF
+    assert main(["warm-up", "--only", "newmark"]) == 0
+    assert "bytecode of multimass's modules up to date" in capsys.readouterr().out

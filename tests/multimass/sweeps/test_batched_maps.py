@@ -183,7 +183,7 @@ def test_a_cell_the_batch_cannot_finish_runs_per_cell(monkeypatch):
     runs = map_cells.batch_runs(st, options)
     omega, a0 = np.array([3.0 * st.p, 5.0 * st.p]), np.array([2.0, 3.0]) * st.alpha_cg * st.g
     chunk = map_cells._Chunk(st, "sine", omega, a0, 10.0, options, runs)
-    got = map_cells._map_chunk(chunk)
+    got = list(map_cells._map_chunk(chunk))  # map_cell's tuples, read from the columns
     want = [
         map_cells.map_cell(map_cells._Cell(st, "sine", w, a, 10.0, options))
         for w, a in zip(omega, a0)

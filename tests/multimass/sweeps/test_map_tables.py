@@ -167,3 +167,46 @@ def test_serial_chunks_do_not_change_the_cells(block, refined, monkeypatch):
     small = overturning_map(block, "sine", refine=2, executor="serial", progress=False, **GRID)
     pd.testing.assert_frame_equal(small.cells, refined.cells)
     pd.testing.assert_frame_equal(small.boundaries, refined.boundaries)
+
+
+def test_the_cells_are_the_batch_kernels_own_numbers_bit_for_bit(block, monkeypatch):
+    # the map reads the compiled batch's columns, never a tuple per cell: every value of
+    # every cell, grid and refinement, is the kernel's own, bit for bit — the reference
+    # is one `run_pulses` call on the same cells here, whatever the map's chunking
+    from multimass.engines.fast import block_runs
+
+    monkeypatch.setattr(maps, "BATCHED", True)
+    monkeypatch.setattr(map_cells, "SERIAL_CHUNK_CELLS", 5)  # several strided chunks
+    got, simulate = [], maps.simulate_cells
+
+    def kept(*args):
+        got.append(simulate(*args))
+        return got[-1]
+
+    monkeypatch.setattr(maps, "simulate_cells", kept)
+    m = overturning_map(block, "sine", refine=2, executor="serial", progress=False, **GRID)
+    cells = m.cells
+    options = default_backend(dict(impact="CIM", restitution="modified", k=None))
+    b = block_runs.run_pulses(
+        map_cells.batch_runs(block, options),
+        "sine",
+        cells.amp.to_numpy() * (block.alpha_cg * block.g),  # as the map scales its axes
+        cells.omega_p.to_numpy() * block.p,
+        10.0,
+    )
+    bits = lambda x: np.asarray(x, dtype=float).view(np.int64)  # noqa: E731  (NaN == NaN)
+    assert len(got) == 3 and sum(map(len, got)) == len(cells)  # the grid, two rounds
+    assert cells.outcome.tolist() == [block_runs.OUTCOMES[c] for c in b.outcome.tolist()]
+    np.testing.assert_array_equal(bits(cells.overturn_time), bits(b.overturn_time))
+    np.testing.assert_array_equal(
+        bits(cells.theta_max_over_alpha), bits(b.theta_max / block.alpha_cg)
+    )
+    np.testing.assert_array_equal(cells.n_impacts.to_numpy(), b.n_impacts)
+    np.testing.assert_array_equal(cells.accurate.to_numpy(), b.accurate)
+    np.testing.assert_array_equal(np.concatenate([r.n_rhs for r in got]), b.n_rhs)
+    # read cell by cell, the columns give map_cell's tuples, the kernel's numbers in them
+    i = int(np.flatnonzero(cells.outcome.to_numpy() == "overturned")[0])
+    real = (b.overturn_time[i], b.theta_max[i] / block.alpha_cg)
+    ints = (b.n_impacts[i], b.n_rhs[i])
+    assert got[0][i] == ("overturned", *map(float, real), *map(int, ints), bool(b.accurate[i]))
+    assert [type(x) for x in got[0][i]] == [type(x) for x in _per_cell(block, 1.0, 2.0)]
