@@ -91,6 +91,25 @@ class State:
 _STATE_FIELDS = frozenset(f.name for f in dataclasses.fields(State))
 
 
+def _zero_between(sol, names, events, side: int, n: int) -> float | None:
+    """The time of a θ̇ = 0 root of a column's rocking segment at which θ is past zero
+    (before any terminal event), None if none: θ crossed zero and back inside one step,
+    and the sign test of its ends missed the impact (a grazing approach under the
+    Dirac-delta force). The compiled kernels locate that crossing on the step's dense
+    output (`multimass.engines.fast._kernel._zero_between`); here the segment is
+    integrated again up to that root, where its last step ends past zero."""
+    if side == 0 or n == 0 or "peak" not in names:
+        return None
+    t_end = math.inf
+    if sol.status == 1:
+        t_end = min(float(t[0]) for t, ev in zip(sol.t_events, events) if ev.terminal and t.size)
+    i = names.index("peak")
+    for t, y in zip(sol.t_events[i], sol.y_events[i]):
+        if t < t_end and side * y[n] < 0.0:
+            return float(t)
+    return None
+
+
 def solve_ivp(*args, **kwargs):
     """``scipy.integrate.solve_ivp``, imported at its first call: the compiled path and
     Newmark never call it, and a command that runs only them starts without SciPy."""
@@ -293,8 +312,9 @@ class PhaseLoop:
         return self.trip_guard(s) if self.note_transition(s.t) else s
 
     # -- one phase segment ------------------------------------------------------------
-    def integrate(self, s: State, t_stop: float) -> State:
-        """The state at `t_stop` or after the segment's first terminal event."""
+    def integrate(self, s: State, t_stop: float, recheck: bool = True) -> State:
+        """The state at `t_stop` or after the segment's first terminal event (with
+        `recheck`, a θ = 0 crossing pair inside one step is looked for: `_zero_between`)."""
         if self.fast is not None:
             return self.fast.integrate(self, s, t_stop)
 
@@ -329,6 +349,9 @@ class PhaseLoop:
                 f"solve_ivp ({method}) produced a non-finite state in the segment "
                 f"starting at t = {s.t:.6g} s",
             )
+        t_past = _zero_between(sol, names, events, s.phase, self.st.n) if recheck else None
+        if t_past is not None:  # again to θ̇'s root: its last step ends past θ = 0
+            return self.integrate(s, t_past, recheck=False)
         self.recorder.segment(sol, rhs, s.phase, s.force, names)
         if sol.status == 1:
             i = next(

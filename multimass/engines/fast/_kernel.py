@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._maths import EXC_RECORD, event_value, piece_end, rhs_call
+from ._maths import EV_PEAK, EV_ZERO, EXC_RECORD, event_value, piece_end, rhs_call
 from ._rk import (
     _A3,
     _A5,
@@ -179,6 +179,50 @@ def _sorted_roots(n_act, active, roots, t_old, t, h, y_old, Q, ytmp, method, eve
             j -= 1
         active[j + 1] = k
         roots[j + 1] = r
+
+
+@njit(cache=True, error_model="numpy")
+def _zero_between(n_act, active, roots, g, t_old, h, y_old, Q, ytmp, method, events, ep, model):
+    """The θ = 0 crossing of a step whose ends are both on the rocking side: where θ̇
+    changes sign inside the step (its root sorted in `roots`) with θ past zero there, θ
+    crossed zero twice in the step — a grazing approach that the sign test of its ends
+    cannot see, and the impact (or Eq 17's end of the Dirac-delta force) it must not
+    miss. The first crossing, on the dense output in [t_old, θ̇'s root], joins the
+    sorted roots; returns their number. A column's phases only (m non-empty): a rigid
+    block's batched kernels, which must give its runs bit for bit, have no such test."""
+    ev_code, _, _, ev_quiet, ev_ton = events
+    side, m, H, K, C_, mp, _, kind, par, smp = model
+    if m.size == 0:
+        return n_act
+    k_zero, i_peak = -1, -1
+    for k in range(ev_code.size):
+        if ev_code[k] == EV_ZERO:
+            k_zero = k
+    for i in range(n_act):
+        if ev_code[active[i]] == EV_PEAK:
+            i_peak = i
+        if active[i] == k_zero:
+            return n_act  # its sign changed: found as any other root
+    if k_zero < 0 or i_peak < 0 or not (g[k_zero] > 0.0):
+        return n_act
+    t_p = roots[i_peak]
+    _dense_eval(method, t_p, t_old, h, y_old, Q, ytmp)
+    at_peak = event_value(
+        EV_ZERO, t_p, ytmp, ev_ton[k_zero], ev_quiet[k_zero], side, m, H, K, C_, mp, ep, kind,
+        par, smp,
+    )  # fmt: skip
+    if not (at_peak < 0.0):
+        return n_act
+    tz = _brent(
+        EV_ZERO, t_old, t_p, ev_ton[k_zero], ev_quiet[k_zero], method, t_old, h, y_old, Q, ytmp,
+        side, m, H, K, C_, mp, ep, kind, par, smp,
+    )  # fmt: skip
+    j = n_act  # insert (k_zero, tz) in time order, after equal roots (stable)
+    while j > 0 and roots[j - 1] > tz:
+        active[j], roots[j] = active[j - 1], roots[j - 1]
+        j -= 1
+    active[j], roots[j] = k_zero, tz
+    return n_act + 1
 
 
 @njit(cache=True, error_model="numpy")
@@ -385,6 +429,9 @@ def _steps(t0, t_stop, y, t_eval, samples, model, events, ep, method, tol, hint,
             dense = True
             _sorted_roots(
                 n_act, active, roots, t_old, t, h, y_old, Q, ytmp, method, events, ep, model
+            )
+            n_act = _zero_between(
+                n_act, active, roots, g, t_old, h, y_old, Q, ytmp, method, events, ep, model
             )
             for i in range(n_act):
                 if ev_term[active[i]]:
