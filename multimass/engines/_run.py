@@ -91,11 +91,12 @@ class State:
 _STATE_FIELDS = frozenset(f.name for f in dataclasses.fields(State))
 
 
-def _zero_between(sol, names, events, side: int, n: int) -> float | None:
-    """The time of a θ̇ = 0 root of a column's rocking segment at which θ is past zero
-    (before any terminal event), None if none: θ crossed zero and back inside one step,
-    and the sign test of its ends missed the impact (a grazing approach under the
-    Dirac-delta force). The compiled kernels locate that crossing on the step's dense
+def _zero_between(sol, names, events, side: int, n: int, atol: float) -> float | None:
+    """The time of a θ̇ = 0 root of a column's rocking segment at which θ is past zero by
+    more than `atol` (less is within a step's own error; a segment that starts at an
+    uplift has θ = θ̇ = 0 there) before any terminal event, None if none: θ crossed zero
+    and back inside one step, and the sign test of its ends missed the impact (a grazing
+    approach under the Dirac-delta force). The compiled kernels locate that crossing on the step's dense
     output (`multimass.engines.fast._kernel._zero_between`); here the segment is
     integrated again up to that root, where its last step ends past zero."""
     if side == 0 or n == 0 or "peak" not in names:
@@ -105,7 +106,7 @@ def _zero_between(sol, names, events, side: int, n: int) -> float | None:
         t_end = min(float(t[0]) for t, ev in zip(sol.t_events, events) if ev.terminal and t.size)
     i = names.index("peak")
     for t, y in zip(sol.t_events[i], sol.y_events[i]):
-        if t < t_end and side * y[n] < 0.0:
+        if t < t_end and side * y[n] < -atol:
             return float(t)
     return None
 
@@ -349,7 +350,9 @@ class PhaseLoop:
                 f"solve_ivp ({method}) produced a non-finite state in the segment "
                 f"starting at t = {s.t:.6g} s",
             )
-        t_past = _zero_between(sol, names, events, s.phase, self.st.n) if recheck else None
+        t_past = None
+        if recheck:
+            t_past = _zero_between(sol, names, events, s.phase, self.st.n, self.ivp["atol"])
         if t_past is not None:  # again to θ̇'s root: its last step ends past θ = 0
             return self.integrate(s, t_past, recheck=False)
         self.recorder.segment(sol, rhs, s.phase, s.force, names)

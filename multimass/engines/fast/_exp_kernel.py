@@ -102,6 +102,8 @@ from numba import njit
 
 from ._maths import (
     EV_ACTIVATE,
+    EV_PEAK,
+    EV_ZERO,
     EXC_RECORD,
     activation_angle_at,
     event_value,
@@ -879,6 +881,34 @@ def _exp_steps(
                 j -= 1
             active[j + 1] = a_i
             roots[j + 1] = r
+        # θ past zero (by more than atol) at θ̇'s root inside the step, both ends on the
+        # rocking side, θ not 0 at its start: θ crossed zero twice in it
+        # (`._kernel._zero_between`); the first crossing joins the roots
+        k_zero, i_peak = -1, -1
+        for i in range(n_act):
+            if ev_code[active[i]] == EV_PEAK:
+                i_peak = i
+        if i_peak >= 0 and side * y_old[m.size] > 0.0:
+            for i in range(ne):
+                if ev_code[i] == EV_ZERO and g[i] > 0.0 and g_new[i] > 0.0:
+                    k_zero = i
+        if k_zero >= 0:
+            t_p = roots[i_peak]
+            _dense_eval(t_p, t_old, h, y_old, zy_old, E, dl, lam, V, wt, ytmp)
+            z = event_value(
+                EV_ZERO, t_p, ytmp, ev_ton[k_zero], ev_quiet[k_zero], side, m, H, K, C_, mp,
+                ep, kind, par, smp,
+            )  # fmt: skip
+            if z < -atol:
+                tz = _brent(
+                    EV_ZERO, t_old, t_p, ev_ton[k_zero], ev_quiet[k_zero], dense, model, ep, ytmp
+                )
+                j = n_act
+                while j > 0 and roots[j - 1] > tz:
+                    active[j], roots[j] = active[j - 1], roots[j - 1]
+                    j -= 1
+                active[j], roots[j] = k_zero, tz
+                n_act += 1
         for i in range(n_act):
             if ev_term[active[i]]:
                 terminal, t = active[i], roots[i]

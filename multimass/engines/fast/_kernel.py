@@ -182,17 +182,21 @@ def _sorted_roots(n_act, active, roots, t_old, t, h, y_old, Q, ytmp, method, eve
 
 
 @njit(cache=True, error_model="numpy")
-def _zero_between(n_act, active, roots, g, t_old, h, y_old, Q, ytmp, method, events, ep, model):
+def _zero_between(
+    n_act, active, roots, g, t_old, h, y_old, Q, ytmp, method, events, ep, model, atol
+):
     """The θ = 0 crossing of a step whose ends are both on the rocking side: where θ̇
-    changes sign inside the step (its root sorted in `roots`) with θ past zero there, θ
-    crossed zero twice in the step — a grazing approach that the sign test of its ends
-    cannot see, and the impact (or Eq 17's end of the Dirac-delta force) it must not
-    miss. The first crossing, on the dense output in [t_old, θ̇'s root], joins the
-    sorted roots; returns their number. A column's phases only (m non-empty): a rigid
-    block's batched kernels, which must give its runs bit for bit, have no such test."""
+    changes sign inside the step (its root sorted in `roots`) with θ past zero there by
+    more than `atol` (less is within the step's own error) and θ on the rocking side at
+    the step's start (not 0, as at an uplift, where θ and θ̇ start at 0), θ crossed zero
+    twice in the step — a grazing approach that the sign test of its ends cannot see,
+    and the impact (or Eq 17's end of the Dirac-delta force) it must not miss. The first
+    crossing, on the dense output in [t_old, θ̇'s root], joins the sorted roots; returns
+    their number. A column's phases only (m non-empty): a rigid block's batched
+    kernels, which must give its runs bit for bit, have no such test."""
     ev_code, _, _, ev_quiet, ev_ton = events
     side, m, H, K, C_, mp, _, kind, par, smp = model
-    if m.size == 0:
+    if m.size == 0 or not (side * y_old[m.size] > 0.0):
         return n_act
     k_zero, i_peak = -1, -1
     for k in range(ev_code.size):
@@ -211,7 +215,7 @@ def _zero_between(n_act, active, roots, g, t_old, h, y_old, Q, ytmp, method, eve
         EV_ZERO, t_p, ytmp, ev_ton[k_zero], ev_quiet[k_zero], side, m, H, K, C_, mp, ep, kind,
         par, smp,
     )  # fmt: skip
-    if not (at_peak < 0.0):
+    if not (at_peak < -atol):
         return n_act
     tz = _brent(
         EV_ZERO, t_old, t_p, ev_ton[k_zero], ev_quiet[k_zero], method, t_old, h, y_old, Q, ytmp,
@@ -431,7 +435,7 @@ def _steps(t0, t_stop, y, t_eval, samples, model, events, ep, method, tol, hint,
                 n_act, active, roots, t_old, t, h, y_old, Q, ytmp, method, events, ep, model
             )
             n_act = _zero_between(
-                n_act, active, roots, g, t_old, h, y_old, Q, ytmp, method, events, ep, model
+                n_act, active, roots, g, t_old, h, y_old, Q, ytmp, method, events, ep, model, atol
             )
             for i in range(n_act):
                 if ev_term[active[i]]:
