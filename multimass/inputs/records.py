@@ -198,6 +198,14 @@ class Record(Excitation):
         return (t_start, t_end)
 
     @property
+    def kinks(self) -> np.ndarray:
+        """The sample times (s): ü_g is linear between samples, so its slope jumps at
+        each. A Runge–Kutta step across one loses its order without its error estimate
+        seeing it; the solve_ivp path stops at each (the compiled path ends its steps
+        there)."""
+        return self.time
+
+    @property
     def npts(self) -> int:
         """Number of samples."""
         return self.time.size

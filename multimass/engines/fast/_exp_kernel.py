@@ -896,12 +896,20 @@ def _exp_steps(
             t_p = roots[i_peak]
             _dense_eval(t_p, t_old, h, y_old, zy_old, E, dl, lam, V, wt, ytmp)
             z = event_value(
-                EV_ZERO, t_p, ytmp, ev_ton[k_zero], ev_quiet[k_zero], side, m, H, K, C_, mp,
+                ev_code[k_zero], t_p, ytmp, ev_ton[k_zero], ev_quiet[k_zero], side, m, H, K, C_, mp,
                 ep, kind, par, smp,
             )  # fmt: skip
             if z < -atol:
                 tz = _brent(
-                    EV_ZERO, t_old, t_p, ev_ton[k_zero], ev_quiet[k_zero], dense, model, ep, ytmp
+                    ev_code[k_zero],
+                    t_old,
+                    t_p,
+                    ev_ton[k_zero],
+                    ev_quiet[k_zero],
+                    dense,
+                    model,
+                    ep,
+                    ytmp,
                 )
                 j = n_act
                 while j > 0 and roots[j - 1] > tz:

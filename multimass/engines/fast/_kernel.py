@@ -211,14 +211,14 @@ def _zero_between(
         return n_act
     t_p = roots[i_peak]
     _dense_eval(method, t_p, t_old, h, y_old, Q, ytmp)
-    at_peak = event_value(
-        EV_ZERO, t_p, ytmp, ev_ton[k_zero], ev_quiet[k_zero], side, m, H, K, C_, mp, ep, kind,
+    at_peak = event_value(  # its code from the array: an int64, as every call's (one compile)
+        ev_code[k_zero], t_p, ytmp, ev_ton[k_zero], ev_quiet[k_zero], side, m, H, K, C_, mp, ep, kind,
         par, smp,
     )  # fmt: skip
     if not (at_peak < -atol):
         return n_act
     tz = _brent(
-        EV_ZERO, t_old, t_p, ev_ton[k_zero], ev_quiet[k_zero], method, t_old, h, y_old, Q, ytmp,
+        ev_code[k_zero], t_old, t_p, ev_ton[k_zero], ev_quiet[k_zero], method, t_old, h, y_old, Q, ytmp,
         side, m, H, K, C_, mp, ep, kind, par, smp,
     )  # fmt: skip
     j = n_act  # insert (k_zero, tz) in time order, after equal roots (stable)
