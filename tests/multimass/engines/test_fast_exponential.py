@@ -313,6 +313,11 @@ def test_a_compile_group_of_its_own():
         k.py_func.__name__ for k in fc._kernels_of([f"multimass.engines.fast.{fc._EXPONENTIAL}"])
     }
     assert "exp_phase" in own and "exp_phase" not in fast
+    # a step's parts are inlined into the step loop, not compiled (and linked, optimised
+    # and emitted again at each level of calls) as kernels of their own: ~3 s less
+    assert "_exp_steps" in own
+    parts = {"_step", "_predictor", "_extrapolate", "_sweep", "_activation_scan", "_brent"}
+    assert not parts & own
     # the whole column runs call it: its source is part of their cache's fingerprint
     assert fc._HERE / f"{fc._EXPONENTIAL}.py" in fc._sources(columns=True)
 
