@@ -875,12 +875,37 @@ def _exp_steps(
             t_old, t, h, co, zy_old, E, y_old, y, g, g_new, active, n_act, zs[6], ytmp,
             model, events, ep, modes,
         )  # fmt: skip
-        for i in range(n_act):
-            lo, hi = (t_old, t) if i < n_ends else (a_t, b_t)
+        # roots on the dense output; a step whose θ̇ root has θ past zero by more than
+        # atol, with θ on the rocking side at its start and the zero event's ends both
+        # positive, crossed θ = 0 twice (`._kernel._zero_between`): that crossing joins
+        # the roots, found in [t_old, θ̇'s root] by the same root finder (one call site:
+        # `_brent` is inlined)
+        k_zero, t_p = -1, 0.0
+        i = 0
+        while i < n_act:
+            if active[i] == k_zero:
+                lo, hi = t_old, t_p
+            elif i < n_ends:
+                lo, hi = t_old, t
+            else:
+                lo, hi = a_t, b_t
             roots[i] = _brent(
                 ev_code[active[i]], lo, hi, ev_ton[active[i]], ev_quiet[active[i]], dense,
                 model, ep, ytmp,
             )  # fmt: skip
+            if ev_code[active[i]] == EV_PEAK and k_zero < 0 and side * y_old[m.size] > 0.0:
+                for kz in range(ne):  # (not k: the loop's count of mechanical states)
+                    if ev_code[kz] == EV_ZERO and g[kz] > 0.0 and g_new[kz] > 0.0:
+                        _dense_eval(roots[i], t_old, h, y_old, zy_old, E, dl, lam, V, wt, ytmp)
+                        z = event_value(
+                            ev_code[kz], roots[i], ytmp, ev_ton[kz], ev_quiet[kz], side, m, H,
+                            K, C_, mp, ep, kind, par, smp,
+                        )  # fmt: skip
+                        if z < -atol:
+                            k_zero, t_p = kz, roots[i]
+                            active[n_act] = kz
+                            n_act += 1
+            i += 1
         for i in range(1, n_act):  # sort by time, stable (`._kernel._sorted_roots`)
             a_i, r = active[i], roots[i]
             j = i - 1
@@ -890,42 +915,6 @@ def _exp_steps(
                 j -= 1
             active[j + 1] = a_i
             roots[j + 1] = r
-        # θ past zero (by more than atol) at θ̇'s root inside the step, both ends on the
-        # rocking side, θ not 0 at its start: θ crossed zero twice in it
-        # (`._kernel._zero_between`); the first crossing joins the roots
-        k_zero, i_peak = -1, -1
-        for i in range(n_act):
-            if ev_code[active[i]] == EV_PEAK:
-                i_peak = i
-        if i_peak >= 0 and side * y_old[m.size] > 0.0:
-            for i in range(ne):
-                if ev_code[i] == EV_ZERO and g[i] > 0.0 and g_new[i] > 0.0:
-                    k_zero = i
-        if k_zero >= 0:
-            t_p = roots[i_peak]
-            _dense_eval(t_p, t_old, h, y_old, zy_old, E, dl, lam, V, wt, ytmp)
-            z = event_value(
-                ev_code[k_zero], t_p, ytmp, ev_ton[k_zero], ev_quiet[k_zero], side, m, H, K, C_, mp,
-                ep, kind, par, smp,
-            )  # fmt: skip
-            if z < -atol:
-                tz = _brent(
-                    ev_code[k_zero],
-                    t_old,
-                    t_p,
-                    ev_ton[k_zero],
-                    ev_quiet[k_zero],
-                    dense,
-                    model,
-                    ep,
-                    ytmp,
-                )
-                j = n_act
-                while j > 0 and roots[j - 1] > tz:
-                    active[j], roots[j] = active[j - 1], roots[j - 1]
-                    j -= 1
-                active[j], roots[j] = k_zero, tz
-                n_act += 1
         for i in range(n_act):
             if ev_term[active[i]]:
                 terminal, t = active[i], roots[i]
