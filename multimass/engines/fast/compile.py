@@ -106,9 +106,9 @@ _COLUMNS_STAMP = "multimass_columns.sources"
 COLUMNS_COMPILE_S = 12.0
 _EXPONENTIAL = "_exp_kernel"  # the exponential rocking integrator (method "exponential")
 _EXPONENTIAL_STAMP = "multimass_exponential.sources"
-#: Wall time of a cold compile of the exponential rocking integrator (s; 2-core machine,
-#: estimated from loaded runs: 19–59 s while the fast kernels took 46–50 s, ~17 s idle).
-EXPONENTIAL_COMPILE_S = 7.0
+#: Wall time of a cold compile of the exponential rocking integrator (s; 2-core machine at
+#: load ~2, fresh processes with empty caches: 15.2–15.4 s, the fast kernels 17–18 s then).
+EXPONENTIAL_COMPILE_S = 15.0
 _STAMP = "multimass_fast.sources"
 
 
