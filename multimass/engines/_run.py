@@ -96,9 +96,9 @@ def _zero_between(sol, names, events, side: int, n: int, atol: float) -> float |
     more than `atol` (less is within a step's own error; a segment that starts at an
     uplift has θ = θ̇ = 0 there) before any terminal event, None if none: θ crossed zero
     and back inside one step, and the sign test of its ends missed the impact (a grazing
-    approach under the Dirac-delta force). The compiled kernels locate that crossing on the step's dense
-    output (`multimass.engines.fast._kernel._zero_between`); here the segment is
-    integrated again up to that root, where its last step ends past zero."""
+    approach under the Dirac-delta force). The compiled kernels locate that crossing on
+    the step's dense output (`multimass.engines.fast._kernel._zero_between`); here the
+    segment is integrated again up to that root, where its last step ends past zero."""
     if side == 0 or n == 0 or "peak" not in names:
         return None
     t_end = math.inf
