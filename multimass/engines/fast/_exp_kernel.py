@@ -119,7 +119,17 @@ from ._maths import (
     piece_end,
     rhs_call,
 )
-from ._rk import _MAX_BRENT, _MAX_FACTOR, _MIN_FACTOR, _SAFETY, EVENT, FAILED, OK, zeroin_next
+from ._rk import (
+    _MAX_BRENT,
+    _MAX_FACTOR,
+    _MIN_FACTOR,
+    _SAFETY,
+    EVENT,
+    FAILED,
+    OK,
+    crosses,
+    zeroin_next,
+)
 from ._unowned import unowned
 
 __all__ = ["exp_phase", "new_cache", "phi_functions", "ERROR_EXPONENT"]
@@ -515,7 +525,7 @@ def _activation_scan(
         n, s = m.size, float(side)  # (a float side, as event_value passes it: one compile)
         near = side * y_old[n] < 2.0 * activation_angle_at(s, y_old, m, H, K, mp, ep)
         near = near or side * y[n] < 2.0 * activation_angle_at(s, y, m, H, K, mp, ep)
-        if not near and not _crosses(g[i], g_new[i], ev_dir[i]):
+        if not near and not crosses(g[i], g_new[i], ev_dir[i]):
             continue
         g_a = g[i]
         a_t = t_old
@@ -531,21 +541,12 @@ def _activation_scan(
                     ev_code[i], b_t, ytmp, ev_ton[i], ev_quiet[i], side, m, H, K, C_, mp,
                     ep, kind, par, smp,
                 )  # fmt: skip
-            if _crosses(g_a, g_b, ev_dir[i]):
+            if crosses(g_a, g_b, ev_dir[i]):
                 active[n_act] = i
                 n_act += 1
                 break
             g_a, a_t = g_b, b_t
     return n_act, a_t, b_t
-
-
-@njit(cache=True, error_model="numpy")
-def _crosses(g_old, g_new, d):
-    """Whether an event function crosses zero from g_old to g_new in direction d (> 0:
-    upwards, < 0: downwards, 0: either), as `._kernel`'s steps test it."""
-    up = g_old <= 0.0 and g_new >= 0.0
-    down = g_old >= 0.0 and g_new <= 0.0
-    return (up and d > 0.0) or (down and d < 0.0) or ((up or down) and d == 0.0)
 
 
 @njit(cache=True, error_model="numpy")
@@ -858,7 +859,7 @@ def _exp_steps(
             )
         n_act = 0
         for i in range(ne):  # a sign change over the step
-            if ev_code[i] != EV_ACTIVATE and _crosses(g[i], g_new[i], ev_dir[i]):
+            if ev_code[i] != EV_ACTIVATE and crosses(g[i], g_new[i], ev_dir[i]):
                 active[n_act] = i
                 n_act += 1
         n_ends = n_act

@@ -37,6 +37,7 @@ from ._rk import (
     _error_norm,
     _first_step,
     _rk_step,
+    crosses,
     step_control,
     trial_step,
 )
@@ -131,10 +132,7 @@ def _active(g, g_new, ev_dir, active):
     """Events whose sign changed over the step in their direction (0: either)."""
     n_act = 0
     for k in range(g.size):
-        up = g[k] <= 0.0 and g_new[k] >= 0.0
-        down = g[k] >= 0.0 and g_new[k] <= 0.0
-        d = ev_dir[k]
-        if (up and d > 0.0) or (down and d < 0.0) or ((up or down) and d == 0.0):
+        if crosses(g[k], g_new[k], ev_dir[k]):
             active[n_act] = k
             n_act += 1
     return n_act

@@ -58,6 +58,7 @@ __all__ = [
     "PI_KAPPA",
     "PI_ERR_FLOOR",
     "zeroin_next",
+    "crosses",
     "trial_step",
     "step_control",
 ]
@@ -281,6 +282,16 @@ def _dense_eval(method, t, t_old, h, y_old, Q, out):
             v += Q[6 - i, j]
             v *= x if i % 2 == 0 else 1.0 - x
         out[j] = v + y_old[j]
+
+
+@njit(cache=True, error_model="numpy")
+def crosses(g_old, g_new, d):
+    """Whether an event function crosses zero from g_old to g_new in direction d (> 0:
+    upwards, < 0: downwards, 0: either): the test of every compiled step, as solve_ivp's
+    event handling makes it (`scipy.integrate._ivp.ivp.find_active_events`)."""
+    up = g_old <= 0.0 and g_new >= 0.0
+    down = g_old >= 0.0 and g_new <= 0.0
+    return (up and d > 0.0) or (down and d < 0.0) or ((up or down) and d == 0.0)
 
 
 @njit(cache=True, error_model="numpy")
