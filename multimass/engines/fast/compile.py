@@ -82,6 +82,7 @@ __all__ = [
     "COLD_COMPILE_S",
     "CONTACT_COMPILE_S",
     "COLUMNS_COMPILE_S",
+    "columns_estimate",
     "EXPONENTIAL_COMPILE_S",
     "LOAD_S",
 ]
@@ -101,9 +102,9 @@ _CONTACT_STAMP = "multimass_contact.sources"
 CONTACT_COMPILE_S = 7.0
 _COLUMNS = "_column_kernel"  # whole column runs for sweeps: a group of its own too
 _COLUMNS_STAMP = "multimass_columns.sources"
-#: Wall time of a cold compile of the whole column runs (s; 2-core machine, idle): they
-#: call the exponential rocking integrator too, compiled here unless its group came first.
-COLUMNS_COMPILE_S = 12.0
+#: Wall time of a cold compile of the whole column runs alone (s; 2-core machine, load
+#: ~0.5, the groups they call cached: 10.1–10.4 s); `columns_estimate` adds those groups.
+COLUMNS_COMPILE_S = 11.0
 _EXPONENTIAL = "_exp_kernel"  # the exponential rocking integrator (method "exponential")
 _EXPONENTIAL_STAMP = "multimass_exponential.sources"
 #: Wall time of a cold compile of the exponential rocking integrator (s; 2-core machine at
@@ -242,9 +243,10 @@ class _Watch:
         self.started = time.perf_counter()
         if self.show:
             where = f" — {CACHE.reason}" if CACHE.set_here else ""
+            estimate = self.estimate() if callable(self.estimate) else self.estimate
             print(
                 f"multimass: compiling {self.what} once for this machine "
-                f"(~{format_duration(self.estimate)}; cached in {self.cache_dir}{where}) ...",
+                f"(~{format_duration(estimate)}; cached in {self.cache_dir}{where}) ...",
                 file=sys.stderr,
                 flush=True,
             )
@@ -279,7 +281,7 @@ def watch_compiles(
     modules: Iterable[str],
     cache_dir: str,
     progress: bool | None = None,
-    estimate: float = COLD_COMPILE_S,
+    estimate: float | Callable[[], float] = COLD_COMPILE_S,
     load: float = LOAD_S,
 ):
     """Announce and count the kernels of `modules` numba compiles inside the block.
@@ -299,9 +301,11 @@ def watch_compiles(
     progress : bool, optional
         False: silent; True or None: the notice, unless ``MULTIMASS_QUIET`` is set
         (None) — True shows it even then.
-    estimate, load : float
-        The expected compile time (s), shown up front, and the time to load the
-        kernels from the cache (s), shown at the end.
+    estimate : float or callable
+        The expected compile time (s), shown up front; a function returning it is
+        asked only then (when numba starts compiling and the notice is shown).
+    load : float
+        The time to load the kernels from the cache (s), shown at the end.
 
     Yields
     ------
@@ -411,7 +415,7 @@ def compile_once(
     sources: Iterable[Path] = (),
     stamp_file: str | None = None,
     progress: bool | None = None,
-    estimate: float = COLD_COMPILE_S,
+    estimate: float | Callable[[], float] = COLD_COMPILE_S,
     load: float = LOAD_S,
 ) -> CompileReport:
     """Compile (or load) a group of kernels by running `call`, visibly and timed.
@@ -739,9 +743,33 @@ def warm_up_columns(progress: bool | None = None) -> CompileReport:
         _tiny_column_call,
         lambda: _sources(columns=True),
         _COLUMNS_STAMP,
-        COLUMNS_COMPILE_S,
+        columns_estimate,
         progress,
     )
+
+
+def _group_ready(module: str, kernel: str, stamp_file: str, sources) -> bool:
+    """Whether the group of kernel module `module` runs without compiling: its report is
+    in this process, or `kernel_ready` of its function `kernel`. Compiles nothing."""
+    if module in _GROUP_REPORTS or (module == "_kernel" and _REPORT is not None):
+        return True
+    k = getattr(importlib.import_module(f"{__package__}.{module}"), kernel)
+    return kernel_ready(k, stamp_file, sources)
+
+
+def columns_estimate() -> float:
+    """Expected seconds of a cold compile of the whole column runs: `COLUMNS_COMPILE_S`,
+    plus the estimate of each group they call that is not compiled yet (the fast kernels,
+    the closed-form full contact, the exponential integrator: compiled with them).
+    Compiles and loads nothing."""
+    groups = (
+        (COLD_COMPILE_S, "_kernel", "integrate_phase", _STAMP, _sources),
+        (CONTACT_COMPILE_S, _CONTACT, "contact_phase", _CONTACT_STAMP,
+         lambda: _sources(contact=True)),
+        (EXPONENTIAL_COMPILE_S, _EXPONENTIAL, "exp_phase", _EXPONENTIAL_STAMP,
+         lambda: _sources(exponential=True)),
+    )  # fmt: skip
+    return COLUMNS_COMPILE_S + sum(s for s, *group in groups if not _group_ready(*group))
 
 
 def kernel_ready(kernel, stamp_file: str, sources: Callable[[], Iterable[Path]]) -> bool:
