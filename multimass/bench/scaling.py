@@ -13,9 +13,10 @@ series summarised by the least-squares slope of log cost against log size
   and beside it the machine's own scaling: pure-Python loops on the same pools
   (`multimass.bench.targets.machine_times`), right after each map pair.
 * ``nodes`` — 10 s of free rocking of uniform N-node columns (`uniform_column`)
-  on three paths (`NODE_PATHS`): the compiled path as run by default (full contact
-  in closed form), the compiled path integrating every phase (``compiled_rk``) and
-  the solve_ivp path. A run whose `multimass.estimate` exceeds its backend's
+  on four paths (`NODE_PATHS`): the compiled path as run by default (full contact
+  in closed form), the compiled path integrating every phase (``compiled_rk``), the
+  compiled path with the exponential method in the rocking phases (``exponential``)
+  and the solve_ivp path. A run whose `multimass.estimate` exceeds its backend's
   budget is skipped and listed. Cost per RHS evaluation is fitted for the paths
   that integrate every phase.
 
@@ -249,6 +250,7 @@ def uniform_column(n: int, like: str = "S1"):
 NODE_PATHS = {
     "compiled": (dict(backend="compiled"), False),
     "compiled_rk": (dict(backend="compiled", full_contact="integrate"), True),
+    "exponential": (dict(backend="compiled", method="exponential"), False),
     "scipy": (dict(backend="scipy"), True),
 }
 

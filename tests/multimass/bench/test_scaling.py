@@ -76,13 +76,15 @@ def test_smoke_scaling_writes_every_file(tmp_path, capsys):
     assert set(w["speedup_2_workers"]) == {"map", "machine"}
     # the column engine against N, both paths (smoke: every run within budget)
     nd = res["nodes"]
-    assert set(nd["series"]) == {"compiled", "compiled_rk", "scipy"} and nd["skipped"] == []
+    paths = {"compiled", "compiled_rk", "exponential", "scipy"}
+    assert set(nd["series"]) == paths and nd["skipped"] == []
     for pts in nd["series"].values():
         assert [p["N"] for p in pts] == list(cfg.nodes)
         assert all(p["n_rhs"] > 0 and p["outcome"] == "completed" for p in pts)
-    for key in ("compiled", "compiled_rk", "scipy", "compiled_rk_per_rhs", "scipy_per_rhs"):
+    for key in (*paths, "compiled_rk_per_rhs", "scipy_per_rhs"):
         assert isinstance(nd["fits"][key]["exponent"], float)
     assert "compiled_per_rhs" not in nd["fits"]  # its full contact takes no RHS calls
+    assert "exponential_per_rhs" not in nd["fits"]
     closed, rk = nd["series"]["compiled"], nd["series"]["compiled_rk"]
     # (the smoke run ends before any full contact; then the two are the same run)
     assert all(a["n_rhs"] <= b["n_rhs"] and a["events"] == b["events"] for a, b in zip(closed, rk))
@@ -101,10 +103,11 @@ def test_over_budget_runs_are_skipped_and_said():
         scaling_preset("smoke"), nodes=(1,), compiled_budget_s=1e-9, scipy_budget_s=1e-9
     )
     res = scaling.nodes_series(cfg, lambda m: None)
-    assert res["series"] == {"compiled": [], "compiled_rk": [], "scipy": []}
+    assert res["series"] == {"compiled": [], "compiled_rk": [], "exponential": [], "scipy": []}
     assert {(s["N"], s["backend"]) for s in res["skipped"]} == {
         (1, "compiled"),
         (1, "compiled_rk"),
+        (1, "exponential"),
         (1, "scipy"),
     }
     assert res["fits"]["scipy"]["exponent"] is None
