@@ -34,6 +34,11 @@ from .progress import RunCost, format_bytes
 
 __all__ = [
     "spectral_radius",
+    "stiffness",
+    "stable_step",
+    "STIFF",
+    "DOP853_STABILITY",
+    "EXPONENTIAL_STEP",
     "simulation_cost",
     "series_columns",
     "check_output",
@@ -47,6 +52,8 @@ OUTPUT_BUDGET = float(2**30)
 
 # method -> (stability extent c, right-hand sides per step), see the module docstring
 _EXPLICIT = {"DOP853": (3.4, 12), "RK45": (1.7, 6), "RK23": (0.2, 3)}
+#: DOP853's stability extent c along the negative real axis: its steps stay ≤ c/ρ.
+DOP853_STABILITY = _EXPLICIT["DOP853"][0]
 _RHS_SECONDS = {"compiled": 0.6e-6, "scipy": 60e-6}  # per right-hand side, N ≈ 5
 _IMPLICIT_RHS_SECONDS = 200e-6  # solve_ivp Radau/BDF/LSODA
 _NEWMARK_STEP_SECONDS = 5e-6  # a few Newton iterations
@@ -57,9 +64,15 @@ _ACCURACY_STEP = 5e-3  # s, a smooth motion's step
 # 5.7 µs under El Centro, in whole runs) and its typical step (S1 released, rtol 1e-8:
 # 2 ms; benchmarks/exponential_rocking.py)
 _EXPONENTIAL_RHS_PER_STEP = 8
-_EXPONENTIAL_STEP = 2e-3
+#: The exponential method's typical step (s), set by accuracy alone.
+EXPONENTIAL_STEP = 2e-3
 
 _ROW_SECONDS = 20e-6  # per output row, see the module docstring
+
+#: The stiffness ratio (`stiffness`) from which the exponential method is worth running
+#: (`multimass.sweeps.method_choice`: the bundled columns have S ≈ 2–2.4, where DOP853
+#: is as fast; the 20-node column S ≈ 88, where it is 13–45× slower).
+STIFF = 10.0
 
 
 def series_columns(n: int) -> int:
@@ -100,6 +113,23 @@ def spectral_radius(structure) -> float:
     full-contact value sets the explicit step of both phases.
     """
     return derived_once(structure, "spectral_radius", _spectral_radius)
+
+
+def stable_step(structure, method: str) -> float:
+    """The longest step (s) stability allows explicit Runge–Kutta `method` (DOP853, RK45,
+    RK23) on `structure`: c/ρ (`spectral_radius`); inf for a rigid body."""
+    rho = spectral_radius(structure)
+    return _EXPLICIT[method][0] / rho if rho > 0.0 else math.inf
+
+
+def stiffness(structure, max_step: float = math.inf) -> float:
+    """S = min(h_e, max_step) / h_s: the DOP853 steps that stability forces per step of the
+    exponential method (h_s = 3.4/ρ, `spectral_radius`; h_e ≈ 2 ms, what accuracy needs);
+    NaN for a rigid body."""
+    rho = spectral_radius(structure)
+    if rho == 0.0:
+        return math.nan
+    return min(EXPONENTIAL_STEP, float(max_step)) * rho / DOP853_STABILITY
 
 
 def _spectral_radius(structure) -> float:
@@ -163,7 +193,7 @@ def simulation_cost(
         seconds = steps * _NEWMARK_STEP_SECONDS
         basis = f"Newmark steps of dt = {dt:g} s over t_end = {t_end:g} s"
     elif method == "exponential":  # no mode limits its step: accuracy does (S1: ~2 ms)
-        cap = min(max_step, _EXPONENTIAL_STEP)
+        cap = min(max_step, EXPONENTIAL_STEP)
         steps = t_end / cap
         seconds = steps * _EXPONENTIAL_RHS_PER_STEP * _RHS_SECONDS[backend] * size
         basis = f"exponential steps of ~{cap:g} s over t_end = {t_end:g} s"

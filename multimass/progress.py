@@ -160,6 +160,9 @@ class Progress:
         The estimated wall time (s), shown before the bar starts.
     unit : str
         The unit of `total` (default "s", simulated seconds).
+    note : str
+        Shown on a line of its own under the estimate, when the bar is shown (e.g. a
+        faster way to run it).
 
     Use as a context manager; call `update(t)` with the run's clock as often as
     convenient (cheap: the bar redraws at most ten times a second).
@@ -173,6 +176,7 @@ class Progress:
         show: bool | None = None,
         estimate: float | None = None,
         unit: str = "s",
+        note: str = "",
     ):
         if show is None:
             show = estimate is not None and estimate >= PROGRESS_AFTER_S
@@ -183,6 +187,8 @@ class Progress:
 
             if estimate is not None:
                 print(f"{desc}: estimated {format_duration(estimate)}", file=sys.stderr)
+            if note:
+                print(f"{desc}: {note}", file=sys.stderr)
             self._bar = tqdm(
                 total=self.total,
                 desc=desc,

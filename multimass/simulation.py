@@ -44,7 +44,15 @@ from multimass.impact_models import impact_model
 
 from . import validation as v
 from .checks import energy_check, judge, scale_floor
-from .cost import OUTPUT_BUDGET, check_output, series_columns, simulation_cost
+from .cost import (
+    OUTPUT_BUDGET,
+    STIFF,
+    check_output,
+    series_columns,
+    simulation_cost,
+    stable_step,
+    stiffness,
+)
 from .engines._events import overturn_message
 from .engines._recorder import Recorder
 from .engines._run import QUIET_DELAY, PhaseLoop, segment_ends
@@ -52,7 +60,7 @@ from .errors import InputError
 from .inputs.excitations import FreeRelease, plausible_amplitude
 from .model._phase import Model
 from .model.structure import Structure, from_specimen
-from .progress import PROGRESS_AFTER_S, Progress
+from .progress import PROGRESS_AFTER_S, Progress, format_duration
 from .response import Outcome, Response
 from .result import status_of
 from .simulation_options import DEFAULTS, SimulationOptions
@@ -303,6 +311,7 @@ class _Plan:
     ground: tuple  # (ü_g, duration, breakpoints)
     start: tuple  # (phase, y0)
     fast: object = None  # a multimass.engines.fast.FastPath with backend="compiled"
+    hint: str = ""  # a much faster way to run it (`_stiff_hint`), shown with the estimate
 
     def describe(self) -> dict:
         o, model, exc = self.options, self.model, self.excitation
@@ -339,7 +348,11 @@ class _Plan:
         segments go to solve_ivp or, on the compiled path, to the segment kernels."""
         o = self.options
         with Progress(
-            self.t_end, f"simulate {self.st.name}", show=o.progress, estimate=self.cost.seconds
+            self.t_end,
+            f"simulate {self.st.name}",
+            show=o.progress,
+            estimate=self.cost.seconds,
+            note=self.hint,
         ) as bar:
             if o.integrator == "newmark":
                 return self._newmark(lean)
@@ -599,9 +612,11 @@ def _prepare(structure, excitation, impact, t_end, o: SimulationOptions) -> _Pla
         if math.isfinite(duration) and duration > 0.5 * t_end
         else ""
     )
+    hint = _stiff_hint(st, t_end, o, cost.seconds)
     cost.check(
         f"simulate({st.name}, t_end = {t_end:g} s)",
-        "shorten t_end, raise output_dt (or pass output_dt=None), or check the "
+        (f"{hint}; or " if hint else "")
+        + "shorten t_end, raise output_dt (or pass output_dt=None), or check the "
         f"structure's stiffness and the excitation{long_pulse}",
         max_seconds=o.budget_s,
     )
@@ -614,4 +629,42 @@ def _prepare(structure, excitation, impact, t_end, o: SimulationOptions) -> _Pla
             f"raise output_dt (to ≥ {t_end * series_columns(st.n) * 8.0 / OUTPUT_BUDGET:.2g} s for "
             f"t_end = {t_end:g} s), shorten t_end, or pass output_dt=None for the outcome only",
         )
-    return _Plan(st, model, excitation, t_end, o, cost, ground, start, fast)
+    return _Plan(st, model, excitation, t_end, o, cost, ground, start, fast, hint)
+
+
+#: How much cheaper the exponential method must be estimated for `_stiff_hint` to speak.
+HINT_GAIN = 10.0
+
+
+def _stiff_hint(st: Structure, t_end: float, o: SimulationOptions, seconds: float) -> str:
+    """Where an explicit Runge–Kutta run of a stiff column is long (estimated `seconds` ≥
+    `PROGRESS_AFTER_S`, stiffness ≥ `STIFF`) and the exponential method is estimated at
+    least `HINT_GAIN` times cheaper: the options that run it and their estimate; else "".
+
+    Its stiffest mode holds an explicit method's steps to c/ρ whatever the accuracy
+    asked, while the exponential method advances the elastic modes exactly (a 40-node
+    column released for 10 s: 35 s with compiled DOP853, 0.16 s with it)."""
+    explicit = isinstance(o.method, str) and o.method in ("DOP853", "RK45", "RK23")
+    if st.n < 1 or o.integrator != "solve_ivp" or not explicit or seconds < PROGRESS_AFTER_S:
+        return ""
+    s = stiffness(st, o.max_step)
+    if not s >= STIFF:
+        return ""
+    alt = simulation_cost(
+        st, t_end, method="exponential", max_step=o.max_step, output_dt=o.output_dt,
+        backend="compiled", integrator="solve_ivp",
+    ).seconds  # fmt: skip
+    if not alt * HINT_GAIN <= seconds:
+        return ""
+    from .engines.fast.rocking_modes import RockingModes  # numba: a long run only
+
+    if isinstance(RockingModes.of(st), str):  # no diagonalisable rocking phase
+        return ""
+    compiled = o.backend == "compiled"
+    how = "method='exponential'" + ("" if compiled else ", backend='compiled'")
+    flags = "--method exponential" + ("" if compiled else " --backend compiled")
+    return (
+        f"the column is stiff (S = {s:.3g}: its stiffest mode holds {o.method}'s steps to "
+        f"{stable_step(st, o.method):.2g} s): {how} ({flags}) advances its elastic modes "
+        f"exactly, estimated {format_duration(alt)}"
+    )

@@ -47,7 +47,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..cost import spectral_radius
+from ..cost import DOP853_STABILITY, EXPONENTIAL_STEP, STIFF, spectral_radius, stiffness
 from ..simulation import simulate_outcome
 from ..simulation_options import SimulationOptions
 
@@ -63,14 +63,10 @@ __all__ = [
 
 #: The method name that asks for a choice.
 AUTO = "auto"
-#: Below this stiffness ratio S DOP853 is kept without a sample run (see the module docstring).
-STIFF = 10.0
 #: The reference of the accuracy check: DOP853 at the sweep's tolerances divided by this.
 REFERENCE_FACTOR = 100.0
 #: Errors below FLOOR × rtol (of θ_max, of t_end for impact times) count as exact.
 FLOOR = 10.0
-_C_DOP853 = 3.4  # DOP853's stability extent along the negative real axis (`multimass.cost`)
-_EXP_STEP = 2e-3  # the exponential method's typical step, s (`multimass.cost`)
 _BOTH = ("DOP853", "exponential")
 
 
@@ -104,15 +100,6 @@ class MethodChoice:
             "stiffness": None if math.isnan(self.stiffness) else self.stiffness,
             "measured": self.measured,
         }
-
-
-def stiffness(structure, max_step: float = math.inf) -> float:
-    """S = min(h_e, max_step) / h_s: DOP853 steps that stability forces per exponential
-    step (h_s = 3.4/ρ, `multimass.cost.spectral_radius`; h_e ≈ 2 ms)."""
-    rho = spectral_radius(structure)
-    if rho == 0.0:
-        return math.nan
-    return min(_EXP_STEP, float(max_step)) * rho / _C_DOP853
 
 
 def _why_not(structure, options: SimulationOptions) -> str | None:
@@ -151,12 +138,12 @@ def choose_method(
     why = _why_not(structure, o)
     if why is not None:
         return MethodChoice("DOP853", f"DOP853: {why}", s)
-    h_s = _C_DOP853 / spectral_radius(structure)
+    h_s = DOP853_STABILITY / spectral_radius(structure)
     if s < STIFF:
         return MethodChoice(
             "DOP853",
             f"DOP853: {structure.name} is not stiff: S = {s:.3g} < {STIFF:g} (DOP853's stable "
-            f"step {h_s:.3g} s against the exponential method's ~{min(_EXP_STEP, o.max_step):.3g} "
+            f"step {h_s:.3g} s against the exponential method's ~{min(EXPONENTIAL_STEP, o.max_step):.3g} "
             "s), where DOP853 was measured as fast or faster",
             s,
         )

@@ -159,3 +159,66 @@ def test_a_large_allowed_output_shows_progress():
     large = estimate("B6M", FreeRelease(0.1), "CIM", 1.0, output_dt=1e-6)
     assert quiet.seconds < PROGRESS_AFTER_S <= large.seconds
     assert large.seconds - quiet.seconds >= (1e6 - 1e3) * 7e-6  # ≥ the fastest rate measured
+
+
+def test_a_stiff_column_over_the_budget_is_pointed_to_the_exponential_method():
+    """A uniform 40-node column (S ≈ 1 600): on the default solve_ivp path its stiffest mode
+    holds DOP853 to 1.3 µs steps, 7.9 h estimated; the refusal names the options and flags
+    that run it with the exponential method, and those options finish it in a few
+    thousand steps (compiled DOP853 needs 2 million: 24.6e6 right-hand sides)."""
+    from multimass.bench.scaling import uniform_column
+
+    st = uniform_column(40)
+    with pytest.raises(InputError) as err:
+        simulate(st, FreeRelease(0.11), "DD2", 10.0)
+    msg = str(err.value)
+    assert "over the budget" in msg and "the column is stiff (S = " in msg
+    assert (
+        "method='exponential', backend='compiled' (--method exponential --backend compiled)" in msg
+    )
+    r = simulate(st, FreeRelease(0.11), "DD2", 10.0, method="exponential", backend="compiled",
+                 output_dt=None)  # fmt: skip
+    assert r.status == "completed" and r.n_rhs < 1e5
+
+
+def test_a_long_stiff_run_says_the_exponential_method_would_be_faster(capsys):
+    """The 20-node column on compiled DOP853 (estimated above PROGRESS_AFTER_S): the note
+    under the estimate names method='exponential' only (the backend is compiled already);
+    following it gives the same impacts and θ_max within 1e-6 rad (DOP853's run here
+    the reference)."""
+    from multimass.bench.scaling import uniform_column
+
+    st = uniform_column(20)
+    dop = simulate(st, FreeRelease(0.11), "DD2", 10.0, backend="compiled", output_dt=None)
+    err = capsys.readouterr().err
+    assert "the column is stiff" in err and "method='exponential' (--method exponential)" in err
+    assert "backend='compiled'" not in err
+    exp = simulate(st, FreeRelease(0.11), "DD2", 10.0, backend="compiled", output_dt=None,
+                   method="exponential", progress=False)  # fmt: skip
+    assert "stiff" not in capsys.readouterr().err
+    impacts = lambda r: np.array([e.time for e in r.events if e.kind == "impact"])  # noqa: E731
+    assert impacts(exp).size == impacts(dop).size > 10
+    assert np.abs(impacts(exp) - impacts(dop)).max() < 1e-6
+    assert exp.theta_max == pytest.approx(dop.theta_max, abs=1e-6)
+
+
+@pytest.mark.parametrize(
+    "structure, kw",
+    [
+        ("S1", {}),  # S ≈ 1.9: DOP853 is as fast (`multimass.sweeps.method_choice`)
+        ("B6M", {}),  # a rigid block: no elastic modes
+        ("stiff", {"method": "Radau"}),  # an implicit method: no stability limit to lift
+        ("stiff", {"backend": "compiled", "method": "exponential"}),  # already
+    ],
+)
+def test_no_hint_where_the_exponential_method_would_not_help(structure, kw):
+    from multimass.bench.scaling import uniform_column
+    from multimass.simulation import _stiff_hint
+    from multimass.simulation_options import SimulationOptions
+
+    st = uniform_column(20) if structure == "stiff" else multimass.model.structure.from_specimen(
+        structure)  # fmt: skip
+    o = SimulationOptions.of(None, **kw)
+    assert _stiff_hint(st, 100.0, o, 1e4) == ""
+    if structure == "stiff" and "backend" not in kw:
+        assert _stiff_hint(st, 100.0, SimulationOptions.of(None), 1e4) != ""  # DOP853: yes
