@@ -38,6 +38,7 @@ __all__ = [
     "stable_step",
     "STIFF",
     "DOP853_STABILITY",
+    "EXPLICIT_METHODS",
     "EXPONENTIAL_STEP",
     "simulation_cost",
     "series_columns",
@@ -52,6 +53,8 @@ OUTPUT_BUDGET = float(2**30)
 
 # method -> (stability extent c, right-hand sides per step), see the module docstring
 _EXPLICIT = {"DOP853": (3.4, 12), "RK45": (1.7, 6), "RK23": (0.2, 3)}
+#: The explicit Runge–Kutta methods, whose steps stability holds to c/ρ (`stable_step`).
+EXPLICIT_METHODS = tuple(_EXPLICIT)
 #: DOP853's stability extent c along the negative real axis: its steps stay ≤ c/ρ.
 DOP853_STABILITY = _EXPLICIT["DOP853"][0]
 _RHS_SECONDS = {"compiled": 0.6e-6, "scipy": 60e-6}  # per right-hand side, N ≈ 5

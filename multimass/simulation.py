@@ -45,6 +45,7 @@ from multimass.impact_models import impact_model
 from . import validation as v
 from .checks import energy_check, judge, scale_floor
 from .cost import (
+    EXPLICIT_METHODS,
     OUTPUT_BUDGET,
     STIFF,
     check_output,
@@ -644,7 +645,7 @@ def _stiff_hint(st: Structure, t_end: float, o: SimulationOptions, seconds: floa
     Its stiffest mode holds an explicit method's steps to c/ρ whatever the accuracy
     asked, while the exponential method advances the elastic modes exactly (a 40-node
     column released for 10 s: 35 s with compiled DOP853, 0.16 s with it)."""
-    explicit = isinstance(o.method, str) and o.method in ("DOP853", "RK45", "RK23")
+    explicit = isinstance(o.method, str) and o.method in EXPLICIT_METHODS
     if st.n < 1 or o.integrator != "solve_ivp" or not explicit or seconds < PROGRESS_AFTER_S:
         return ""
     s = stiffness(st, o.max_step)

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.ticker import FormatStrFormatter, LogLocator
 
 __all__ = ["scaling_charts", "scaling_markdown"]
 
@@ -60,7 +61,8 @@ def _series(ax, x, spreads, fit, key):
 
 def _axes(ax, xlabel, ylabel, title, xticks=None):
     ax.set_xscale("log")
-    ax.set_yscale("log")
+    if ax.get_yscale() != "log":  # (setting it again would drop a chart's own locators)
+        ax.set_yscale("log")
     if xticks:
         ax.set_xticks(xticks, [str(k) for k in xticks])
         ax.set_xticks([], minor=True)
@@ -105,6 +107,11 @@ def _workers_chart(res: dict, path: Path):
         ax.plot(ws, [spreads[0]["median"] / k for k in ws], color=_STYLE[key][0], ls=":", lw=1)
     ax.plot([], [], color="k", ls=":", lw=1, label="ideal: exponent −1")
     title = f"Map cost against workers ({res['config']['name']} run)\n{w['case']}"
+    # under a decade of wall time: labelled minor ticks, plain numbers
+    ax.set_yscale("log")
+    ax.yaxis.set_minor_locator(LogLocator(subs=(1.25, 1.5, 1.75, 2.0, 3.0, 5.0, 8.0)))
+    ax.yaxis.set_minor_formatter(FormatStrFormatter("%g"))
+    ax.yaxis.set_major_formatter(FormatStrFormatter("%g"))
     _finish(fig, ax, "workers", "wall time (s)", title, path, xticks=ws)
 
 
