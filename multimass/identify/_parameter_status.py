@@ -14,7 +14,10 @@ says, for each parameter of the model it fitted, where its value came from:
   range the fit was allowed to explore (``interval_kind`` "explored range", the value
   "best fit, not an estimate"), all that the data say of it;
 * ``fixed by the specimen file`` — the column's geometry, masses and stiffnesses
-  (and, where the user fixed the fit list, the parameters left out of it);
+  (and, where the user fixed the fit list, the parameters left out of it); also a
+  parameter the identification was to estimate and could not at all (`not_estimated`:
+  no impact fitted), whose ``not_estimated`` says why — the result is then ill-posed
+  (`overall`), not estimated;
 * ``not used`` — a parameter the chosen model does not have (C_p of CIM).
 """
 
@@ -25,6 +28,7 @@ import math
 __all__ = [
     "GIVEN", "ESTIMATED", "ILL_POSED", "FIXED", "NOT_USED", "STRUCTURE_FIELDS", "Z95",
     "INTERVAL_95", "EXPLORED", "given", "estimated", "estimated_note", "explored", "fixed",
+    "not_estimated",
     "not_used", "structure_fixed", "ill_posed_reasons",
     "lines", "overall",
 ]  # fmt: skip
@@ -57,6 +61,12 @@ def fixed(value, what: str = "", note: str = "") -> dict:
     """A parameter taken from the specimen file."""
     out = {"status": FIXED, "value": value, "std": None, "interval": None, "what": what}
     return out | ({"note": note} if note else {})
+
+
+def not_estimated(value, what: str, why: str) -> dict:
+    """A parameter the identification was to estimate but could not (`why`): the specimen
+    file's `value` stands in, and `overall` makes the result ill-posed for it."""
+    return fixed(value, what, why) | {"not_estimated": why}
 
 
 def not_used(why: str, what: str = "") -> dict:
@@ -126,11 +136,14 @@ def ill_posed_reasons(std: float, limit, correlated: dict, log: bool = False) ->
 
 def overall(parameters: dict) -> tuple[str, str]:
     """(status, message): ``ill-posed`` naming the parameters the traces do not fix and
-    why, else ``estimated``."""
-    bad = {n: p for n, p in parameters.items() if p.get("status") == ILL_POSED}
-    if bad:
-        why = "; ".join(f"{n}: {p.get('reason', '')}" for n, p in bad.items())
-        return ILL_POSED, f"not fixed by the trace(s): {why}"
+    why (ill-posed ones, and those that could not be estimated at all: `not_estimated`),
+    else ``estimated``."""
+    why = [f"{n}: {p.get('reason', '')}" for n, p in parameters.items()
+           if p.get("status") == ILL_POSED]  # fmt: skip
+    why += [f"{n}: {p['not_estimated']} (the specimen file's value stands in)"
+            for n, p in parameters.items() if p.get("not_estimated")]  # fmt: skip
+    if why:
+        return ILL_POSED, f"not fixed by the trace(s): {'; '.join(why)}"
     return ESTIMATED, "every parameter not given was estimated from the trace(s)"
 
 

@@ -56,7 +56,7 @@ def parameter_report(track: Track, given: dict, fitted: dict, spec, checked=None
         elif name in track.std:
             out[name] = _entry(track, name, True, LIMITS["rel_std"], partners, what)
         else:  # no impact fitted: the start
-            out[name] = ps.fixed(track.phys[name], what, "no impact fitted to estimate it")
+            out[name] = ps.not_estimated(track.phys[name], what, "no impact fitted to estimate it")
     nuisance = {
         "theta0": "release angle (rad)",
         "t_offset": "trace time of the model's t = 0: the clock offset (s)",

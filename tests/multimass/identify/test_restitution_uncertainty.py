@@ -428,3 +428,39 @@ def test_zeta2_needs_the_trace_to_show_mode_2(fs, zeta2_status):
     assert out["zeta2"]["status"] == zeta2_status
     if zeta2_status == ps.ILL_POSED:
         assert "mode 2" in out["zeta2"]["reason"] and "do not show" in out["zeta2"]["reason"]
+
+
+def test_a_parameter_that_could_not_be_estimated_makes_the_result_ill_posed():
+    """A parameter left at the specimen file's value because nothing could estimate it
+    (no impact fitted) is not an estimate: the result is ill-posed and says which and
+    why, where it said "every parameter not given was estimated"."""
+    params = {"cp": ps.estimated(1750.0, 0.01, log=True), "zeta1": ps.given(0.005)}
+    assert ps.overall(params)[0] == ps.ESTIMATED
+    params["zeta2"] = ps.not_estimated(0.015, "ζ2", "no impact fitted to estimate it")
+    status, message = ps.overall(params)
+    assert status == ps.ILL_POSED
+    assert "zeta2: no impact fitted to estimate it (the specimen file's value stands in)" in message
+    assert params["zeta2"]["status"] == ps.FIXED and params["zeta2"]["value"] == 0.015
+    # a parameter the user left out of the fit is fixed, and no reason for ill-posed
+    assert ps.overall({"cp": ps.fixed(1750.0, "C_p", "not in the fit list")})[0] == ps.ESTIMATED
+
+
+def test_a_table_motion_trace_with_no_impact_fitted_is_not_reported_estimated():
+    """Coverage draw S2-044 (seed 0: Northridge 1994 window, 271 Hz, C_p × 0.66): the model
+    at the specimen's values has no impact near the trace's first one (14 ms from it),
+    so no impact is fitted and C_p, ζ1, ζ2 keep the file's values. Reported as
+    "estimated, every parameter not given was estimated" before; ill-posed now."""
+    from pathlib import Path
+
+    from multimass.bench.coverage_cases import make_trace
+    from multimass.bench.coverage_draws import draw_case
+
+    records = Path(__file__).resolve().parents[3] / "examples" / "data" / "records"
+    draw = draw_case("S2", 44, 0, "DD", records=True)
+    syn, _ = make_trace(draw, records)
+    est = restitution(syn.trace, "S2", "DD", progress=False)
+    assert not est.impacts["estimated"].any()  # the case this test is about
+    assert est.status == ps.ILL_POSED
+    for name in ("cp", "zeta1", "zeta2"):
+        assert est.parameters[name]["not_estimated"] == "no impact fitted to estimate it"
+        assert f"{name}: no impact fitted" in est.message
