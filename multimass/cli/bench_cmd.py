@@ -52,7 +52,7 @@ def register(sub) -> None:
         action="store_true",
         help="instead: how cost grows, log-log with fitted exponents — map cost against cells "
         "(brute force, adaptive) and workers, column cost against nodes N (scaling.json, "
-        "scaling.md, scaling_*.png; full an estimated ~25 min, --quick ~2.5 min, --smoke ~10 s)",
+        "scaling.md, scaling_*.png; full ~12 min on 2 cores, --quick ~2.5 min, --smoke ~10 s)",
     )
     p.add_argument(
         "--coverage",
