@@ -62,11 +62,15 @@ def parameter_report(track: Track, given: dict, fitted: dict, spec, checked=None
         "t_offset": "trace time of the model's t = 0: the clock offset (s)",
         "theta_bias": "bias of the θ sensor (rad)",
     }
+    table = {  # under table motion neither is fitted (`_restitution_fit._window`)
+        "theta0": "table motion: the test starts at rest",
+        "t_offset": "table motion: the model runs on the trace's clock (its recorded ag)",
+    }
     for name, what in nuisance.items():
         if name in track.std:
             out[name] = _entry(track, name, False, None, partners, what)
-        elif name == "theta0" and not track.case.free:
-            out[name] = ps.not_used("table motion: the test starts at rest", what)
+        elif name in table and not track.case.free:
+            out[name] = ps.not_used(table[name], what)
         else:
             out[name] = ps.fixed(track.nuis[name], what, "not fitted")
     _damping_shown(track, out)

@@ -464,3 +464,6 @@ def test_a_table_motion_trace_with_no_impact_fitted_is_not_reported_estimated():
     for name in ("cp", "zeta1", "zeta2"):
         assert est.parameters[name]["not_estimated"] == "no impact fitted to estimate it"
         assert f"{name}: no impact fitted" in est.message
+    # under table motion the clock is the trace's (the recorded ag): no offset to fit
+    assert est.parameters["t_offset"]["status"] == ps.NOT_USED
+    assert est.parameters["theta0"]["status"] == ps.NOT_USED
