@@ -312,7 +312,6 @@ class _Plan:
     ground: tuple  # (ü_g, duration, breakpoints)
     start: tuple  # (phase, y0)
     fast: object = None  # a multimass.engines.fast.FastPath with backend="compiled"
-    hint: str = ""  # a much faster way to run it (`_stiff_hint`), shown with the estimate
 
     def describe(self) -> dict:
         o, model, exc = self.options, self.model, self.excitation
@@ -344,16 +343,22 @@ class _Plan:
         whole = self._whole_traced(lean)
         return whole if whole is not None else self.run_phase_loop(lean)
 
+    def shows_progress(self) -> bool:
+        """Whether the run shows a progress bar: as asked, else if estimated at
+        `PROGRESS_AFTER_S` or more."""
+        o = self.options
+        return o.progress if o.progress is not None else self.cost.seconds >= PROGRESS_AFTER_S
+
     def run_phase_loop(self, lean: bool):
         """`run` in the Python phase loop (`multimass.engines._run.PhaseLoop`), whose
         segments go to solve_ivp or, on the compiled path, to the segment kernels."""
-        o = self.options
+        o, show = self.options, self.shows_progress()
         with Progress(
             self.t_end,
             f"simulate {self.st.name}",
-            show=o.progress,
+            show=show,
             estimate=self.cost.seconds,
-            note=self.hint,
+            note=_stiff_hint(self.st, self.t_end, o, self.cost.seconds) if show else "",
         ) as bar:
             if o.integrator == "newmark":
                 return self._newmark(lean)
@@ -394,8 +399,7 @@ class _Plan:
         where a progress bar is to be shown (the kernel reports none) or where the kernel
         could not finish the run."""
         o = self.options
-        show = o.progress if o.progress is not None else self.cost.seconds >= PROGRESS_AFTER_S
-        if show or self.fast is None or not _columns_ready():
+        if self.shows_progress() or self.fast is None or not _columns_ready():
             return None
         run = self.column_run()
         if run is None:
@@ -613,7 +617,8 @@ def _prepare(structure, excitation, impact, t_end, o: SimulationOptions) -> _Pla
         if math.isfinite(duration) and duration > 0.5 * t_end
         else ""
     )
-    hint = _stiff_hint(st, t_end, o, cost.seconds)
+    over = not cost.seconds <= o.budget_s  # (the hint's modes only for a run refused)
+    hint = _stiff_hint(st, t_end, o, cost.seconds) if over else ""
     cost.check(
         f"simulate({st.name}, t_end = {t_end:g} s)",
         (f"{hint}; or " if hint else "")
@@ -630,7 +635,7 @@ def _prepare(structure, excitation, impact, t_end, o: SimulationOptions) -> _Pla
             f"raise output_dt (to ≥ {t_end * series_columns(st.n) * 8.0 / OUTPUT_BUDGET:.2g} s for "
             f"t_end = {t_end:g} s), shorten t_end, or pass output_dt=None for the outcome only",
         )
-    return _Plan(st, model, excitation, t_end, o, cost, ground, start, fast, hint)
+    return _Plan(st, model, excitation, t_end, o, cost, ground, start, fast)
 
 
 #: How much cheaper the exponential method must be estimated for `_stiff_hint` to speak.
